@@ -1,0 +1,1 @@
+//! BSP file reading.

@@ -1,0 +1,9 @@
+//! bsp2vdg compiles a compiled BSP map (GoldSrc v30/v29, Quake BSP29/BSP2) into a
+//! Voronoi Distance Graph: an approximate medial axis of the level's free space whose
+//! vertices carry their clearance to the nearest wall.
+//!
+//! The pipeline has one module per stage: [`bsp`] reads the map, `oracle` answers
+//! point-contents and segment queries, `sample` places points on the walls,
+//! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
+
+pub mod bsp;

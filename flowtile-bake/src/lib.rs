@@ -1,0 +1,1 @@
+//! Flow tiles (placeholder; see issue 6).

@@ -1,0 +1,1 @@
+//! Test map generator (placeholder; see issue 2).

@@ -1,0 +1,1 @@
+//! The `.vdg` file format and runtime queries (placeholder; see issue 4).
