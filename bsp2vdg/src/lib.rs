@@ -7,3 +7,6 @@
 //! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
 
 pub mod bsp;
+pub mod oracle;
+pub mod sample;
+pub mod util;

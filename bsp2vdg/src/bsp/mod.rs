@@ -1,1 +1,253 @@
-//! BSP file reading.
+//! Reading compiled BSP maps of the Quake family: GoldSrc v30, Quake BSP29 (Half-Life's
+//! oldest retail maps are v29 too), BSP2 and its predecessor 2PSB.
+//!
+//! [`Bsp::parse`] reads every lump we need into one normalised in-memory model (32-bit
+//! indices whatever the variant) and validates every count and index once, so the rest
+//! of the compiler can index freely. Memory stays bounded by the file size: no record
+//! count is trusted before the lump's bytes are known to exist.
+//!
+//! ```no_run
+//! let bsp = bsp2vdg::bsp::Bsp::open("maps/de_dust2.bsp")?;
+//! println!("{} faces, {} entities", bsp.faces.len(), bsp.entities.len());
+//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! ```
+
+mod entities;
+mod error;
+mod raw;
+mod read;
+
+pub use entities::{Entity, parse_entities};
+pub use error::BspError;
+
+use std::path::Path;
+
+/// Leaf and clip-hull contents values shared by Quake and GoldSrc.
+pub mod contents {
+    pub const EMPTY: i32 = -1;
+    pub const SOLID: i32 = -2;
+    pub const WATER: i32 = -3;
+    pub const SLIME: i32 = -4;
+    pub const LAVA: i32 = -5;
+    pub const SKY: i32 = -6;
+    /// GoldSrc: origin brushes (removed by the compiler, but tolerated).
+    pub const ORIGIN: i32 = -7;
+    /// GoldSrc: player clip.
+    pub const CLIP: i32 = -8;
+    /// GoldSrc: flowing water, six directions (-9 ..= -14).
+    pub const CURRENT_0: i32 = -9;
+    pub const CURRENT_DOWN: i32 = -14;
+    /// GoldSrc: translucent water.
+    pub const TRANSLUCENT: i32 = -15;
+
+    /// Whether a contents value is a liquid (water, slime, lava, currents, translucent).
+    pub fn is_liquid(c: i32) -> bool {
+        matches!(c, WATER | SLIME | LAVA | TRANSLUCENT) || (CURRENT_DOWN..=CURRENT_0).contains(&c)
+    }
+
+    /// A short name for logs.
+    pub fn name(c: i32) -> &'static str {
+        match c {
+            EMPTY => "empty",
+            SOLID => "solid",
+            WATER => "water",
+            SLIME => "slime",
+            LAVA => "lava",
+            SKY => "sky",
+            ORIGIN => "origin",
+            CLIP => "clip",
+            TRANSLUCENT => "translucent",
+            c if (CURRENT_DOWN..=CURRENT_0).contains(&c) => "current",
+            _ => "unknown",
+        }
+    }
+}
+
+/// Which member of the BSP family a file is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BspVersion {
+    /// Quake 1 (and the oldest Half-Life maps).
+    Bsp29,
+    /// GoldSrc (Half-Life, Counter-Strike, ...).
+    GoldSrc30,
+    /// Quake BSP2: 32-bit indices, float bounds.
+    Bsp2,
+    /// The first BSP2 draft: 32-bit indices, 16-bit bounds.
+    Bsp2psb,
+}
+
+impl BspVersion {
+    pub fn name(self) -> &'static str {
+        match self {
+            BspVersion::Bsp29 => "BSP29 (Quake)",
+            BspVersion::GoldSrc30 => "BSP30 (GoldSrc)",
+            BspVersion::Bsp2 => "BSP2",
+            BspVersion::Bsp2psb => "2PSB",
+        }
+    }
+}
+
+/// A splitting plane: points p with `normal · p - dist >= 0` are in front.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Plane {
+    pub normal: [f32; 3],
+    pub dist: f32,
+    /// 0, 1, 2: axial along X, Y, Z; 3, 4, 5: non-axial, mostly along X, Y, Z.
+    pub kind: i32,
+}
+
+/// A node of the hull-0 tree. A child `c >= 0` is a node, `c < 0` is leaf `-(c + 1)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Node {
+    pub plane: u32,
+    pub children: [i32; 2],
+    pub first_face: u32,
+    pub num_faces: u32,
+}
+
+/// A leaf of the hull-0 tree: a convex cell with one contents value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leaf {
+    pub contents: i32,
+    pub mins: [f32; 3],
+    pub maxs: [f32; 3],
+    pub first_marksurface: u32,
+    pub num_marksurfaces: u32,
+}
+
+/// A node of a clip hull. A child `c >= 0` is a clip node, `c < 0` is a contents value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClipNode {
+    pub plane: u32,
+    pub children: [i32; 2],
+}
+
+/// A planar convex polygon of the map.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Face {
+    pub plane: u32,
+    /// True when the face looks along the negative plane normal.
+    pub back_side: bool,
+    pub first_edge: u32,
+    pub num_edges: u32,
+    pub texinfo: u32,
+}
+
+/// Texture projection and the texture it uses.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TexInfo {
+    pub vecs: [[f32; 4]; 2],
+    /// Index into [`Bsp::textures`]; may be out of range in odd maps (treated as unnamed).
+    pub miptex: i32,
+    pub flags: i32,
+}
+
+/// A texture's name and size (the pixels are not needed here).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Texture {
+    pub name: String,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// A brush model: model 0 is the world, `*N` are brush entities.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Model {
+    pub mins: [f32; 3],
+    pub maxs: [f32; 3],
+    pub origin: [f32; 3],
+    /// Hull 0 root in [`Bsp::nodes`]; hulls 1..3 roots in [`Bsp::clipnodes`]
+    /// (a negative root is a contents value, i.e. an empty hull).
+    pub headnode: [i32; 4],
+    pub first_face: u32,
+    pub num_faces: u32,
+}
+
+/// A parsed and validated BSP map.
+#[derive(Debug, Clone)]
+pub struct Bsp {
+    pub version: BspVersion,
+    /// Size of the file in bytes.
+    pub file_size: usize,
+    pub entities: Vec<Entity>,
+    pub planes: Vec<Plane>,
+    /// `None` where the texture directory has an empty slot.
+    pub textures: Vec<Option<Texture>>,
+    pub vertices: Vec<[f32; 3]>,
+    pub nodes: Vec<Node>,
+    pub texinfo: Vec<TexInfo>,
+    pub faces: Vec<Face>,
+    pub clipnodes: Vec<ClipNode>,
+    pub leaves: Vec<Leaf>,
+    pub marksurfaces: Vec<u32>,
+    pub edges: Vec<[u32; 2]>,
+    pub surfedges: Vec<i32>,
+    pub models: Vec<Model>,
+}
+
+impl Bsp {
+    /// Memory-maps and parses a BSP file.
+    pub fn open(path: impl AsRef<Path>) -> Result<Bsp, BspError> {
+        let file = std::fs::File::open(path.as_ref())?;
+        // SAFETY: the map is read-only and only borrowed while parsing; a file truncated
+        // underneath us by another process is the one hazard memmap2 documents, and
+        // compile tools do not rewrite a map while it is being read.
+        let map = unsafe { memmap2::Mmap::map(&file)? };
+        Bsp::parse(&map)
+    }
+
+    /// Parses a BSP file held in memory.
+    pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
+        read::parse(bytes)
+    }
+
+    /// The world model (model 0).
+    pub fn world(&self) -> &Model {
+        &self.models[0]
+    }
+
+    /// The polygon of a face, in winding order.
+    pub fn face_vertices(&self, face: &Face) -> impl Iterator<Item = [f32; 3]> + '_ {
+        let first = face.first_edge as usize;
+        self.surfedges[first..first + face.num_edges as usize]
+            .iter()
+            .map(|&se| {
+                let e = self.edges[se.unsigned_abs() as usize];
+                let v = if se >= 0 { e[0] } else { e[1] };
+                self.vertices[v as usize]
+            })
+    }
+
+    /// The unit normal of a face, pointing to the side it is seen from.
+    pub fn face_normal(&self, face: &Face) -> [f32; 3] {
+        let n = self.planes[face.plane as usize].normal;
+        if face.back_side {
+            [-n[0], -n[1], -n[2]]
+        } else {
+            n
+        }
+    }
+
+    /// The texture name of a face ("" when it has none).
+    pub fn face_texture_name(&self, face: &Face) -> &str {
+        let miptex = self.texinfo[face.texinfo as usize].miptex;
+        usize::try_from(miptex)
+            .ok()
+            .and_then(|i| self.textures.get(i))
+            .and_then(|t| t.as_ref())
+            .map_or("", |t| t.name.as_str())
+    }
+
+    /// The faces of a model.
+    pub fn model_faces(&self, model: &Model) -> &[Face] {
+        let first = model.first_face as usize;
+        &self.faces[first..first + model.num_faces as usize]
+    }
+
+    /// The entity that uses brush model `index`, if any.
+    pub fn entity_of_model(&self, index: usize) -> Option<&Entity> {
+        self.entities
+            .iter()
+            .find(|e| e.model_index() == Some(index))
+    }
+}

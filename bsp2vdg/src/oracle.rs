@@ -1,0 +1,342 @@
+//! The free-space oracle: point contents and "is this segment free?" queries answered
+//! by the map's own BSP trees.
+//!
+//! This is both a pipeline stage (Voronoi faces are kept only where they lie in free
+//! space) and the ground truth of every quality measurement, so it follows the engine:
+//! a point with `normal · p - dist >= 0` goes to the front child, exactly as Quake's
+//! `SV_HullPointContents` does. Trees are flattened into 32-byte nodes whose leaf
+//! children are replaced by their contents value, so a query touches one array only.
+//!
+//! ```no_run
+//! use bsp2vdg::{bsp::Bsp, oracle::{Oracle, OracleOptions}};
+//! let bsp = Bsp::open("maps/crossfire.bsp")?;
+//! let oracle = Oracle::new(&bsp, &OracleOptions::default());
+//! let free = oracle.is_free([0.0, 0.0, 64.0]);
+//! let seen = oracle.segment_free([0.0, 0.0, 64.0], [512.0, 0.0, 64.0]);
+//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! ```
+
+use crate::bsp::{Bsp, contents};
+
+/// Which contents count as obstacles.
+#[derive(Debug, Clone, Default)]
+pub struct OracleOptions {
+    /// Treat water, slime and lava as obstacles (by default they are free space).
+    pub liquids_are_solid: bool,
+    /// Brush models (by index `*N`) whose solid volume also blocks, e.g. func_wall.
+    pub solid_models: Vec<usize>,
+}
+
+/// A flattened BSP node. `children[i] >= 0` is a node index, `< 0` a contents value.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(32))]
+struct HullNode {
+    normal: [f32; 3],
+    dist: f32,
+    children: [i32; 2],
+    /// 0, 1, 2 for an axial plane (the normal is that unit axis), 3 otherwise.
+    axis: u32,
+}
+
+/// One collision tree: hull 0 (the visible geometry) or a clip hull.
+#[derive(Debug, Clone)]
+pub struct Hull {
+    nodes: Vec<HullNode>,
+    /// A node index, or a contents value when the hull is a single leaf.
+    root: i32,
+}
+
+impl Hull {
+    /// The hull-0 tree of model `model`.
+    pub fn from_nodes(bsp: &Bsp, model: usize) -> Hull {
+        let leaf_contents = |c: i32| {
+            let c = bsp.leaves[(-(c + 1)) as usize].contents;
+            // Contents >= 0 are not part of the Quake family; be conservative.
+            if c >= 0 { contents::SOLID } else { c }
+        };
+        let map_child = |c: i32| if c >= 0 { c } else { leaf_contents(c) };
+        let nodes = bsp
+            .nodes
+            .iter()
+            .map(|n| hull_node(bsp, n.plane, n.children.map(map_child)))
+            .collect();
+        Hull {
+            nodes,
+            root: map_child(bsp.models[model].headnode[0]),
+        }
+    }
+
+    /// Clip hull `hull` (1..=3) of model `model`, or `None` when the map has no clip nodes.
+    pub fn from_clipnodes(bsp: &Bsp, model: usize, hull: usize) -> Option<Hull> {
+        if bsp.clipnodes.is_empty() {
+            return None;
+        }
+        let nodes = bsp
+            .clipnodes
+            .iter()
+            .map(|n| hull_node(bsp, n.plane, n.children))
+            .collect();
+        Some(Hull {
+            nodes,
+            root: bsp.models[model].headnode[hull],
+        })
+    }
+
+    /// The contents value at `p`.
+    #[inline]
+    pub fn contents(&self, p: [f64; 3]) -> i32 {
+        let mut n = self.root;
+        while n >= 0 {
+            // Validated on load: every child index is in range and the tree is acyclic.
+            let node = &self.nodes[n as usize];
+            n = node.children[(side_distance(node, p) < 0.0) as usize];
+        }
+        n
+    }
+
+    /// Whether the closed segment `a`–`b` meets no contents for which `blocks` is true.
+    pub fn segment_clear(&self, a: [f64; 3], b: [f64; 3], blocks: impl Fn(i32) -> bool) -> bool {
+        let mut stack: Vec<(i32, [f64; 3], [f64; 3])> = Vec::with_capacity(64);
+        stack.push((self.root, a, b));
+        while let Some((n, p, q)) = stack.pop() {
+            if n < 0 {
+                if blocks(n) {
+                    return false;
+                }
+                continue;
+            }
+            let node = &self.nodes[n as usize];
+            let (dp, dq) = (side_distance(node, p), side_distance(node, q));
+            let (sp, sq) = ((dp < 0.0) as usize, (dq < 0.0) as usize);
+            if sp == sq {
+                stack.push((node.children[sp], p, q));
+            } else {
+                // The crossing point belongs to both halves, so touching a wall counts.
+                let t = dp / (dp - dq);
+                let m = [
+                    p[0] + t * (q[0] - p[0]),
+                    p[1] + t * (q[1] - p[1]),
+                    p[2] + t * (q[2] - p[2]),
+                ];
+                stack.push((node.children[sq], m, q));
+                stack.push((node.children[sp], p, m));
+            }
+        }
+        true
+    }
+}
+
+fn hull_node(bsp: &Bsp, plane: u32, children: [i32; 2]) -> HullNode {
+    let p = &bsp.planes[plane as usize];
+    let axis = (0..3)
+        .find(|&i| p.normal[i] == 1.0 && p.normal.iter().filter(|&&c| c == 0.0).count() == 2)
+        .unwrap_or(3) as u32;
+    HullNode {
+        normal: p.normal,
+        dist: p.dist,
+        children,
+        axis,
+    }
+}
+
+#[inline(always)]
+fn side_distance(node: &HullNode, p: [f64; 3]) -> f64 {
+    let dist = node.dist as f64;
+    match node.axis {
+        0 => p[0] - dist,
+        1 => p[1] - dist,
+        2 => p[2] - dist,
+        _ => {
+            let n = node.normal;
+            n[0] as f64 * p[0] + n[1] as f64 * p[1] + n[2] as f64 * p[2] - dist
+        }
+    }
+}
+
+/// A brush model that blocks, with its placement.
+#[derive(Debug, Clone)]
+struct SolidModel {
+    hull: Hull,
+    origin: [f64; 3],
+    mins: [f64; 3],
+    maxs: [f64; 3],
+}
+
+/// Free-space queries against a map.
+#[derive(Debug, Clone)]
+pub struct Oracle {
+    world: Hull,
+    clip_hulls: [Option<Hull>; 3],
+    solid_models: Vec<SolidModel>,
+    liquids_are_solid: bool,
+}
+
+impl Oracle {
+    /// Builds the oracle for the world model (plus any solid brush models).
+    pub fn new(bsp: &Bsp, options: &OracleOptions) -> Oracle {
+        let solid_models = options
+            .solid_models
+            .iter()
+            .filter(|&&m| m > 0 && m < bsp.models.len())
+            .map(|&m| {
+                let model = &bsp.models[m];
+                let origin = bsp
+                    .entity_of_model(m)
+                    .and_then(|e| e.origin())
+                    .unwrap_or([0.0; 3])
+                    .map(f64::from);
+                SolidModel {
+                    hull: Hull::from_nodes(bsp, m),
+                    origin,
+                    mins: [0, 1, 2].map(|i| model.mins[i] as f64 + origin[i] - 1.0),
+                    maxs: [0, 1, 2].map(|i| model.maxs[i] as f64 + origin[i] + 1.0),
+                }
+            })
+            .collect();
+        Oracle {
+            world: Hull::from_nodes(bsp, 0),
+            clip_hulls: [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h)),
+            solid_models,
+            liquids_are_solid: options.liquids_are_solid,
+        }
+    }
+
+    /// Whether a contents value is an obstacle under these options.
+    #[inline]
+    pub fn blocks(&self, c: i32) -> bool {
+        c == contents::SOLID
+            || c == contents::SKY
+            || (self.liquids_are_solid && contents::is_liquid(c))
+    }
+
+    /// The world's hull-0 contents at `p` (solid models not included).
+    #[inline]
+    pub fn contents(&self, p: [f64; 3]) -> i32 {
+        self.world.contents(p)
+    }
+
+    /// Contents at `p` in clip hull 1..=3 of the world, if the map has clip hulls.
+    pub fn clip_contents(&self, hull: usize, p: [f64; 3]) -> Option<i32> {
+        self.clip_hulls
+            .get(hull.wrapping_sub(1))?
+            .as_ref()
+            .map(|h| h.contents(p))
+    }
+
+    /// Whether `p` is in free space.
+    #[inline]
+    pub fn is_free(&self, p: [f64; 3]) -> bool {
+        !self.blocks(self.world.contents(p))
+            && self.solid_models.iter().all(|m| {
+                !inside_box(p, m.mins, m.maxs)
+                    || m.hull.contents(sub(p, m.origin)) != contents::SOLID
+            })
+    }
+
+    /// Whether the whole closed segment `a`–`b` lies in free space.
+    pub fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        self.world.segment_clear(a, b, |c| self.blocks(c))
+            && self.solid_models.iter().all(|m| {
+                !segment_meets_box(a, b, m.mins, m.maxs)
+                    || m.hull
+                        .segment_clear(sub(a, m.origin), sub(b, m.origin), |c| c == contents::SOLID)
+            })
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn inside_box(p: [f64; 3], mins: [f64; 3], maxs: [f64; 3]) -> bool {
+    (0..3).all(|i| p[i] >= mins[i] && p[i] <= maxs[i])
+}
+
+/// Slab test: does the segment touch the box?
+fn segment_meets_box(a: [f64; 3], b: [f64; 3], mins: [f64; 3], maxs: [f64; 3]) -> bool {
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for i in 0..3 {
+        let d = b[i] - a[i];
+        if d == 0.0 {
+            if a[i] < mins[i] || a[i] > maxs[i] {
+                return false;
+            }
+            continue;
+        }
+        let (mut u, mut v) = ((mins[i] - a[i]) / d, (maxs[i] - a[i]) / d);
+        if u > v {
+            std::mem::swap(&mut u, &mut v);
+        }
+        t0 = t0.max(u);
+        t1 = t1.min(v);
+        if t0 > t1 {
+            return false;
+        }
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segment_box_slab_test() {
+        let (lo, hi) = ([0.0; 3], [1.0; 3]);
+        assert!(segment_meets_box([-1.0, 0.5, 0.5], [2.0, 0.5, 0.5], lo, hi));
+        assert!(!segment_meets_box(
+            [-1.0, 2.0, 0.5],
+            [2.0, 2.0, 0.5],
+            lo,
+            hi
+        ));
+        assert!(segment_meets_box([0.5; 3], [0.5; 3], lo, hi));
+        assert!(!segment_meets_box(
+            [-1.0, -1.0, 0.5],
+            [-0.1, 3.0, 0.5],
+            lo,
+            hi
+        ));
+    }
+
+    /// A hand-made hull: x >= 0 is empty, x < 0 solid; inside that, z >= 10 is sky.
+    fn half_space_hull() -> Hull {
+        Hull {
+            nodes: vec![
+                HullNode {
+                    normal: [1.0, 0.0, 0.0],
+                    dist: 0.0,
+                    children: [1, contents::SOLID],
+                    axis: 0,
+                },
+                HullNode {
+                    normal: [0.0, 0.0, 1.0],
+                    dist: 10.0,
+                    children: [contents::SKY, contents::EMPTY],
+                    axis: 2,
+                },
+            ],
+            root: 0,
+        }
+    }
+
+    #[test]
+    fn point_contents_follows_front_on_plane_rule() {
+        let h = half_space_hull();
+        assert_eq!(h.contents([1.0, 0.0, 0.0]), contents::EMPTY);
+        assert_eq!(h.contents([0.0, 0.0, 0.0]), contents::EMPTY);
+        assert_eq!(h.contents([-0.001, 0.0, 0.0]), contents::SOLID);
+        assert_eq!(h.contents([5.0, 0.0, 10.0]), contents::SKY);
+    }
+
+    #[test]
+    fn segment_test_splits_at_planes() {
+        let h = half_space_hull();
+        let blocks = |c: i32| c == contents::SOLID || c == contents::SKY;
+        assert!(h.segment_clear([1.0, 0.0, 1.0], [9.0, 5.0, 9.0], blocks));
+        assert!(!h.segment_clear([1.0, 0.0, 1.0], [-1.0, 0.0, 1.0], blocks));
+        assert!(!h.segment_clear([1.0, 0.0, 1.0], [1.0, 0.0, 11.0], blocks));
+        // Diagonal through the empty corner region only.
+        assert!(h.segment_clear([0.5, 0.0, 9.5], [9.5, 0.0, 0.5], blocks));
+    }
+}

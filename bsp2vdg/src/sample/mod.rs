@@ -1,0 +1,431 @@
+//! Wall sampling (thesis 3.5, 6.1.2): points on every face that bounds the free space,
+//! so that every point of a sampled face lies within the spacing m of a sample.
+//!
+//! Faces are fan-triangulated and subdivided along longest edges by an exact covering
+//! criterion ([`subdivide`]). Neighbouring faces split shared edges at bit-identical
+//! midpoints, and the few points that still nearly coincide (T-junctions, vertices
+//! welded by the compiler) are merged within a small tolerance; the subdivision radius
+//! is reduced by that tolerance, so the guarantee survives the merge.
+//!
+//! ```no_run
+//! use bsp2vdg::{bsp::Bsp, sample::{sample, SampleOptions}};
+//! let bsp = Bsp::open("maps/crossfire.bsp")?;
+//! let s = sample(&bsp, &SampleOptions::default());
+//! println!("{} samples at spacing {}", s.points.len(), s.spacing);
+//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! ```
+
+pub mod classify;
+pub mod grid;
+pub mod subdivide;
+
+use crate::bsp::Bsp;
+use crate::util::SplitMix64;
+use classify::{FaceClass, SkipReason, classify_texture};
+use grid::PointGrid;
+use rayon::prelude::*;
+
+/// How to sample a map.
+#[derive(Debug, Clone)]
+pub struct SampleOptions {
+    /// The spacing m (`-sd`): every face point within m of a sample.
+    pub spacing: f64,
+    /// The cap on the number of samples (`-ms`); m is raised until it holds.
+    pub max_samples: usize,
+    /// Sky faces are sampled at this multiple of m.
+    pub sky_factor: f64,
+    /// Only faces whose centre lies in the central eighth of the map (`-subset`).
+    pub subset: bool,
+    /// Brush models `*N` to sample besides the world (e.g. chosen func_walls).
+    pub models: Vec<usize>,
+}
+
+impl Default for SampleOptions {
+    fn default() -> Self {
+        SampleOptions {
+            spacing: 24.0,
+            max_samples: 250_000,
+            sky_factor: 2.0,
+            subset: false,
+            models: Vec::new(),
+        }
+    }
+}
+
+/// Faces skipped, by reason.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SkipCounts {
+    pub trigger: usize,
+    pub clip: usize,
+    pub helper: usize,
+    pub transparent: usize,
+    pub liquid: usize,
+    pub outside_subset: usize,
+}
+
+/// The result of sampling.
+#[derive(Debug, Clone)]
+pub struct Samples {
+    /// The sample points, in a deterministic order.
+    pub points: Vec<[f64; 3]>,
+    /// For each point, the face that produced it.
+    pub source_face: Vec<u32>,
+    /// The spacing finally used (larger than asked when the cap was hit).
+    pub spacing: f64,
+    /// The spacing asked for.
+    pub requested_spacing: f64,
+    /// Faces considered (world and chosen models).
+    pub faces: usize,
+    /// Faces that were sampled.
+    pub sampled_faces: usize,
+    /// Sky faces among them.
+    pub sky_faces: usize,
+    /// Triangles after subdivision (the thesis' "subfaces").
+    pub subfaces: usize,
+    /// Points dropped as (near) duplicates of others.
+    pub merged: usize,
+    pub skipped: SkipCounts,
+    /// The merge tolerance used.
+    pub merge_tolerance: f64,
+}
+
+/// A face prepared for sampling: its polygon in world coordinates and its class.
+#[derive(Debug, Clone)]
+pub struct SampledFace {
+    pub index: u32,
+    pub polygon: Vec<[f64; 3]>,
+    pub class: FaceClass,
+}
+
+/// The faces of the world and of the chosen brush models, with entity origins applied.
+pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
+    let mut out = Vec::new();
+    let mut model_ids = vec![0usize];
+    model_ids.extend(
+        models
+            .iter()
+            .copied()
+            .filter(|&m| m > 0 && m < bsp.models.len()),
+    );
+    model_ids.dedup();
+    for m in model_ids {
+        let model = &bsp.models[m];
+        let origin = if m == 0 {
+            [0.0; 3]
+        } else {
+            bsp.entity_of_model(m)
+                .and_then(|e| e.origin())
+                .unwrap_or([0.0; 3])
+                .map(f64::from)
+        };
+        let first = model.first_face as usize;
+        for (k, face) in bsp.model_faces(model).iter().enumerate() {
+            let polygon = bsp
+                .face_vertices(face)
+                .map(|v| [0, 1, 2].map(|i| v[i] as f64 + origin[i]))
+                .collect();
+            out.push(SampledFace {
+                index: (first + k) as u32,
+                polygon,
+                class: classify_texture(bsp.face_texture_name(face)),
+            });
+        }
+    }
+    out
+}
+
+/// Samples the map's faces.
+pub fn sample(bsp: &Bsp, options: &SampleOptions) -> Samples {
+    let faces = collect_faces(bsp, &options.models);
+    sample_faces(&faces, options)
+}
+
+/// Samples prepared faces (see [`collect_faces`]).
+pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
+    let subset = options.subset.then(|| central_eighth(faces));
+    let mut skipped = SkipCounts::default();
+    let mut chosen: Vec<&SampledFace> = Vec::new();
+    for f in faces {
+        match f.class {
+            FaceClass::Skip(r) => match r {
+                SkipReason::Trigger => skipped.trigger += 1,
+                SkipReason::Clip => skipped.clip += 1,
+                SkipReason::Helper => skipped.helper += 1,
+                SkipReason::Transparent => skipped.transparent += 1,
+                SkipReason::Liquid => skipped.liquid += 1,
+            },
+            _ if subset.is_some_and(|b| !inside(centroid(&f.polygon), b)) => {
+                skipped.outside_subset += 1
+            }
+            _ => chosen.push(f),
+        }
+    }
+
+    // Start from an estimate so that a tiny m on a huge map cannot allocate without
+    // bound before the cap is checked: about one sample per m² of area.
+    let area: f64 = chosen
+        .iter()
+        .map(|f| polygon_area(&f.polygon) * weight(f))
+        .sum();
+    let max = options.max_samples.max(1) as f64;
+    let mut spacing = options.spacing;
+    if area / (spacing * spacing) > 4.0 * max {
+        spacing = (area / (4.0 * max)).sqrt();
+    }
+    loop {
+        let s = sample_at(&chosen, spacing, options.sky_factor);
+        if s.points.len() <= options.max_samples {
+            return Samples {
+                requested_spacing: options.spacing,
+                faces: faces.len(),
+                skipped,
+                ..s
+            };
+        }
+        // Sample count scales with 1/m²; aim a little below the cap.
+        spacing *= (s.points.len() as f64 / max).sqrt() * 1.02;
+    }
+}
+
+fn weight(f: &SampledFace) -> f64 {
+    if f.class == FaceClass::Sky { 0.25 } else { 1.0 }
+}
+
+/// One sampling pass at spacing `m`.
+fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64) -> Samples {
+    let tolerance = (m / 64.0).min(0.5);
+    let per_face: Vec<(Vec<[f64; 3]>, usize)> = faces
+        .par_iter()
+        .map(|f| {
+            let spacing = if f.class == FaceClass::Sky {
+                m * sky_factor
+            } else {
+                m
+            };
+            sample_polygon(&f.polygon, spacing - tolerance)
+        })
+        .collect();
+    let mut grid = PointGrid::new(tolerance.max(1e-6));
+    let mut source_face = Vec::new();
+    let (mut subfaces, mut merged) = (0, 0);
+    for (f, (points, tris)) in faces.iter().zip(&per_face) {
+        subfaces += tris;
+        for &p in points {
+            if grid.nearest_within(p, tolerance).is_some() {
+                merged += 1;
+            } else {
+                grid.insert(p);
+                source_face.push(f.index);
+            }
+        }
+    }
+    Samples {
+        points: grid.points().to_vec(),
+        source_face,
+        spacing: m,
+        requested_spacing: m,
+        faces: faces.len(),
+        sampled_faces: faces.len(),
+        sky_faces: faces.iter().filter(|f| f.class == FaceClass::Sky).count(),
+        subfaces,
+        merged,
+        skipped: SkipCounts::default(),
+        merge_tolerance: tolerance,
+    }
+}
+
+/// The polygon's corners plus every midpoint its subdivision creates, and the number
+/// of final triangles.
+pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64) -> (Vec<[f64; 3]>, usize) {
+    let mut points = polygon.to_vec();
+    let mut tris = 0;
+    for i in 1..polygon.len().saturating_sub(1) {
+        tris += subdivide::subdivide(polygon[0], polygon[i], polygon[i + 1], radius, &mut points);
+    }
+    (points, tris)
+}
+
+/// Area of a planar polygon.
+pub fn polygon_area(p: &[[f64; 3]]) -> f64 {
+    let mut n = [0.0f64; 3];
+    for i in 1..p.len().saturating_sub(1) {
+        let (a, b) = (sub(p[i], p[0]), sub(p[i + 1], p[0]));
+        let c = cross(a, b);
+        n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
+    }
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn centroid(p: &[[f64; 3]]) -> [f64; 3] {
+    let n = p.len().max(1) as f64;
+    let s = p
+        .iter()
+        .fold([0.0; 3], |s, v| [s[0] + v[0], s[1] + v[1], s[2] + v[2]]);
+    s.map(|c| c / n)
+}
+
+type Bounds = ([f64; 3], [f64; 3]);
+
+fn inside(p: [f64; 3], (lo, hi): Bounds) -> bool {
+    (0..3).all(|i| p[i] >= lo[i] && p[i] <= hi[i])
+}
+
+/// The middle box with half the extent of the faces' bounds on every axis.
+fn central_eighth(faces: &[SampledFace]) -> Bounds {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for v in faces.iter().flat_map(|f| &f.polygon) {
+        for i in 0..3 {
+            lo[i] = lo[i].min(v[i]);
+            hi[i] = hi[i].max(v[i]);
+        }
+    }
+    let q = [0, 1, 2].map(|i| (hi[i] - lo[i]) * 0.25);
+    (
+        [0, 1, 2].map(|i| lo[i] + q[i]),
+        [0, 1, 2].map(|i| hi[i] - q[i]),
+    )
+}
+
+/// Uniform random points on the given faces (area-weighted), for measurements: each
+/// is returned with the index into `faces` it lies on.
+pub fn random_face_points(faces: &[&SampledFace], n: usize, seed: u64) -> Vec<([f64; 3], usize)> {
+    // Every fan triangle with its cumulative area.
+    let mut tris: Vec<(usize, [[f64; 3]; 3])> = Vec::new();
+    let mut cumulative = Vec::new();
+    let mut total = 0.0;
+    for (fi, f) in faces.iter().enumerate() {
+        let p = &f.polygon;
+        for i in 1..p.len().saturating_sub(1) {
+            let t = [p[0], p[i], p[i + 1]];
+            total += polygon_area(&t);
+            tris.push((fi, t));
+            cumulative.push(total);
+        }
+    }
+    if tris.is_empty() || total <= 0.0 {
+        return Vec::new();
+    }
+    let mut rng = SplitMix64::new(seed);
+    (0..n)
+        .map(|_| {
+            let x = rng.next_f64() * total;
+            let k = cumulative.partition_point(|&c| c <= x).min(tris.len() - 1);
+            let (fi, [a, b, c]) = tris[k];
+            let (mut u, mut v) = (rng.next_f64(), rng.next_f64());
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            let p = [0, 1, 2].map(|i| a[i] + u * (b[i] - a[i]) + v * (c[i] - a[i]));
+            (p, fi)
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square(size: f64, z: f64) -> SampledFace {
+        SampledFace {
+            index: 0,
+            polygon: vec![
+                [0.0, 0.0, z],
+                [size, 0.0, z],
+                [size, size, z],
+                [0.0, size, z],
+            ],
+            class: FaceClass::Wall,
+        }
+    }
+
+    #[test]
+    fn covering_holds_after_merging() {
+        let mut a = square(300.0, 0.0);
+        // A second face sharing an edge, with a T-junction vertex on it.
+        let b = SampledFace {
+            index: 1,
+            polygon: vec![
+                [0.0, 0.0, 0.0],
+                [0.0, 0.0, 200.0],
+                [0.0, 300.0, 200.0],
+                [0.0, 300.0, 0.0],
+                [0.0, 113.0, 0.0],
+            ],
+            class: FaceClass::Wall,
+        };
+        a.index = 0;
+        let faces = vec![a, b];
+        let s = sample_faces(
+            &faces,
+            &SampleOptions {
+                spacing: 24.0,
+                ..Default::default()
+            },
+        );
+        let grid = PointGrid::from_points(&s.points, 24.0);
+        let refs: Vec<&SampledFace> = faces.iter().collect();
+        for (p, _) in random_face_points(&refs, 20_000, 1) {
+            let d = grid.nearest_within(p, 24.0).map(|(_, d)| d);
+            assert!(d.is_some_and(|d| d <= 24.0), "{p:?} {d:?}");
+        }
+        // No two samples closer than the merge tolerance.
+        for (i, &p) in s.points.iter().enumerate() {
+            let (j, _) = grid.nearest_within(p, s.merge_tolerance).unwrap();
+            assert_eq!(j as usize, i);
+        }
+    }
+
+    #[test]
+    fn skipped_classes_and_sky_spacing() {
+        let mut sky = square(480.0, 0.0);
+        sky.class = FaceClass::Sky;
+        let mut wall = square(480.0, 10.0);
+        wall.index = 1;
+        let mut fence = square(480.0, 20.0);
+        fence.class = FaceClass::Skip(SkipReason::Transparent);
+        let s = sample_faces(&[sky, wall, fence], &SampleOptions::default());
+        let on_sky = s.source_face.iter().filter(|&&f| f == 0).count();
+        let on_wall = s.source_face.iter().filter(|&&f| f == 1).count();
+        assert_eq!(s.sampled_faces, 2);
+        assert_eq!(s.skipped.transparent, 1);
+        // Twice the spacing: about a quarter of the samples.
+        assert!(on_sky * 3 < on_wall, "{on_sky} vs {on_wall}");
+    }
+
+    #[test]
+    fn cap_raises_the_spacing() {
+        let faces = [square(2400.0, 0.0)];
+        let s = sample_faces(
+            &faces,
+            &SampleOptions {
+                max_samples: 2000,
+                ..Default::default()
+            },
+        );
+        assert!(s.points.len() <= 2000);
+        assert!(s.spacing > 24.0 && s.requested_spacing == 24.0);
+        let uncapped = sample_faces(&faces, &SampleOptions::default());
+        assert!(uncapped.points.len() > 2000);
+    }
+
+    #[test]
+    fn sampling_is_deterministic() {
+        let faces = [square(500.0, 0.0), square(333.0, 7.0)];
+        let a = sample_faces(&faces, &SampleOptions::default());
+        let b = sample_faces(&faces, &SampleOptions::default());
+        assert_eq!(a.points, b.points);
+    }
+}
