@@ -7,6 +7,9 @@
 //! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
 
 pub mod bsp;
+pub mod log;
 pub mod oracle;
+pub mod pipeline;
+pub mod progress;
 pub mod sample;
 pub mod util;

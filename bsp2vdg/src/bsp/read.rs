@@ -202,8 +202,8 @@ fn read_planes(dir: &Directory) -> Result<Vec<Plane>, BspError> {
     for (i, p) in planes.iter().enumerate() {
         let n = p.normal;
         let len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        if !(n.iter().all(|x| x.is_finite()) && p.dist.is_finite()) || !(0.9..=1.1).contains(&len2)
-        {
+        let finite = n.iter().all(|x| x.is_finite()) && p.dist.is_finite();
+        if !(finite && (0.9..=1.1).contains(&len2)) {
             return Err(BspError::Malformed {
                 lump: "planes",
                 reason: format!("plane {i} has no unit normal or a non-finite distance"),
@@ -551,8 +551,9 @@ fn validate(bsp: &Bsp) -> Result<(), BspError> {
     }
     for (i, m) in bsp.models.iter().enumerate() {
         check_node_child(MODELS, i, m.headnode[0], nn, nl)?;
+        // Maps compiled without clip hulls store 0 here and have no clip nodes at all.
         for &h in &m.headnode[1..] {
-            if h >= 0 {
+            if h >= 0 && !bsp.clipnodes.is_empty() {
                 check(
                     MODELS,
                     i,
@@ -572,7 +573,8 @@ fn validate(bsp: &Bsp) -> Result<(), BspError> {
         bsp.clipnodes.len(),
         bsp.models
             .iter()
-            .flat_map(|m| m.headnode[1..].iter().copied()),
+            .flat_map(|m| m.headnode[1..].iter().copied())
+            .filter(|_| !bsp.clipnodes.is_empty()),
         |n| bsp.clipnodes[n].children,
     )?;
     Ok(())

@@ -1,0 +1,297 @@
+//! The compile pipeline: the stages of SPEC §3 run in order, each logged with its
+//! time, up to the stage the user asked for.
+
+use crate::bsp::{Bsp, BspError};
+use crate::log::{Log, secs};
+use crate::progress::Progress;
+use crate::sample::{self, SampleOptions, Samples};
+use std::fmt;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The pipeline's stages, in order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Stage {
+    Samples,
+    Delaunay,
+    Voronoi,
+    Reduce,
+}
+
+impl Stage {
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Samples => "samples",
+            Stage::Delaunay => "delaunay",
+            Stage::Voronoi => "voronoi",
+            Stage::Reduce => "reduce",
+        }
+    }
+}
+
+/// Format of the `-savesamples` file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SamplesFormat {
+    /// One `x y z` line per sample.
+    #[default]
+    Xyz,
+    /// qhull's input format: `3`, the count, then `x y z` lines.
+    Qhull,
+}
+
+/// Everything that steers a compile.
+#[derive(Debug, Clone)]
+pub struct CompileOptions {
+    pub sampling: SampleOptions,
+    /// `-rl`: stop reducing at this fraction of the vertices.
+    pub reduction_limit: f64,
+    /// `-md`: vertices with less clearance are removed before reduction.
+    pub min_clearance: f64,
+    /// `-bb`: the smallest leaf box of the face tree.
+    pub tree_leaf_size: f64,
+    pub liquids_are_solid: bool,
+    /// Brush entity classnames whose models are walls too.
+    pub entity_classes: Vec<String>,
+    pub save_samples: bool,
+    pub samples_format: SamplesFormat,
+    pub stop_after: Stage,
+    /// Where the `.vdg` goes; other outputs go beside it.
+    pub output: PathBuf,
+}
+
+/// What a compile measured, for the log summary and `--json`.
+#[derive(Debug, Clone, Default)]
+pub struct Stats {
+    pub version: String,
+    pub file_size: usize,
+    pub bounds: ([f32; 3], [f32; 3]),
+    pub faces: usize,
+    pub sampled_faces: usize,
+    pub sky_faces: usize,
+    pub samples: usize,
+    pub sample_spacing: f64,
+    pub requested_spacing: f64,
+    pub subfaces: usize,
+    pub merged_samples: usize,
+    pub entity_models: usize,
+    /// Seconds per stage, in order.
+    pub seconds: Vec<(&'static str, f64)>,
+    pub samples_file: Option<PathBuf>,
+}
+
+/// Why a compile failed.
+#[derive(Debug)]
+pub enum CompileError {
+    Bsp {
+        path: PathBuf,
+        error: BspError,
+    },
+    Write {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    NotBuilt(Stage),
+}
+
+impl fmt::Display for CompileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CompileError::Bsp { path, error } => write!(f, "{}: {error}", path.display()),
+            CompileError::Write { path, error } => {
+                write!(f, "cannot write {}: {error}", path.display())
+            }
+            CompileError::NotBuilt(stage) => write!(
+                f,
+                "the {} stage is not built yet in this version; run with --stop-after {}",
+                stage.name(),
+                Stage::Samples.name()
+            ),
+        }
+    }
+}
+
+impl std::error::Error for CompileError {}
+
+/// Runs the pipeline on one map.
+pub fn compile(
+    map: &Path,
+    options: &CompileOptions,
+    log: &Log,
+    progress: &dyn Progress,
+) -> Result<Stats, CompileError> {
+    let t_total = Instant::now();
+    let mut stats = Stats::default();
+
+    let t = Instant::now();
+    let bsp = Bsp::open(map).map_err(|error| CompileError::Bsp {
+        path: map.to_path_buf(),
+        error,
+    })?;
+    let world = bsp.world();
+    stats.version = bsp.version.name().to_string();
+    stats.file_size = bsp.file_size;
+    stats.bounds = (world.mins, world.maxs);
+    log.info(format!(
+        "Loading model: {} ({} kB), {}, {} models, {} entities",
+        map.display(),
+        bsp.file_size.div_ceil(1024),
+        bsp.version.name(),
+        bsp.models.len(),
+        bsp.entities.len()
+    ));
+    log.info(format!(
+        "Bounding Box ({:.1},{:.1},{:.1})-({:.1},{:.1},{:.1})",
+        world.mins[0], world.mins[1], world.mins[2], world.maxs[0], world.maxs[1], world.maxs[2]
+    ));
+    stats.seconds.push(("load", t.elapsed().as_secs_f64()));
+
+    let t = Instant::now();
+    let mut sampling = options.sampling.clone();
+    sampling.models = entity_models(&bsp, &options.entity_classes);
+    stats.entity_models = sampling.models.len();
+    if !sampling.models.is_empty() {
+        log.info(format!(
+            "Including {} brush entity models ({})",
+            sampling.models.len(),
+            options.entity_classes.join(", ")
+        ));
+    }
+    let faces = sample::collect_faces(&bsp, &sampling.models);
+    log.info(format!("Sampling from {} faces ...", faces.len()));
+    progress.start("Sampling", 1);
+    let samples = sample::sample_faces(&faces, &sampling);
+    progress.advance(1);
+    progress.finish();
+    log_samples(log, &samples);
+    stats.faces = samples.faces;
+    stats.sampled_faces = samples.sampled_faces;
+    stats.sky_faces = samples.sky_faces;
+    stats.samples = samples.points.len();
+    stats.sample_spacing = samples.spacing;
+    stats.requested_spacing = samples.requested_spacing;
+    stats.subfaces = samples.subfaces;
+    stats.merged_samples = samples.merged;
+    stats.seconds.push(("sample", t.elapsed().as_secs_f64()));
+    log.info(format!(
+        "Sampled {} points from {} faces ({} subfaces) [{}]",
+        samples.points.len(),
+        samples.sampled_faces,
+        samples.subfaces,
+        secs(t.elapsed().as_secs_f64())
+    ));
+
+    if options.save_samples {
+        let path = samples_path(&options.output);
+        write_samples(&path, &samples.points, options.samples_format)?;
+        log.info(format!(
+            "Wrote {} samples to {}",
+            samples.points.len(),
+            path.display()
+        ));
+        stats.samples_file = Some(path);
+    }
+
+    let result = if options.stop_after > Stage::Samples {
+        Err(CompileError::NotBuilt(Stage::Delaunay))
+    } else {
+        log.info("Stopped after sampling (--stop-after samples).");
+        Ok(())
+    };
+    stats
+        .seconds
+        .push(("total", t_total.elapsed().as_secs_f64()));
+    result.map(|()| {
+        log.info(format!("Total {}", secs(t_total.elapsed().as_secs_f64())));
+        stats
+    })
+}
+
+fn log_samples(log: &Log, s: &Samples) {
+    if s.spacing > s.requested_spacing {
+        log.warn(format!(
+            "more than the sample cap at spacing {:.1}: spacing raised to {:.2}",
+            s.requested_spacing, s.spacing
+        ));
+    }
+    let k = &s.skipped;
+    let skipped = k.trigger + k.clip + k.helper + k.transparent + k.liquid + k.outside_subset;
+    if skipped > 0 {
+        log.info(format!(
+            "Skipped {skipped} faces: {} trigger, {} clip, {} helper, {} transparent, {} liquid, {} outside subset",
+            k.trigger, k.clip, k.helper, k.transparent, k.liquid, k.outside_subset
+        ));
+    }
+    log.detail(format!(
+        "Sky faces {} (sampled at twice the spacing); {} points merged within {:.3} units",
+        s.sky_faces, s.merged, s.merge_tolerance
+    ));
+}
+
+/// The brush models used by entities of the given classnames, in model order.
+pub fn entity_models(bsp: &Bsp, classes: &[String]) -> Vec<usize> {
+    let mut models: Vec<usize> = bsp
+        .entities
+        .iter()
+        .filter(|e| {
+            classes
+                .iter()
+                .any(|c| c.eq_ignore_ascii_case(e.classname()))
+        })
+        .filter_map(|e| e.model_index())
+        .filter(|&m| m > 0 && m < bsp.models.len())
+        .collect();
+    models.sort_unstable();
+    models.dedup();
+    models
+}
+
+/// `out/map.vdg` → `out/map.samples.txt`.
+pub fn samples_path(output: &Path) -> PathBuf {
+    output.with_extension("samples.txt")
+}
+
+/// Writes the samples through a temporary file, so no half-written file is left behind.
+pub fn write_samples(
+    path: &Path,
+    points: &[[f64; 3]],
+    format: SamplesFormat,
+) -> Result<(), CompileError> {
+    write_atomic(path, |w| {
+        if format == SamplesFormat::Qhull {
+            writeln!(w, "3\n{}", points.len())?;
+        }
+        for p in points {
+            writeln!(w, "{} {} {}", p[0], p[1], p[2])?;
+        }
+        Ok(())
+    })
+}
+
+/// Writes a file via a temporary sibling and a rename.
+pub fn write_atomic(
+    path: &Path,
+    body: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<(), CompileError> {
+    let err = |error| CompileError::Write {
+        path: path.to_path_buf(),
+        error,
+    };
+    let tmp = path.with_extension(format!(
+        "{}.tmp{}",
+        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
+        std::process::id()
+    ));
+    let result = (|| {
+        let file = std::fs::File::create(&tmp)?;
+        let mut w = std::io::BufWriter::new(file);
+        body(&mut w)?;
+        let file = w.into_inner().map_err(|e| e.into_error())?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(err)
+}
