@@ -3,6 +3,7 @@
 
 use crate::bsp::{Bsp, BspError};
 use crate::log::{Log, secs};
+use crate::oracle::{Oracle, OracleOptions};
 use crate::progress::Progress;
 use crate::sample::{self, SampleOptions, Samples};
 use std::fmt;
@@ -157,7 +158,15 @@ pub fn compile(
             options.entity_classes.join(", ")
         ));
     }
-    let faces = sample::collect_faces(&bsp, &sampling.models);
+    let oracle = Oracle::new(
+        &bsp,
+        &OracleOptions {
+            liquids_are_solid: options.liquids_are_solid,
+            solid_models: sampling.models.clone(),
+        },
+    );
+    let mut faces = sample::collect_faces(&bsp, &sampling.models);
+    sample::cull_by_contents(&mut faces, |p| oracle.is_free(p));
     log.info(format!("Sampling from {} faces ...", faces.len()));
     progress.start("Sampling", 1);
     let samples = sample::sample_faces(&faces, &sampling);
@@ -215,11 +224,10 @@ fn log_samples(log: &Log, s: &Samples) {
         ));
     }
     let k = &s.skipped;
-    let skipped = k.trigger + k.clip + k.helper + k.transparent + k.liquid + k.outside_subset;
-    if skipped > 0 {
+    if k.total() > 0 {
         log.info(format!(
-            "Skipped {skipped} faces: {} trigger, {} clip, {} helper, {} transparent, {} liquid, {} outside subset",
-            k.trigger, k.clip, k.helper, k.transparent, k.liquid, k.outside_subset
+            "Skipped {} faces: {} trigger, {} clip, {} helper, {} transparent, {} liquid; {} not facing free space, {} with free space behind; {} outside subset",
+            k.total(), k.trigger, k.clip, k.helper, k.transparent, k.liquid, k.not_facing_free, k.free_behind, k.outside_subset
         ));
     }
     log.detail(format!(

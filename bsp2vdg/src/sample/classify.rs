@@ -29,6 +29,60 @@ pub enum SkipReason {
     Transparent,
     /// `!`-prefixed (GoldSrc) or `*`-prefixed (Quake) liquid surfaces.
     Liquid,
+    /// The BSP has an obstacle in front of the face: it does not look into free space
+    /// (e.g. sky-textured faces between sky and solid).
+    NotFacingFree,
+    /// The BSP has free space behind the face too (liquid surfaces, faces seen from
+    /// inside water): no wall is there.
+    FreeBehind,
+}
+
+/// Which side of a face is free, as the map's BSP says, decides whether it bounds the
+/// free space. Texture names cannot tell this for every map: compilers emit faces
+/// between sky and solid, both sides of liquid surfaces, and some maps ship without
+/// texture names. `is_free` is the oracle's point test.
+pub fn classify_by_contents(
+    polygon: &[[f64; 3]],
+    normal: [f64; 3],
+    is_free: impl Fn([f64; 3]) -> bool,
+) -> Option<SkipReason> {
+    let c = interior_point(polygon)?;
+    const EPS: f64 = 0.25;
+    let at = |s: f64| {
+        [
+            c[0] + s * normal[0],
+            c[1] + s * normal[1],
+            c[2] + s * normal[2],
+        ]
+    };
+    if !is_free(at(EPS)) {
+        Some(SkipReason::NotFacingFree)
+    } else if is_free(at(-EPS)) {
+        Some(SkipReason::FreeBehind)
+    } else {
+        None
+    }
+}
+
+/// The centroid of the largest fan triangle: well inside a convex polygon, away from
+/// its edges (where the side test would be ambiguous).
+fn interior_point(p: &[[f64; 3]]) -> Option<[f64; 3]> {
+    let mut best: Option<(f64, [f64; 3])> = None;
+    for i in 1..p.len().saturating_sub(1) {
+        let (a, b, c) = (p[0], p[i], p[i + 1]);
+        let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let area2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+        if best.is_none_or(|(ba, _)| area2 > ba) {
+            best = Some((area2, [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)));
+        }
+    }
+    best.filter(|(a, _)| *a > 0.0).map(|(_, c)| c)
 }
 
 /// Classifies a face by its texture name (case-insensitive, as the engines do).
@@ -70,6 +124,38 @@ pub fn classify_texture(name: &str) -> FaceClass {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn contents_decide_which_faces_bound_free_space() {
+        // Free space is z > 0 and x > 0 (a wall at x = 0 and a floor at z = 0).
+        let free = |p: [f64; 3]| p[2] > 0.0 && p[0] > 0.0;
+        let floor = [
+            [1.0, 0.0, 0.0],
+            [9.0, 0.0, 0.0],
+            [9.0, 9.0, 0.0],
+            [1.0, 9.0, 0.0],
+        ];
+        assert_eq!(classify_by_contents(&floor, [0.0, 0.0, 1.0], free), None);
+        assert_eq!(
+            classify_by_contents(&floor, [0.0, 0.0, -1.0], free),
+            Some(SkipReason::NotFacingFree)
+        );
+        let hanging = [
+            [1.0, 0.0, 5.0],
+            [9.0, 0.0, 5.0],
+            [9.0, 9.0, 5.0],
+            [1.0, 9.0, 5.0],
+        ];
+        assert_eq!(
+            classify_by_contents(&hanging, [0.0, 0.0, 1.0], free),
+            Some(SkipReason::FreeBehind)
+        );
+        let degenerate = [[1.0, 0.0, 5.0], [2.0, 0.0, 5.0], [3.0, 0.0, 5.0]];
+        assert_eq!(
+            classify_by_contents(&degenerate, [0.0, 0.0, 1.0], free),
+            None
+        );
+    }
 
     #[test]
     fn helper_surfaces_are_skipped() {

@@ -20,6 +20,7 @@ pub mod grid;
 pub mod subdivide;
 
 use crate::bsp::Bsp;
+use crate::oracle::{Oracle, OracleOptions};
 use crate::util::SplitMix64;
 use classify::{FaceClass, SkipReason, classify_texture};
 use grid::PointGrid;
@@ -60,7 +61,22 @@ pub struct SkipCounts {
     pub helper: usize,
     pub transparent: usize,
     pub liquid: usize,
+    pub not_facing_free: usize,
+    pub free_behind: usize,
     pub outside_subset: usize,
+}
+
+impl SkipCounts {
+    pub fn total(&self) -> usize {
+        self.trigger
+            + self.clip
+            + self.helper
+            + self.transparent
+            + self.liquid
+            + self.not_facing_free
+            + self.free_behind
+            + self.outside_subset
+    }
 }
 
 /// The result of sampling.
@@ -94,6 +110,8 @@ pub struct Samples {
 pub struct SampledFace {
     pub index: u32,
     pub polygon: Vec<[f64; 3]>,
+    /// Unit normal towards the side the face is seen from.
+    pub normal: [f64; 3],
     pub class: FaceClass,
 }
 
@@ -127,6 +145,7 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
             out.push(SampledFace {
                 index: (first + k) as u32,
                 polygon,
+                normal: bsp.face_normal(face).map(f64::from),
                 class: classify_texture(bsp.face_texture_name(face)),
             });
         }
@@ -134,10 +153,30 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
     out
 }
 
-/// Samples the map's faces.
+/// Samples the map's faces that bound its free space (by texture name and by the
+/// BSP's contents on either side, see [`classify::classify_by_contents`]).
 pub fn sample(bsp: &Bsp, options: &SampleOptions) -> Samples {
-    let faces = collect_faces(bsp, &options.models);
+    let oracle = Oracle::new(
+        bsp,
+        &OracleOptions {
+            solid_models: options.models.clone(),
+            ..Default::default()
+        },
+    );
+    let mut faces = collect_faces(bsp, &options.models);
+    cull_by_contents(&mut faces, |p| oracle.is_free(p));
     sample_faces(&faces, options)
+}
+
+/// Marks faces that do not separate free space from an obstacle as skipped.
+pub fn cull_by_contents(faces: &mut [SampledFace], is_free: impl Fn([f64; 3]) -> bool + Sync) {
+    faces.par_iter_mut().for_each(|f| {
+        if !matches!(f.class, FaceClass::Skip(_))
+            && let Some(r) = classify::classify_by_contents(&f.polygon, f.normal, &is_free)
+        {
+            f.class = FaceClass::Skip(r);
+        }
+    });
 }
 
 /// Samples prepared faces (see [`collect_faces`]).
@@ -153,6 +192,8 @@ pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
                 SkipReason::Helper => skipped.helper += 1,
                 SkipReason::Transparent => skipped.transparent += 1,
                 SkipReason::Liquid => skipped.liquid += 1,
+                SkipReason::NotFacingFree => skipped.not_facing_free += 1,
+                SkipReason::FreeBehind => skipped.free_behind += 1,
             },
             _ if subset.is_some_and(|b| !inside(centroid(&f.polygon), b)) => {
                 skipped.outside_subset += 1
@@ -347,6 +388,7 @@ mod tests {
                 [size, size, z],
                 [0.0, size, z],
             ],
+            normal: [0.0, 0.0, 1.0],
             class: FaceClass::Wall,
         }
     }
@@ -364,6 +406,7 @@ mod tests {
                 [0.0, 300.0, 0.0],
                 [0.0, 113.0, 0.0],
             ],
+            normal: [1.0, 0.0, 0.0],
             class: FaceClass::Wall,
         };
         a.index = 0;
