@@ -203,49 +203,81 @@ pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
     }
 
     // Start from an estimate so that a tiny m on a huge map cannot allocate without
-    // bound before the cap is checked: about one sample per m² of area.
-    let area: f64 = chosen
-        .iter()
-        .map(|f| polygon_area(&f.polygon) * weight(f))
-        .sum();
+    // bound before the cap is checked: about one sample per m² of area plus one per m
+    // of boundary (long slivers have no area but need samples along their length).
     let max = options.max_samples.max(1) as f64;
     let mut spacing = options.spacing;
-    if area / (spacing * spacing) > 4.0 * max {
-        spacing = (area / (4.0 * max)).sqrt();
+    while estimate(&chosen, spacing, options.sky_factor) > 4.0 * max {
+        spacing *= 1.25;
     }
     loop {
-        let s = sample_at(&chosen, spacing, options.sky_factor);
-        if s.points.len() <= options.max_samples {
-            return Samples {
-                requested_spacing: options.spacing,
-                faces: faces.len(),
-                skipped,
-                ..s
-            };
+        match sample_at(
+            &chosen,
+            spacing,
+            options.sky_factor,
+            16 * options.max_samples.max(1),
+        ) {
+            // A pass that overflowed its budget was abandoned: go coarser.
+            None => spacing *= 2.0,
+            Some(s) if s.points.len() <= options.max_samples => {
+                return Samples {
+                    requested_spacing: options.spacing,
+                    faces: faces.len(),
+                    skipped,
+                    ..s
+                };
+            }
+            // Sample count scales with 1/m²; aim a little below the cap.
+            Some(s) => spacing *= (s.points.len() as f64 / max).sqrt() * 1.02,
         }
-        // Sample count scales with 1/m²; aim a little below the cap.
-        spacing *= (s.points.len() as f64 / max).sqrt() * 1.02;
     }
 }
 
-fn weight(f: &SampledFace) -> f64 {
-    if f.class == FaceClass::Sky { 0.25 } else { 1.0 }
+/// Roughly how many samples spacing `m` yields (within a small constant factor).
+fn estimate(faces: &[&SampledFace], m: f64, sky_factor: f64) -> f64 {
+    faces
+        .iter()
+        .map(|f| {
+            let s = if f.class == FaceClass::Sky {
+                m * sky_factor
+            } else {
+                m
+            };
+            polygon_area(&f.polygon) / (s * s) + polygon_perimeter(&f.polygon) / s + 1.0
+        })
+        .sum()
+}
+
+fn polygon_perimeter(p: &[[f64; 3]]) -> f64 {
+    (0..p.len())
+        .map(|i| grid::dist(p[i], p[(i + 1) % p.len()]))
+        .sum()
 }
 
 /// One sampling pass at spacing `m`.
-fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64) -> Samples {
+fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> Option<Samples> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     let tolerance = (m / 64.0).min(0.5);
+    let produced = AtomicUsize::new(0);
     let per_face: Vec<(Vec<[f64; 3]>, usize)> = faces
         .par_iter()
         .map(|f| {
+            if produced.load(Ordering::Relaxed) > budget {
+                return (Vec::new(), 0);
+            }
             let spacing = if f.class == FaceClass::Sky {
                 m * sky_factor
             } else {
                 m
             };
-            sample_polygon(&f.polygon, spacing - tolerance)
+            let r = sample_polygon(&f.polygon, spacing - tolerance, budget);
+            produced.fetch_add(r.0.len(), Ordering::Relaxed);
+            r
         })
         .collect();
+    if produced.load(Ordering::Relaxed) > budget {
+        return None;
+    }
     let mut grid = PointGrid::new(tolerance.max(1e-6));
     let mut source_face = Vec::new();
     let (mut subfaces, mut merged) = (0, 0);
@@ -260,7 +292,7 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64) -> Samples {
             }
         }
     }
-    Samples {
+    Some(Samples {
         points: grid.points().to_vec(),
         source_face,
         spacing: m,
@@ -272,16 +304,17 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64) -> Samples {
         merged,
         skipped: SkipCounts::default(),
         merge_tolerance: tolerance,
-    }
+    })
 }
 
-/// The polygon's corners plus every midpoint its subdivision creates, and the number
-/// of final triangles.
-pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64) -> (Vec<[f64; 3]>, usize) {
+/// The polygon's corners plus every midpoint its subdivision creates (at most about
+/// `budget`), and the number of final triangles.
+pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64, budget: usize) -> (Vec<[f64; 3]>, usize) {
     let mut points = polygon.to_vec();
     let mut tris = 0;
     for i in 1..polygon.len().saturating_sub(1) {
-        tris += subdivide::subdivide(polygon[0], polygon[i], polygon[i + 1], radius, &mut points);
+        let (a, b, c) = (polygon[0], polygon[i], polygon[i + 1]);
+        tris += subdivide::subdivide(a, b, c, radius, &mut points, budget + polygon.len());
     }
     (points, tris)
 }
@@ -462,6 +495,24 @@ mod tests {
         assert!(s.spacing > 24.0 && s.requested_spacing == 24.0);
         let uncapped = sample_faces(&faces, &SampleOptions::default());
         assert!(uncapped.points.len() > 2000);
+    }
+
+    #[test]
+    fn huge_slivers_are_capped_before_sampling() {
+        let sliver = SampledFace {
+            index: 0,
+            polygon: vec![[0.0, 0.0, 0.0], [1e30, 0.0, 0.0], [1e30, 1e-3, 0.0]],
+            normal: [0.0, 0.0, 1.0],
+            class: FaceClass::Wall,
+        };
+        let s = sample_faces(
+            &[sliver],
+            &SampleOptions {
+                max_samples: 1000,
+                ..Default::default()
+            },
+        );
+        assert!(s.points.len() <= 1000 && s.spacing > 1e26);
     }
 
     #[test]

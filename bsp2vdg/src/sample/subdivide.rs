@@ -60,10 +60,11 @@ pub fn covering_radius(a: P, b: P, c: P) -> f64 {
 
 /// Subdivides triangle `abc` along longest edges until its covering radius is at most
 /// `radius`. New vertices (midpoints) go to `out`; returns the number of final triangles.
-pub fn subdivide(a: P, b: P, c: P, radius: f64, out: &mut Vec<P>) -> usize {
+/// Stops early once `out` holds `budget` points (the caller then retries coarser).
+pub fn subdivide(a: P, b: P, c: P, radius: f64, out: &mut Vec<P>, budget: usize) -> usize {
     // Depth bound: each level halves an edge; 64 levels exceed f64 resolution anyway.
-    fn rec(t: [P; 3], radius: f64, depth: u32, out: &mut Vec<P>) -> usize {
-        if depth >= 64 || covering_radius(t[0], t[1], t[2]) <= radius {
+    fn rec(t: [P; 3], radius: f64, depth: u32, out: &mut Vec<P>, budget: usize) -> usize {
+        if depth >= 64 || out.len() >= budget || covering_radius(t[0], t[1], t[2]) <= radius {
             return 1;
         }
         let l = [
@@ -82,9 +83,10 @@ pub fn subdivide(a: P, b: P, c: P, radius: f64, out: &mut Vec<P>) -> usize {
         let (apex, e0, e1) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
         let m = midpoint(e0, e1);
         out.push(m);
-        rec([apex, e0, m], radius, depth + 1, out) + rec([apex, m, e1], radius, depth + 1, out)
+        rec([apex, e0, m], radius, depth + 1, out, budget)
+            + rec([apex, m, e1], radius, depth + 1, out, budget)
     }
-    rec([a, b, c], radius, 0, out)
+    rec([a, b, c], radius, 0, out, budget)
 }
 
 #[cfg(test)]
@@ -143,7 +145,7 @@ mod tests {
         );
         assert!((covering_radius(a, b, c) - 2.0 * m / 3f64.sqrt()).abs() < 1e-9);
         let mut out = Vec::new();
-        assert!(subdivide(a, b, c, m, &mut out) > 1);
+        assert!(subdivide(a, b, c, m, &mut out, usize::MAX) > 1);
     }
 
     #[test]
@@ -153,7 +155,7 @@ mod tests {
         assert!((covering_radius(a, b, b) - 5.0).abs() < 1e-12);
         assert!((covering_radius(a, b, [4.0, 0.0, 0.0]) - 3.0).abs() < 1e-12);
         let mut out = Vec::new();
-        let n = subdivide(a, b, [4.0, 0.0, 0.0], 1.0, &mut out);
+        let n = subdivide(a, b, [4.0, 0.0, 0.0], 1.0, &mut out, usize::MAX);
         assert!(n > 1 && out.len() == n - 1);
     }
 }
