@@ -102,6 +102,10 @@ pub(super) fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
     let mut entries: [LumpEntry; 15] = bytemuck::pod_read_unaligned(&bytes[4..HEADER_LEN]);
     swap_blue_shift_lumps(bytes, &mut entries);
     let dir = Directory { bytes, entries };
+    // Lumps we do not read (visibility, lighting) still tell a truncated file.
+    for i in 0..LUMP_NAMES.len() {
+        dir.lump(i)?;
+    }
 
     let entities = parse_entities(dir.lump(ENTITIES)?)?;
     let planes = read_planes(&dir)?;

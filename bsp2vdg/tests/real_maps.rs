@@ -1,0 +1,144 @@
+//! The foundation against real compiled maps (../shared/testmaps; skipped when absent):
+//! every map reads, player spawns are free, samples sit on the boundary between free
+//! space and obstacles, and every face point lies within m of a sample.
+
+mod common;
+
+use bsp2vdg::bsp::Bsp;
+use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp2vdg::sample::{self, SampleOptions, classify::FaceClass, grid::PointGrid};
+
+const SPAWNS: [&str; 4] = [
+    "info_player_start",
+    "info_player_deathmatch",
+    "info_player_terrorist",
+    "info_player_counterterrorist",
+];
+
+#[test]
+fn every_goldsrc_and_quake_map_reads() {
+    let Some(maps) =
+        common::shared_maps(&["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"])
+    else {
+        return;
+    };
+    assert!(!maps.is_empty());
+    for m in &maps {
+        let bsp = Bsp::open(m).unwrap_or_else(|e| panic!("{}: {e}", m.display()));
+        assert!(!bsp.faces.is_empty(), "{}", m.display());
+    }
+}
+
+#[test]
+fn foreign_bsp_versions_are_refused_clearly() {
+    let Some(maps) = common::shared_maps(&["quake2", "quake3"]) else {
+        return;
+    };
+    for m in &maps {
+        let err = Bsp::open(m)
+            .expect_err("Quake 2/3 maps are not read yet")
+            .to_string();
+        assert!(
+            err.contains("not a BSP file we read"),
+            "{}: {err}",
+            m.display()
+        );
+    }
+}
+
+/// Spawns, sample sides and covering on a few maps of each family.
+#[test]
+fn oracle_and_samples_agree_with_the_maps() {
+    let Some(maps) =
+        common::shared_maps(&["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"])
+    else {
+        return;
+    };
+    let chosen = maps.iter().filter(|m| {
+        let n = m.to_string_lossy();
+        !n.contains("nonfree")
+            || n.contains("de_dust2")
+            || n.contains("c1a0.bsp")
+            || n.contains("quake_start")
+    });
+    for path in chosen {
+        let bsp = Bsp::open(path).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        for e in bsp
+            .entities
+            .iter()
+            .filter(|e| SPAWNS.contains(&e.classname()))
+        {
+            let o = e.origin().unwrap().map(f64::from);
+            assert!(
+                oracle.is_free(o),
+                "{}: spawn at {o:?} is not free",
+                path.display()
+            );
+        }
+
+        let mut faces = sample::collect_faces(&bsp, &[]);
+        sample::cull_by_contents(&mut faces, |p| oracle.is_free(p));
+        let s = sample::sample_faces(&faces, &SampleOptions::default());
+        // Behind every sample (one unit through its face) lies an obstacle — except on
+        // face edges, where the probe lands on the neighbouring face's plane.
+        let mut inner = 0usize;
+        let mut blocked = 0usize;
+        for (p, &f) in s.points.iter().zip(&s.source_face) {
+            let face = faces.iter().find(|x| x.index == f).unwrap();
+            if edge_distance(&face.polygon, *p) <= 1.0 {
+                continue;
+            }
+            let n = face.normal;
+            inner += 1;
+            blocked += !oracle.is_free([p[0] - n[0], p[1] - n[1], p[2] - n[2]]) as usize;
+        }
+        if inner > 0 {
+            let share = blocked as f64 / inner as f64;
+            assert!(
+                share >= 0.995,
+                "{}: only {share} of samples have an obstacle behind",
+                path.display()
+            );
+        }
+
+        // Covering: random points of sampled faces are within m (2m on sky) of a sample.
+        let sampled: Vec<&sample::SampledFace> = faces
+            .iter()
+            .filter(|f| !matches!(f.class, FaceClass::Skip(_)))
+            .collect();
+        let grid = PointGrid::from_points(&s.points, s.spacing);
+        for (p, fi) in sample::random_face_points(&sampled, 5_000, 7) {
+            let limit = if sampled[fi].class == FaceClass::Sky {
+                2.0
+            } else {
+                1.0
+            } * s.spacing;
+            assert!(
+                grid.nearest_within(p, limit).is_some(),
+                "{}: {p:?} is farther than {limit} from every sample",
+                path.display()
+            );
+        }
+    }
+}
+
+fn edge_distance(poly: &[[f64; 3]], p: [f64; 3]) -> f64 {
+    (0..poly.len())
+        .map(|i| {
+            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+            let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
+            let l2 = ab.iter().map(|x| x * x).sum::<f64>();
+            let t = if l2 > 0.0 {
+                (ap.iter().zip(&ab).map(|(x, y)| x * y).sum::<f64>() / l2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (0..3)
+                .map(|k| (a[k] + t * ab[k] - p[k]).powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
