@@ -301,18 +301,77 @@ pub fn point_segment_distance(p: V3, a: V3, b: V3) -> f64 {
 /// (counter-clockwise around it).
 pub fn point_polygon_distance(p: V3, poly: &[V3], normal: V3) -> f64 {
     let h = (p - poly[0]).dot(normal);
-    let q = p - normal * h;
-    let inside = (0..poly.len()).all(|i| {
-        let a = poly[i];
-        let b = poly[(i + 1) % poly.len()];
-        (b - a).cross(q - a).dot(normal) >= 0.0
-    });
-    if inside {
+    if projects_inside(p - normal * h, poly, normal) {
         return h.abs();
     }
     (0..poly.len())
         .map(|i| point_segment_distance(p, poly[i], poly[(i + 1) % poly.len()]))
         .fold(f64::INFINITY, f64::min)
+}
+
+/// Whether the projection of `p` onto the polygon's plane lies inside it.
+fn projects_inside(p: V3, poly: &[V3], normal: V3) -> bool {
+    (0..poly.len()).all(|i| {
+        let a = poly[i];
+        let b = poly[(i + 1) % poly.len()];
+        (b - a).cross(p - a).dot(normal) >= 0.0
+    })
+}
+
+/// Distance between the segments `p1`–`q1` and `p2`–`q2` (Ericson,
+/// "Real-Time Collision Detection", 5.1.9).
+pub fn segment_segment_distance(p1: V3, q1: V3, p2: V3, q2: V3) -> f64 {
+    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
+    let (a, e, f) = (d1.dot(d1), d2.dot(d2), d2.dot(r));
+    let (s, t);
+    if a <= 1e-18 && e <= 1e-18 {
+        return r.length();
+    }
+    if a <= 1e-18 {
+        s = 0.0;
+        t = (f / e).clamp(0.0, 1.0);
+    } else {
+        let c = d1.dot(r);
+        if e <= 1e-18 {
+            t = 0.0;
+            s = (-c / a).clamp(0.0, 1.0);
+        } else {
+            let b = d1.dot(d2);
+            let denom = a * e - b * b;
+            let mut s0 = if denom > 0.0 {
+                ((b * f - c * e) / denom).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let mut t0 = (b * s0 + f) / e;
+            if t0 < 0.0 {
+                t0 = 0.0;
+                s0 = (-c / a).clamp(0.0, 1.0);
+            } else if t0 > 1.0 {
+                t0 = 1.0;
+                s0 = ((b - c) / a).clamp(0.0, 1.0);
+            }
+            s = s0;
+            t = t0;
+        }
+    }
+    ((p1 + d1 * s) - (p2 + d2 * t)).length()
+}
+
+/// Exact distance between the segment `a`–`b` and a convex polygon with unit
+/// `normal` (0 if the segment crosses it).
+pub fn segment_polygon_distance(a: V3, b: V3, poly: &[V3], normal: V3) -> f64 {
+    let (da, db) = ((a - poly[0]).dot(normal), (b - poly[0]).dot(normal));
+    if da * db <= 0.0 && da != db {
+        let x = a + (b - a) * (da / (da - db));
+        if projects_inside(x, poly, normal) {
+            return 0.0;
+        }
+    }
+    let ends = point_polygon_distance(a, poly, normal).min(point_polygon_distance(b, poly, normal));
+    (0..poly.len())
+        .map(|i| segment_segment_distance(a, b, poly[i], poly[(i + 1) % poly.len()]))
+        .fold(ends, f64::min)
 }
 
 /// A face of a [`ConvexCell`]: a polygon on a plane whose normal points out of
@@ -558,5 +617,10 @@ mod tests {
         assert_eq!(point_polygon_distance(V3::new(0.5, 0.5, 2.0), &sq, n), 2.0);
         let d = point_polygon_distance(V3::new(2.0, 0.5, 1.0), &sq, n);
         assert!((d - 2f64.sqrt()).abs() < 1e-12);
+        let seg = |a: [f64; 3], b: [f64; 3]| segment_polygon_distance(a.into(), b.into(), &sq, n);
+        assert_eq!(seg([0.5, 0.5, 1.0], [0.5, 0.5, -1.0]), 0.0);
+        assert!((seg([2.0, 0.5, 1.0], [2.0, 0.5, -1.0]) - 1.0).abs() < 1e-12);
+        assert!((seg([-1.0, 0.5, 3.0], [2.0, 0.5, 3.0]) - 3.0).abs() < 1e-12);
+        assert!((seg([2.0, -1.0, 0.0], [2.0, 2.0, 0.0]) - 1.0).abs() < 1e-12);
     }
 }

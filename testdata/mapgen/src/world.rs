@@ -18,7 +18,9 @@ use std::sync::OnceLock;
 
 use serde::{Deserialize, Serialize};
 
-use crate::geometry::{ConvexCell, Plane, V3, point_polygon_distance, polygon_area};
+use crate::geometry::{
+    ConvexCell, Plane, V3, point_polygon_distance, polygon_area, segment_polygon_distance,
+};
 
 /// Point contents, with the GoldSrc values of [`Contents::bsp_value`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -360,6 +362,8 @@ pub struct World {
     walls: OnceLock<Vec<WallPolygon>>,
     #[serde(skip)]
     ramp_cells: OnceLock<Vec<ConvexCell>>,
+    #[serde(skip)]
+    grown_ramps: OnceLock<Vec<Vec<ConvexCell>>>,
 }
 
 impl World {
@@ -462,50 +466,100 @@ impl World {
     /// assert!(w.segment_free([100.0, 100.0, 50.0], [400.0, 100.0, 50.0]));
     /// ```
     pub fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        match self.free_intervals(a, b).as_slice() {
+            [(t0, t1)] => *t0 <= 0.0 && *t1 >= 1.0,
+            _ => false,
+        }
+    }
+
+    /// The parameters `t` in `[0, 1]` where `a + t (b − a)` is free, as
+    /// sorted disjoint closed intervals (clipped to `[0, 1]`).
+    fn free_intervals(&self, a: [f64; 3], b: [f64; 3]) -> Vec<(f64, f64)> {
         let (a, d) = (V3::from(a), V3::from(b) - V3::from(a));
         let mut cover: Vec<(f64, f64)> = self
             .free
             .iter()
             .filter_map(|f| f.segment_interval(a, d, false))
+            .filter(|&(t0, t1)| t0 <= 1.0 && t1 >= 0.0)
             .collect();
         cover.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let mut reach = 0.0;
-        let mut started = false;
+        let mut free: Vec<(f64, f64)> = Vec::new();
         for (t0, t1) in cover {
-            if t0 > reach || (!started && t0 > 0.0) {
-                break;
+            match free.last_mut() {
+                Some(last) if t0 <= last.1 => last.1 = last.1.max(t1),
+                _ => free.push((t0, t1)),
             }
-            started = true;
-            reach = f64::max(reach, t1);
         }
-        if !started || reach < 1.0 {
-            return false;
-        }
-        let blocks = |iv: Option<(f64, f64)>| iv.is_some_and(|(t0, t1)| t0 < 1.0 && t1 > 0.0);
-        if self
+        let obstacles = self
             .solids
             .iter()
-            .any(|s| blocks(s.segment_interval(a, d, true)))
-        {
-            return false;
-        }
-        !self.ramps.iter().any(|r| {
-            blocks(r.bounds.segment_interval(a, d, true).and_then(|(t0, t1)| {
-                let n = V3::from(r.normal);
-                let (g0, gd) = (n.dot(a) - r.dist, n.dot(d));
-                let (mut t0, mut t1) = (t0, t1);
-                if gd == 0.0 {
-                    if g0 >= 0.0 {
-                        return None;
+            .map(|s| s.segment_interval(a, d, true))
+            .chain(self.ramps.iter().map(|r| {
+                r.bounds.segment_interval(a, d, true).and_then(|(t0, t1)| {
+                    let n = V3::from(r.normal);
+                    let (g0, gd) = (n.dot(a) - r.dist, n.dot(d));
+                    let (mut t0, mut t1) = (t0, t1);
+                    if gd == 0.0 {
+                        if g0 >= 0.0 {
+                            return None;
+                        }
+                    } else if gd > 0.0 {
+                        t1 = t1.min(-g0 / gd);
+                    } else {
+                        t0 = t0.max(-g0 / gd);
                     }
-                } else if gd > 0.0 {
-                    t1 = t1.min(-g0 / gd);
-                } else {
-                    t0 = t0.max(-g0 / gd);
-                }
-                (t0 < t1).then_some((t0, t1))
-            }))
-        })
+                    (t0 < t1).then_some((t0, t1))
+                })
+            }));
+        for (o0, o1) in obstacles.flatten() {
+            free = free
+                .into_iter()
+                .flat_map(|(s, e)| {
+                    let below = (s <= e.min(o0)).then_some((s, e.min(o0)));
+                    let above = (s.max(o1) <= e).then_some((s.max(o1), e));
+                    below.into_iter().chain(above)
+                })
+                .collect();
+        }
+        free.into_iter()
+            .map(|(s, e)| (s.max(0.0), e.min(1.0)))
+            .filter(|(s, e)| s <= e)
+            .collect()
+    }
+
+    /// How far the answer of [`segment_free`](Self::segment_free) is from
+    /// flipping: for a free segment its exact distance to the nearest wall
+    /// polygon; for a blocked one the depth (distance to free space) of the
+    /// deepest midpoint of its blocked stretches. Any segment within this
+    /// distance of `a`–`b` gets the same answer, so tests comparing against a
+    /// BSP trace should skip segments where it is below `1e-3`.
+    pub fn segment_margin(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
+        let (va, vb) = (V3::from(a), V3::from(b));
+        let free = self.free_intervals(a, b);
+        if matches!(free.as_slice(), [(t0, t1)] if *t0 <= 0.0 && *t1 >= 1.0) {
+            return self
+                .wall_polygons()
+                .iter()
+                .map(|w| {
+                    let v: Vec<V3> = w.vertices.iter().map(|&x| x.into()).collect();
+                    segment_polygon_distance(va, vb, &v, w.normal.into())
+                })
+                .fold(f64::INFINITY, f64::min);
+        }
+        let mut gaps = Vec::new();
+        let mut from = 0.0;
+        for &(s, e) in &free {
+            if s > from {
+                gaps.push((from, s));
+            }
+            from = e;
+        }
+        if from < 1.0 {
+            gaps.push((from, 1.0));
+        }
+        gaps.iter()
+            .map(|&(s, e)| self.wall_distance(va + (vb - va) * (0.5 * (s + e))))
+            .fold(0.0, f64::max)
     }
 
     /// The exact Euclidean distance from `p` to the nearest obstacle (SOLID
@@ -515,7 +569,11 @@ impl World {
         if !self.is_free(p) {
             return 0.0;
         }
-        let q = V3::from(p);
+        self.wall_distance(p.into())
+    }
+
+    /// Distance from any point to the nearest wall polygon.
+    fn wall_distance(&self, q: V3) -> f64 {
         let mut best = f64::INFINITY;
         for w in self.wall_polygons() {
             let lo = w
@@ -559,6 +617,43 @@ impl World {
                 .map(|f| point_polygon_distance(p.into(), &f.polygon, f.plane.normal))
         });
         boxes.chain(wedges).fold(f64::INFINITY, f64::min)
+    }
+
+    /// A lower bound of the distance from `p` to a change of
+    /// [`hull_contents`](Self::hull_contents) for `hull`: the hull box's faces
+    /// are farther than this from every box face coordinate, and `p` from
+    /// every face of the ramps grown by the hull. Tests comparing clip hulls
+    /// should skip points where it is below `1e-3`.
+    pub fn hull_distance_to_boundary(&self, hull: usize, p: [f64; 3]) -> f64 {
+        let h = HULL_HALF_EXTENTS[hull];
+        let mut best = f64::INFINITY;
+        for b in self.free.iter().chain(&self.solids) {
+            for i in 0..3 {
+                for c in [b.min[i], b.max[i]] {
+                    best = best
+                        .min((p[i] + h[i] - c).abs())
+                        .min((p[i] - h[i] - c).abs());
+                }
+            }
+        }
+        let grown = self.grown_ramps.get_or_init(|| {
+            let big = V3::new(8192.0, 8192.0, 8192.0);
+            HULL_HALF_EXTENTS
+                .iter()
+                .map(|&h| {
+                    self.ramps
+                        .iter()
+                        .filter_map(|r| crate::tree::expand_cell(&r.cell()?, h.into(), -big, big))
+                        .collect()
+                })
+                .collect()
+        });
+        for c in &grown[hull] {
+            for f in &c.faces {
+                best = best.min(point_polygon_distance(p.into(), &f.polygon, f.plane.normal));
+            }
+        }
+        best
     }
 
     /// The exact boundary of free space as convex polygons facing into it
@@ -844,6 +939,70 @@ mod tests {
                 "{}: {grazing} of {blocked} unseen",
                 w.name
             );
+        }
+    }
+
+    fn offset(p: [f64; 3], d: [f64; 3], r: f64) -> [f64; 3] {
+        [p[0] + d[0] * r, p[1] + d[1] * r, p[2] + d[2] * r]
+    }
+
+    #[test]
+    fn boundary_distances_are_sound() {
+        use crate::testutil::{Rng, standard};
+        for (w, _) in standard() {
+            let mut rng = Rng::new(8);
+            for _ in 0..3000 {
+                let p = rng.point_in(&w.bounds(), 16.0);
+                let m = w.distance_to_boundary(p).min(2.0);
+                for _ in 0..4 {
+                    let q = offset(p, rng.direction(), 0.99 * m * rng.unit());
+                    assert_eq!(w.contents(q), w.contents(p), "{} {p:?} m={m}", w.name);
+                }
+                for hull in 1..=3 {
+                    let m = w.hull_distance_to_boundary(hull, p).min(2.0);
+                    for _ in 0..4 {
+                        let q = offset(p, rng.direction(), 0.99 * m * rng.unit());
+                        assert_eq!(
+                            w.hull_contents(hull, q),
+                            w.hull_contents(hull, p),
+                            "{}",
+                            w.name
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn segment_margin_is_exact_for_free_and_sound_for_blocked_segments() {
+        use crate::testutil::{Rng, standard};
+        for (w, _) in standard() {
+            let mut rng = Rng::new(9);
+            for _ in 0..300 {
+                let a = rng.point_in(&w.free_bounds(), 0.0);
+                let b = offset(a, rng.direction(), 200.0 * rng.unit());
+                let m = w.segment_margin(a, b);
+                let free = w.segment_free(a, b);
+                if free {
+                    let (va, vb) = (V3::from(a), V3::from(b));
+                    let n = ((vb - va).length() / 0.5).ceil() as usize + 1;
+                    let sampled = (0..=n)
+                        .map(|i| w.clearance((va + (vb - va) * (i as f64 / n as f64)).into()))
+                        .fold(f64::INFINITY, f64::min);
+                    assert!(
+                        m <= sampled + 1e-9 && sampled <= m + 0.5,
+                        "{}: {m} vs {sampled}",
+                        w.name
+                    );
+                }
+                let r = m.min(4.0) * 0.99;
+                for _ in 0..4 {
+                    let a2 = offset(a, rng.direction(), r * rng.unit());
+                    let b2 = offset(b, rng.direction(), r * rng.unit());
+                    assert_eq!(w.segment_free(a2, b2), free, "{} {a:?} {b:?} m={m}", w.name);
+                }
+            }
         }
     }
 }
