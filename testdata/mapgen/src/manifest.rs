@@ -86,12 +86,48 @@ impl Manifest {
         }
     }
 
-    /// Pretty JSON with a trailing newline.
+    /// Pretty JSON (arrays of numbers kept on one line) with a trailing
+    /// newline.
     pub fn to_json(&self) -> String {
-        let mut s = serde_json::to_string_pretty(self).expect("manifest serialises");
+        let pretty = serde_json::to_string_pretty(self).expect("manifest serialises");
+        let mut s = inline_number_arrays(&pretty);
         s.push('\n');
         s
     }
+}
+
+/// Puts every array that holds only numbers on one line: `[1.0, 2.0, 3.0]`.
+fn inline_number_arrays(pretty: &str) -> String {
+    let mut out = String::with_capacity(pretty.len());
+    let mut rest = pretty;
+    while let Some(open) = rest.find('[') {
+        out.push_str(&rest[..open]);
+        let after = &rest[open + 1..];
+        let close = after.find(']');
+        let inner = close.map(|c| &after[..c]);
+        match inner {
+            // Pretty-printed arrays span lines; strings cannot hold a raw
+            // newline, so this never touches text inside a string.
+            Some(inner)
+                if inner.contains('\n')
+                    && inner
+                        .chars()
+                        .all(|c| c.is_ascii_digit() || " \n.,-+eE".contains(c)) =>
+            {
+                let items: Vec<&str> = inner.split(',').map(str::trim).collect();
+                out.push('[');
+                out.push_str(&items.join(", "));
+                out.push(']');
+                rest = &after[inner.len() + 1..];
+            }
+            _ => {
+                out.push('[');
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 impl World {
