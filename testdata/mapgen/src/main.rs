@@ -1,0 +1,66 @@
+//! `mapgen --out DIR [--only NAME]`: writes the standard test maps
+//! (`NAME.bsp` + `NAME.json`) into DIR, byte-identically on every run.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use mapgen::{bsp, manifest::Manifest};
+
+const USAGE: &str = "usage: mapgen --out DIR [--only NAME]";
+
+fn main() -> Result<()> {
+    let mut out: Option<PathBuf> = None;
+    let mut only: Option<String> = None;
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        match a.as_str() {
+            "--out" | "-o" => out = Some(args.next().context("--out needs a directory")?.into()),
+            "--only" => only = Some(args.next().context("--only needs a map name")?),
+            "--help" | "-h" => {
+                println!("{USAGE}");
+                return Ok(());
+            }
+            other => bail!("unknown argument {other:?}; {USAGE}"),
+        }
+    }
+    let out = out.context(USAGE)?;
+    if !out.is_dir() {
+        bail!("output directory {} does not exist", out.display());
+    }
+    let worlds: Vec<_> = mapgen::worlds()
+        .into_iter()
+        .filter(|w| only.as_ref().is_none_or(|n| *n == w.name))
+        .collect();
+    if worlds.is_empty() {
+        bail!("no standard map is called {:?}", only.unwrap_or_default());
+    }
+    for w in worlds {
+        w.validate().with_context(|| format!("world {}", w.name))?;
+        let compiled = bsp::compile(&w);
+        let bytes = bsp::write(&w, &compiled);
+        let json = Manifest::new(&w, &compiled, bytes.len()).to_json();
+        write_atomic(&out.join(format!("{}.bsp", w.name)), &bytes)?;
+        write_atomic(&out.join(format!("{}.json", w.name)), json.as_bytes())?;
+        let m = &compiled.models[0];
+        println!(
+            "{:<10} {:>7} bytes  {:>4} faces  {:>4} nodes  {:>4} leaves  clipnodes {} {} {}",
+            w.name,
+            bytes.len(),
+            m.faces.len(),
+            m.hull0.nodes.len(),
+            m.hull0.leaves.len(),
+            m.clip[0].nodes.len(),
+            m.clip[1].nodes.len(),
+            m.clip[2].nodes.len()
+        );
+    }
+    Ok(())
+}
+
+/// Writes via a temporary file and a rename, so no half-written map is left.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("cannot rename to {}", path.display()))?;
+    Ok(())
+}

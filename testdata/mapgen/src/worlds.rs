@@ -1,0 +1,191 @@
+//! The standard test worlds, written to `testdata/maps/NAME.bsp` + `.json`.
+//!
+//! Coordinates are multiples of 16 (Quake-style); floors are at z = 0 unless
+//! stated. Spawn origins are hull-1 centres: 37 units above the floor.
+
+use crate::world::{Aabb, BrushEntity, Ramp, Rise, World};
+
+const fn b(min: [f64; 3], max: [f64; 3]) -> Aabb {
+    Aabb::new(min, max)
+}
+
+/// Every standard world, in a fixed order.
+///
+/// ```
+/// let names: Vec<String> = mapgen::worlds::worlds().into_iter().map(|w| w.name).collect();
+/// assert_eq!(names, ["box_room", "two_rooms", "pillars", "sky_room", "ramp", "complex"]);
+/// ```
+pub fn worlds() -> Vec<World> {
+    vec![
+        box_room(),
+        two_rooms(),
+        pillars(),
+        sky_room(),
+        ramp(),
+        complex(),
+    ]
+}
+
+/// One closed box room, 512 × 384 × 256, spanning `[0,512]×[0,384]×[0,256]`.
+/// Its clearance is the distance to the nearest of six planes, so its medial
+/// structure is known in closed form.
+pub fn box_room() -> World {
+    let mut w = World::new("box_room", "one closed box room 512 x 384 x 256");
+    w.free.push(b([0.0, 0.0, 0.0], [512.0, 384.0, 256.0]));
+    w.spawns = vec![[128.0, 192.0, 37.0], [384.0, 192.0, 37.0]];
+    w
+}
+
+/// Two rooms joined by a corridor; the corridor box overlaps both rooms, so
+/// its cross-section (128 wide, 112 high) is the door opening in each wall.
+pub fn two_rooms() -> World {
+    let mut w = World::new(
+        "two_rooms",
+        "two 384x384x192 rooms joined by a 256-long corridor through door openings",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [384.0, 384.0, 192.0]));
+    w.free.push(b([640.0, 0.0, 0.0], [1024.0, 384.0, 192.0]));
+    w.free.push(b([368.0, 128.0, 0.0], [656.0, 256.0, 112.0]));
+    w.spawns = vec![[192.0, 192.0, 37.0], [832.0, 192.0, 37.0]];
+    w
+}
+
+/// A room with two floor-to-ceiling pillars, a free-standing short pillar and
+/// a 16-unit step along the back wall.
+pub fn pillars() -> World {
+    let mut w = World::new(
+        "pillars",
+        "768x512x256 room with pillars and a 16-unit step along the back wall",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [768.0, 512.0, 256.0]));
+    w.solids.push(b([192.0, 128.0, 0.0], [256.0, 192.0, 256.0]));
+    w.solids.push(b([512.0, 288.0, 0.0], [576.0, 352.0, 256.0]));
+    w.solids.push(b([384.0, 224.0, 0.0], [416.0, 288.0, 160.0]));
+    w.solids.push(b([0.0, 400.0, 0.0], [768.0, 512.0, 16.0]));
+    w.spawns = vec![
+        [96.0, 96.0, 37.0],
+        [672.0, 96.0, 37.0],
+        [384.0, 448.0, 53.0],
+    ];
+    w
+}
+
+/// A courtyard open to the sky (a SKY box above it, larger than its
+/// footprint) and a side room with a normal ceiling, joined by a door.
+pub fn sky_room() -> World {
+    let mut w = World::new(
+        "sky_room",
+        "512x512x384 courtyard under a sky ceiling, with a side room through a door",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [512.0, 512.0, 384.0]));
+    w.sky.push(b([-64.0, -64.0, 384.0], [576.0, 576.0, 448.0]));
+    w.free.push(b([576.0, 128.0, 0.0], [832.0, 384.0, 192.0]));
+    w.free.push(b([496.0, 208.0, 0.0], [592.0, 304.0, 112.0]));
+    w.spawns = vec![[256.0, 256.0, 37.0], [704.0, 256.0, 37.0]];
+    w
+}
+
+/// A room with a ramp up to a ledge and one slanted (non-axial) wall cutting a
+/// corner.
+pub fn ramp() -> World {
+    let mut w = World::new(
+        "ramp",
+        "768x512x320 room with a ramp (rise 128 over 256) to a ledge and a slanted corner wall",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [768.0, 512.0, 320.0]));
+    w.ramps.push(Ramp::rising(
+        b([256.0, 0.0, 0.0], [512.0, 192.0, 128.0]),
+        Rise::PlusX,
+    ));
+    w.solids.push(b([512.0, 0.0, 0.0], [768.0, 192.0, 128.0]));
+    // Corner at (0, 512) cut off by the vertical plane through (0, 384) and
+    // (128, 512): solid where y - x > 384.
+    w.ramps.push(Ramp::new(
+        b([0.0, 384.0, 0.0], [128.0, 512.0, 320.0]),
+        [1.0, -1.0, 0.0],
+        [0.0, 384.0, 0.0],
+    ));
+    w.spawns = vec![
+        [128.0, 96.0, 37.0],
+        [640.0, 96.0, 165.0],
+        [384.0, 384.0, 37.0],
+    ];
+    w
+}
+
+/// A mini level: five rooms in a loop of corridors, a pillar, a ramp to a
+/// ledge, a sky courtyard, a water pool, a slanted wall, a `trigger_once`
+/// (`aaatrigger`) and a `func_illusionary` fence (`{fence`) as brush
+/// entities.
+pub fn complex() -> World {
+    let mut w = World::new(
+        "complex",
+        "mini level: 5 rooms, corridor loop, pillar, ramp, sky courtyard, water pool, slanted wall, trigger",
+    );
+    // Room A (start hall) with a pillar.
+    w.free.push(b([0.0, 0.0, 0.0], [512.0, 512.0, 256.0]));
+    w.solids.push(b([224.0, 224.0, 0.0], [288.0, 288.0, 256.0]));
+    // Corridor A–B.
+    w.free.push(b([496.0, 192.0, 0.0], [784.0, 320.0, 128.0]));
+    // Room B with a ramp up to a ledge.
+    w.free.push(b([768.0, 0.0, 0.0], [1280.0, 512.0, 320.0]));
+    w.ramps.push(Ramp::rising(
+        b([896.0, 352.0, 0.0], [1152.0, 512.0, 128.0]),
+        Rise::PlusX,
+    ));
+    w.solids
+        .push(b([1152.0, 352.0, 0.0], [1280.0, 512.0, 128.0]));
+    // Corridor B–C.
+    w.free.push(b([960.0, 496.0, 0.0], [1088.0, 784.0, 128.0]));
+    // Room C: sky courtyard.
+    w.free.push(b([768.0, 768.0, 0.0], [1280.0, 1280.0, 384.0]));
+    w.sky
+        .push(b([752.0, 752.0, 384.0], [1296.0, 1296.0, 448.0]));
+    // Corridor C–D.
+    w.free.push(b([496.0, 960.0, 0.0], [784.0, 1088.0, 128.0]));
+    // Room D with a water pool (surface 16 below the floor).
+    w.free.push(b([0.0, 768.0, 0.0], [512.0, 1280.0, 256.0]));
+    w.free.push(b([128.0, 896.0, -128.0], [384.0, 1152.0, 0.0]));
+    w.water
+        .push(b([128.0, 896.0, -128.0], [384.0, 1152.0, -16.0]));
+    // Corridor D–A closes the loop.
+    w.free.push(b([192.0, 496.0, 0.0], [320.0, 784.0, 128.0]));
+    // Room E off room D, with a slanted wall cutting its far corner.
+    w.free.push(b([-320.0, 896.0, 0.0], [-64.0, 1152.0, 192.0]));
+    w.free.push(b([-80.0, 960.0, 0.0], [16.0, 1056.0, 112.0]));
+    w.ramps.push(Ramp::new(
+        b([-320.0, 1024.0, 0.0], [-192.0, 1152.0, 192.0]),
+        [1.0, -1.0, 0.0],
+        [-320.0, 1024.0, 0.0],
+    ));
+    w.brush_entities.push(BrushEntity {
+        classname: "trigger_once".into(),
+        bounds: b([576.0, 192.0, 0.0], [608.0, 320.0, 128.0]),
+        texture: "aaatrigger".into(),
+    });
+    w.brush_entities.push(BrushEntity {
+        classname: "func_illusionary".into(),
+        bounds: b([64.0, 64.0, 0.0], [128.0, 72.0, 96.0]),
+        texture: "{fence".into(),
+    });
+    w.spawns = vec![
+        [96.0, 96.0, 37.0],
+        [1024.0, 128.0, 37.0],
+        [1024.0, 1024.0, 37.0],
+        [96.0, 1216.0, 37.0],
+        [-192.0, 960.0, 37.0],
+    ];
+    w
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn standard_worlds_are_valid() {
+        for w in worlds() {
+            assert_eq!(w.validate(), Ok(()), "{}", w.name);
+        }
+    }
+}
