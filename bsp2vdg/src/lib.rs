@@ -7,3 +7,4 @@
 //! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
 
 pub mod bsp;
+pub mod delaunay;

@@ -1,0 +1,191 @@
+//! Bowyer–Watson insertion: collect the cavity (all cells in conflict with the new point) by
+//! a breadth-first search from the located cell, delete it, and star its boundary from the
+//! new point.
+//!
+//! Conflict tests are exact and perturbed (see [`super::predicates::in_conflict`]), so the
+//! cavity is exactly the set of cells whose perturbed circumsphere contains the point; it is
+//! connected and star-shaped from the point, hence every new cell is positively oriented.
+//! An infinite cell is in conflict when the point is strictly outside its hull facet; when
+//! the point is exactly in the facet's plane, the answer is taken from the finite cell behind
+//! the facet, so both cells always agree (a hull facet joined to a coplanar point would
+//! otherwise make a flat cell).
+//!
+//! The new cells are glued to each other through a small open-addressing hash table keyed by
+//! the boundary edge they share; the table and all work lists are reused between insertions.
+
+use super::INFINITE;
+use super::build::{Builder, DEAD};
+use super::locate::Location;
+use super::predicates::{in_conflict, orient3d};
+
+/// A boundary facet of the cavity: the new cell's vertices (the old cell with the opposite
+/// vertex replaced by the new point at `pos`) and the packed outside neighbour.
+#[derive(Clone, Copy)]
+struct BoundaryFacet {
+    verts: [u32; 4],
+    pos: u32,
+    outside: u32,
+}
+
+/// Work lists reused across insertions.
+#[derive(Default)]
+pub(super) struct Scratch {
+    stack: Vec<u32>,
+    cavity: Vec<u32>,
+    boundary: Vec<BoundaryFacet>,
+    new_cells: Vec<u32>,
+    /// Edge hash table: key `(min << 32) | max`, value packed `(cell << 2) | facet`.
+    keys: Vec<u64>,
+    vals: Vec<u32>,
+    slot_epoch: Vec<u32>,
+    table_epoch: u32,
+}
+
+impl Builder<'_> {
+    pub(super) fn insert_point(&mut self, q: u32) {
+        let start = match self.locate(q) {
+            Location::Duplicate(v) => {
+                self.duplicates.push((q, v));
+                return;
+            }
+            Location::Cell(t) => t,
+        };
+        self.epoch += 1;
+        let in_cavity = 2 * self.epoch;
+        let outside = in_cavity + 1;
+        let mut s = std::mem::take(&mut self.scratch);
+        s.stack.clear();
+        s.cavity.clear();
+        s.boundary.clear();
+        self.stamp[start as usize] = in_cavity;
+        s.stack.push(start);
+        while let Some(c) = s.stack.pop() {
+            s.cavity.push(c);
+            for i in 0..4 {
+                let packed = self.nbrs[c as usize][i];
+                let n = packed >> 2;
+                let st = self.stamp[n as usize];
+                if st == in_cavity {
+                    continue;
+                }
+                if st != outside {
+                    if self.cell_in_conflict(n, q) {
+                        self.stamp[n as usize] = in_cavity;
+                        s.stack.push(n);
+                        continue;
+                    }
+                    self.stamp[n as usize] = outside;
+                }
+                let mut verts = self.verts[c as usize];
+                verts[i] = q;
+                s.boundary.push(BoundaryFacet {
+                    verts,
+                    pos: i as u32,
+                    outside: packed,
+                });
+            }
+        }
+        // Recycle the cavity's slots (last freed is reused first: good locality).
+        for &c in &s.cavity {
+            self.verts[c as usize] = [DEAD; 4];
+            self.free.push(c);
+        }
+        s.new_cells.clear();
+        for b in &s.boundary {
+            let t = self.alloc();
+            self.verts[t as usize] = b.verts;
+            let i = b.pos as usize;
+            self.nbrs[t as usize][i] = b.outside;
+            let (o, j) = (b.outside >> 2, b.outside & 3);
+            self.nbrs[o as usize][j as usize] = (t << 2) | b.pos;
+            s.new_cells.push(t);
+        }
+        self.glue_new_cells(&mut s);
+        self.last = s.new_cells[0];
+        self.scratch = s;
+    }
+
+    /// Conflict test of any cell (finite or infinite) with point `q`.
+    #[inline]
+    fn cell_in_conflict(&self, t: u32, q: u32) -> bool {
+        let v = self.verts[t as usize];
+        match v.iter().position(|&x| x == INFINITE) {
+            None => in_conflict(self.pts, v, q),
+            Some(k) => {
+                let mut w = v;
+                w[k] = q;
+                let p = |i: u32| &self.pts[i as usize];
+                let o = orient3d(p(w[0]), p(w[1]), p(w[2]), p(w[3]));
+                if o != 0.0 {
+                    o > 0.0
+                } else {
+                    let f = self.nbrs[t as usize][k] >> 2;
+                    in_conflict(self.pts, self.verts[f as usize], q)
+                }
+            }
+        }
+    }
+
+    /// Connect the new cells to each other: the facet of a new cell opposite its vertex `k`
+    /// contains the new point and one boundary edge, shared by exactly two new cells.
+    fn glue_new_cells(&mut self, s: &mut Scratch) {
+        let need = (s.new_cells.len() * 4).next_power_of_two().max(64);
+        if s.keys.len() < need {
+            s.keys = vec![0; need];
+            s.vals = vec![0; need];
+            s.slot_epoch = vec![0; need];
+            s.table_epoch = 0;
+        }
+        s.table_epoch = s.table_epoch.wrapping_add(1);
+        if s.table_epoch == 0 {
+            s.slot_epoch.iter_mut().for_each(|e| *e = 0);
+            s.table_epoch = 1;
+        }
+        let mask = need - 1;
+        let shift = 64 - need.trailing_zeros();
+        for (&t, b) in s.new_cells.iter().zip(&s.boundary) {
+            let p = b.pos as usize;
+            for k in 0..4 {
+                if k == p {
+                    continue;
+                }
+                let (a, c) = other_two(p, k);
+                let (x, y) = (b.verts[a], b.verts[c]);
+                let key = ((x.min(y) as u64) << 32) | x.max(y) as u64;
+                let mut h = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> shift) as usize;
+                loop {
+                    if s.slot_epoch[h] != s.table_epoch {
+                        s.slot_epoch[h] = s.table_epoch;
+                        s.keys[h] = key;
+                        s.vals[h] = (t << 2) | k as u32;
+                        break;
+                    }
+                    if s.keys[h] == key {
+                        let other = s.vals[h];
+                        self.nbrs[t as usize][k] = other;
+                        self.nbrs[(other >> 2) as usize][(other & 3) as usize] =
+                            (t << 2) | k as u32;
+                        // Each edge is met exactly twice: the slot stays as a tombstone
+                        // with a key no third lookup will ask for.
+                        break;
+                    }
+                    h = (h + 1) & mask;
+                }
+            }
+        }
+    }
+}
+
+/// The two indices of `0..4` other than `i` and `k`.
+#[inline]
+fn other_two(i: usize, k: usize) -> (usize, usize) {
+    let mut r = [0usize; 2];
+    let mut n = 0;
+    for j in 0..4 {
+        if j != i && j != k {
+            r[n] = j;
+            n += 1;
+        }
+    }
+    (r[0], r[1])
+}
