@@ -29,16 +29,30 @@ pub(super) struct Builder<'a> {
     pub walk_rng: u32,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
+    /// Per point: local index in the current cavity boundary, and the epoch it was set in.
+    pub vlocal: Vec<u32>,
+    pub vstamp: Vec<u32>,
 }
 
 impl<'a> Builder<'a> {
-    /// Triangulate `pts` (already checked to be finite).
-    pub fn run(pts: &'a [[f64; 3]]) -> Result<Triangulation, DelaunayError> {
-        if pts.len() >= (MAX_TETS / 8) {
-            return Err(DelaunayError::TooManyPoints { count: pts.len() });
+    /// Triangulate `input` (already checked to be finite).
+    ///
+    /// The points are copied in insertion order and get internal ids `0..n` in that order:
+    /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
+    /// indices when the result is assembled.
+    pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
+        if input.len() >= (MAX_TETS / 8) {
+            return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
-        let order = brio_order(pts);
-        let (simplex, mut duplicates) = initial_simplex(pts, &order)?;
+        let order = brio_order(input);
+        let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
+        let ids: Vec<u32> = (0..sorted.len() as u32).collect();
+        let simplex = initial_simplex(&sorted, &ids)?;
+        let b = Builder::triangulate(&sorted, simplex)?;
+        Ok(b.finish(input, &order))
+    }
+
+    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
         // Rough capacity: ~6.5 tetrahedra per point for uniform input, fewer on surfaces.
         let cap = pts.len().saturating_mul(7).min(MAX_TETS);
         let mut b = Builder {
@@ -52,10 +66,11 @@ impl<'a> Builder<'a> {
             walk_rng: 0x2545_F491,
             duplicates: Vec::new(),
             scratch: Default::default(),
+            vlocal: vec![0; pts.len()],
+            vstamp: vec![0; pts.len()],
         };
-        b.duplicates.append(&mut duplicates);
         b.create_simplex(simplex);
-        for &q in &order {
+        for q in 0..pts.len() as u32 {
             if simplex.contains(&q) {
                 continue;
             }
@@ -64,7 +79,7 @@ impl<'a> Builder<'a> {
             }
             b.insert_point(q);
         }
-        Ok(b.finish())
+        Ok(b)
     }
 
     #[inline]
@@ -133,17 +148,19 @@ impl<'a> Builder<'a> {
     }
 
     /// Drop free slots and renumber: finite tetrahedra first, then infinite ones, each in
-    /// slot order (deterministic).
-    fn finish(self) -> Triangulation {
+    /// slot order (deterministic); map vertex ids back to input indices.
+    fn finish(self, input: &[[f64; 3]], order: &[u32]) -> Triangulation {
         let Builder {
-            pts,
             verts,
             nbrs,
             stamp,
             duplicates,
+            vlocal,
+            vstamp,
             ..
         } = self;
-        drop(stamp);
+        drop((stamp, vlocal, vstamp));
+        let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
         let mut remap = vec![u32::MAX; verts.len()];
         let mut next = 0u32;
         for (t, v) in verts.iter().enumerate() {
@@ -163,7 +180,7 @@ impl<'a> Builder<'a> {
         let mut new_verts = vec![[0u32; 4]; total];
         for (t, v) in verts.iter().enumerate() {
             if remap[t] != u32::MAX {
-                new_verts[remap[t] as usize] = *v;
+                new_verts[remap[t] as usize] = v.map(to_input);
             }
         }
         drop(verts);
@@ -174,19 +191,19 @@ impl<'a> Builder<'a> {
             }
         }
         drop(nbrs);
-        let mut duplicates = duplicates;
+        let mut duplicates: Vec<(u32, u32)> = duplicates
+            .into_iter()
+            .map(|(d, v)| (to_input(d), to_input(v)))
+            .collect();
         duplicates.sort_unstable();
-        Triangulation::from_parts(pts.to_vec(), new_verts, new_nbrs, num_finite, duplicates)
+        Triangulation::from_parts(input.to_vec(), new_verts, new_nbrs, num_finite, duplicates)
     }
 }
 
-/// Four affinely independent points, the earliest possible in insertion order; also the
-/// duplicates of the first point met on the way (they are skipped later by the walk anyway,
-/// but only if they are not among the chosen four).
-fn initial_simplex(
-    pts: &[[f64; 3]],
-    order: &[u32],
-) -> Result<([u32; 4], Vec<(u32, u32)>), DelaunayError> {
+/// Four affinely independent points, the earliest possible in insertion order (the first
+/// BRIO round is a random sample, so they span the domain well). Points skipped on the way
+/// are inserted normally later (duplicates among them are then detected by the walk).
+fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], DelaunayError> {
     let p = |i: u32| &pts[i as usize];
     let too_few = || DelaunayError::Degenerate { count: pts.len() };
     let &a = order.first().ok_or_else(too_few)?;
@@ -199,5 +216,5 @@ fn initial_simplex(
         .iter()
         .find(|&&i| orient_ids(pts, [a, b, c, i]) != 0.0)
         .ok_or_else(too_few)?;
-    Ok(([a, b, c, d], Vec::new()))
+    Ok([a, b, c, d])
 }

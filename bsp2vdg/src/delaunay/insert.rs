@@ -36,12 +36,15 @@ pub(super) struct Scratch {
     new_cells: Vec<u32>,
     /// Edge hash table: key `(min << 32) | max`, value packed `(cell << 2) | facet`.
     keys: Vec<u64>,
+    /// Dense directed-edge table of [`Builder::glue_by_edge_matrix`].
+    edge_tab: Vec<u32>,
     vals: Vec<u32>,
     slot_epoch: Vec<u32>,
     table_epoch: u32,
 }
 
 impl Builder<'_> {
+    #[inline(never)]
     pub(super) fn insert_point(&mut self, q: u32) {
         let start = match self.locate(q) {
             Location::Duplicate(v) => {
@@ -100,7 +103,9 @@ impl Builder<'_> {
             self.nbrs[o as usize][j as usize] = (t << 2) | b.pos;
             s.new_cells.push(t);
         }
-        self.glue_new_cells(&mut s);
+        if !self.glue_by_edge_matrix(&mut s) {
+            self.glue_new_cells(&mut s);
+        }
         self.last = s.new_cells[0];
         self.scratch = s;
     }
@@ -126,8 +131,66 @@ impl Builder<'_> {
         }
     }
 
+    /// Connect the new cells to each other through a dense table indexed by the local ids of
+    /// the two endpoints of each boundary edge. Orienting each edge by the cell's
+    /// orientation, the two new cells sharing the facet `(q, x, y)` see it as `x → y` and
+    /// `y → x`: one pass writes every directed edge, a second reads its reverse — no
+    /// searching, no clearing. Returns `false` (nothing done) for cavities with too many
+    /// boundary vertices, which then use the hash table.
+    fn glue_by_edge_matrix(&mut self, s: &mut Scratch) -> bool {
+        const MAX_LOCAL: usize = 96;
+        let epoch = self.epoch;
+        // Local id 0 is the infinite vertex.
+        let mut m = 1usize;
+        for b in &s.boundary {
+            for (k, &v) in b.verts.iter().enumerate() {
+                if k as u32 == b.pos || v == INFINITE {
+                    continue;
+                }
+                if self.vstamp[v as usize] != epoch {
+                    self.vstamp[v as usize] = epoch;
+                    self.vlocal[v as usize] = m as u32;
+                    m += 1;
+                }
+            }
+        }
+        if m > MAX_LOCAL {
+            return false;
+        }
+        if s.edge_tab.len() < m * m {
+            s.edge_tab.resize(m * m, 0);
+        }
+        let local = |v: u32| {
+            if v == INFINITE {
+                0
+            } else {
+                self.vlocal[v as usize] as usize
+            }
+        };
+        for (&t, b) in s.new_cells.iter().zip(&s.boundary) {
+            let p = b.pos as usize;
+            for (k, &(x, y)) in EVEN_REST[p].iter().enumerate() {
+                if k != p {
+                    let (lx, ly) = (local(b.verts[x as usize]), local(b.verts[y as usize]));
+                    s.edge_tab[lx * m + ly] = (t << 2) | k as u32;
+                }
+            }
+        }
+        for (&t, b) in s.new_cells.iter().zip(&s.boundary) {
+            let p = b.pos as usize;
+            for (k, &(x, y)) in EVEN_REST[p].iter().enumerate() {
+                if k != p {
+                    let (lx, ly) = (local(b.verts[x as usize]), local(b.verts[y as usize]));
+                    self.nbrs[t as usize][k] = s.edge_tab[ly * m + lx];
+                }
+            }
+        }
+        true
+    }
+
     /// Connect the new cells to each other: the facet of a new cell opposite its vertex `k`
     /// contains the new point and one boundary edge, shared by exactly two new cells.
+    #[inline(never)]
     fn glue_new_cells(&mut self, s: &mut Scratch) {
         let need = (s.new_cells.len() * 4).next_power_of_two().max(64);
         if s.keys.len() < need {
@@ -175,6 +238,52 @@ impl Builder<'_> {
         }
     }
 }
+
+/// `EVEN_REST[p][k]` = the two indices `(x, y)` other than `p` and `k` such that
+/// `(p, k, x, y)` is an even permutation (meaningless for `k == p`).
+const EVEN_REST: [[(u8, u8); 4]; 4] = {
+    let mut t = [[(0u8, 0u8); 4]; 4];
+    let mut p = 0;
+    while p < 4 {
+        let mut k = 0;
+        while k < 4 {
+            if k != p {
+                let mut r = [0u8; 2];
+                let mut n = 0;
+                let mut j = 0;
+                while j < 4 {
+                    if j != p && j != k {
+                        r[n] = j as u8;
+                        n += 1;
+                    }
+                    j += 1;
+                }
+                // Parity of (p, k, r0, r1): count inversions.
+                let perm = [p as u8, k as u8, r[0], r[1]];
+                let mut inv = 0;
+                let mut a = 0;
+                while a < 4 {
+                    let mut b = a + 1;
+                    while b < 4 {
+                        if perm[a] > perm[b] {
+                            inv += 1;
+                        }
+                        b += 1;
+                    }
+                    a += 1;
+                }
+                t[p][k] = if inv % 2 == 0 {
+                    (r[0], r[1])
+                } else {
+                    (r[1], r[0])
+                };
+            }
+            k += 1;
+        }
+        p += 1;
+    }
+    t
+};
 
 /// The two indices of `0..4` other than `i` and `k`.
 #[inline]

@@ -36,6 +36,7 @@ impl Builder<'_> {
         (x >> 7) as usize
     }
 
+    #[inline(never)]
     pub(super) fn locate(&mut self, q: u32) -> Location {
         let pq = self.pts[q as usize];
         let mut t = self.last;

@@ -21,16 +21,208 @@ fn coord(p: &[f64; 3]) -> Coord3D<f64> {
     }
 }
 
+const EPSILON: f64 = f64::EPSILON / 2.0;
+/// Shewchuk's first-stage error bound factors (as in `robust`).
+const O3D_ERRBOUND_A: f64 = (7.0 + 56.0 * EPSILON) * EPSILON;
+const ISP_ERRBOUND_A: f64 = (16.0 + 224.0 * EPSILON) * EPSILON;
+
 /// Exact sign (and approximate value) of the orientation determinant of `a, b, c, d`.
+///
+/// Three stages: the float evaluation with Shewchuk's error bound; if that is inconclusive
+/// and all coordinate differences are exact dyadic numbers of at most 40 significant bits
+/// (always the case for grid-aligned wall samples), the determinant in 128-bit integers;
+/// otherwise `robust`'s adaptive expansion arithmetic.
 #[inline]
 pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let bdxcdy = bdx * cdy;
+    let cdxbdy = cdx * bdy;
+    let cdxady = cdx * ady;
+    let adxcdy = adx * cdy;
+    let adxbdy = adx * bdy;
+    let bdxady = bdx * ady;
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let errbound = O3D_ERRBOUND_A * permanent;
+    if det > errbound || -det > errbound {
+        return det;
+    }
+    orient3d_slow(a, b, c, d)
+}
+
+#[cold]
+#[inline(never)]
+fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    if let Some(v) = orient3d_int(a, b, c, d) {
+        return v;
+    }
     robust::orient3d(coord(a), coord(b), coord(c), coord(d))
 }
 
 /// Exact sign of the insphere determinant; `a, b, c, d` must be positively oriented.
+/// Same three stages as [`orient3d`] (integer stage: differences of at most 23 bits).
 #[inline]
 pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    let (aex, bex, cex, dex) = (a[0] - e[0], b[0] - e[0], c[0] - e[0], d[0] - e[0]);
+    let (aey, bey, cey, dey) = (a[1] - e[1], b[1] - e[1], c[1] - e[1], d[1] - e[1]);
+    let (aez, bez, cez, dez) = (a[2] - e[2], b[2] - e[2], c[2] - e[2], d[2] - e[2]);
+    let aexbey = aex * bey;
+    let bexaey = bex * aey;
+    let ab = aexbey - bexaey;
+    let bexcey = bex * cey;
+    let cexbey = cex * bey;
+    let bc = bexcey - cexbey;
+    let cexdey = cex * dey;
+    let dexcey = dex * cey;
+    let cd = cexdey - dexcey;
+    let dexaey = dex * aey;
+    let aexdey = aex * dey;
+    let da = dexaey - aexdey;
+    let aexcey = aex * cey;
+    let cexaey = cex * aey;
+    let ac = aexcey - cexaey;
+    let bexdey = bex * dey;
+    let dexbey = dex * bey;
+    let bd = bexdey - dexbey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let alift = aex * aex + aey * aey + aez * aez;
+    let blift = bex * bex + bey * bey + bez * bez;
+    let clift = cex * cex + cey * cey + cez * cez;
+    let dlift = dex * dex + dey * dey + dez * dez;
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    let (aezp, bezp, cezp, dezp) = (aez.abs(), bez.abs(), cez.abs(), dez.abs());
+    let permanent = ((cexdey.abs() + dexcey.abs()) * bezp
+        + (dexbey.abs() + bexdey.abs()) * cezp
+        + (bexcey.abs() + cexbey.abs()) * dezp)
+        * alift
+        + ((dexaey.abs() + aexdey.abs()) * cezp
+            + (aexcey.abs() + cexaey.abs()) * dezp
+            + (cexdey.abs() + dexcey.abs()) * aezp)
+            * blift
+        + ((aexbey.abs() + bexaey.abs()) * dezp
+            + (bexdey.abs() + dexbey.abs()) * aezp
+            + (dexaey.abs() + aexdey.abs()) * bezp)
+            * clift
+        + ((bexcey.abs() + cexbey.abs()) * aezp
+            + (cexaey.abs() + aexcey.abs()) * bezp
+            + (aexbey.abs() + bexaey.abs()) * cezp)
+            * dlift;
+    let errbound = ISP_ERRBOUND_A * permanent;
+    if det > errbound || -det > errbound {
+        return det;
+    }
+    insphere_slow(a, b, c, d, e)
+}
+
+#[cold]
+#[inline(never)]
+fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    if let Some(v) = insphere_int(a, b, c, d, e) {
+        return v;
+    }
     robust::insphere(coord(a), coord(b), coord(c), coord(d), coord(e))
+}
+
+/// `x − y` if it is exact in f64 (Knuth's two-sum tail is zero).
+#[inline]
+fn exact_diff(x: f64, y: f64) -> Option<f64> {
+    let d = x - y;
+    let bvirt = x - d;
+    let avirt = d + bvirt;
+    let tail = (x - avirt) + (bvirt - y);
+    (tail == 0.0).then_some(d)
+}
+
+/// Scale exact differences to integers: `Some(ints)` when all of them are dyadic numbers
+/// spanning at most `bits` bits between the highest and lowest set bit over the whole set
+/// (a common binary scale keeps ratios, so determinant signs are unchanged).
+fn scaled_ints<const N: usize>(diffs: [f64; N], bits: i32) -> Option<[i64; N]> {
+    let mut lo = i32::MAX;
+    let mut hi = i32::MIN;
+    for &x in &diffs {
+        if x == 0.0 {
+            continue;
+        }
+        let raw = x.to_bits();
+        let exp = ((raw >> 52) & 0x7ff) as i32;
+        if exp == 0 || exp == 0x7ff {
+            return None; // subnormal or non-finite
+        }
+        let mant = (raw & ((1u64 << 52) - 1)) | (1u64 << 52);
+        lo = lo.min(exp - 1075 + mant.trailing_zeros() as i32);
+        hi = hi.max(exp - 1022); // |x| < 2^hi
+    }
+    if lo == i32::MAX {
+        return Some([0; N]);
+    }
+    if hi - lo > bits {
+        return None;
+    }
+    // x · 2^-lo is an integer below 2^bits: exact in f64 and in i64.
+    let scale = f64::from_bits(((1023 - lo) as u64) << 52);
+    if !(scale.is_finite() && scale > 0.0) {
+        return None;
+    }
+    Some(diffs.map(|x| (x * scale) as i64))
+}
+
+fn orient3d_int(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<f64> {
+    let mut diffs = [0.0; 9];
+    for k in 0..3 {
+        diffs[k] = exact_diff(a[k], d[k])?;
+        diffs[3 + k] = exact_diff(b[k], d[k])?;
+        diffs[6 + k] = exact_diff(c[k], d[k])?;
+    }
+    // |entries| < 2^40: 2×2 minors < 2^81, the determinant < 2^123.
+    let v = scaled_ints(diffs, 40)?.map(|x| x as i128);
+    let [adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz] = v;
+    let det = adz * (bdx * cdy - cdx * bdy)
+        + bdz * (cdx * ady - adx * cdy)
+        + cdz * (adx * bdy - bdx * ady);
+    Some(det.signum() as f64)
+}
+
+fn insphere_int(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    d: &[f64; 3],
+    e: &[f64; 3],
+) -> Option<f64> {
+    let mut diffs = [0.0; 12];
+    for k in 0..3 {
+        diffs[k] = exact_diff(a[k], e[k])?;
+        diffs[3 + k] = exact_diff(b[k], e[k])?;
+        diffs[6 + k] = exact_diff(c[k], e[k])?;
+        diffs[9 + k] = exact_diff(d[k], e[k])?;
+    }
+    // |entries| < 2^23: 2×2 minors < 2^47 (i64), 3×3 < 2^72, lifts < 2^48, det < 2^122.
+    let [aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez] = scaled_ints(diffs, 23)?;
+    let ab = (aex * bey - bex * aey) as i128;
+    let bc = (bex * cey - cex * bey) as i128;
+    let cd = (cex * dey - dex * cey) as i128;
+    let da = (dex * aey - aex * dey) as i128;
+    let ac = (aex * cey - cex * aey) as i128;
+    let bd = (bex * dey - dex * bey) as i128;
+    let (aez, bez, cez, dez) = (aez as i128, bez as i128, cez as i128, dez as i128);
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let lift = |x: i64, y: i64, z: i128| (x * x + y * y) as i128 + z * z;
+    let alift = lift(aex, aey, aez);
+    let blift = lift(bex, bey, bez);
+    let clift = lift(cex, cey, cez);
+    let dlift = lift(dex, dey, dez);
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    Some(det.signum() as f64)
 }
 
 /// Exact 2D orientation in one of the coordinate planes (`axes` picks the two coordinates).
@@ -132,6 +324,55 @@ mod tests {
         assert!(orient3d(&a, &b, &c, &[0.0, 0.0, -1.0]) > 0.0);
         assert!(orient3d(&a, &b, &c, &[0.0, 0.0, 1.0]) < 0.0);
         assert_eq!(orient3d(&a, &b, &c, &[5.0, 7.0, 0.0]), 0.0);
+    }
+
+    fn sign(x: f64) -> i32 {
+        (x > 0.0) as i32 - (x < 0.0) as i32
+    }
+
+    /// The integer stage must agree with `robust` on near-degenerate dyadic inputs.
+    #[test]
+    fn integer_stage_agrees_with_robust() {
+        let mut rng = crate::delaunay::sort::SplitMix64(99);
+        let mut pick = || ((rng.next_u64() % 9) as f64 - 4.0) * 0.25 + 1024.0;
+        let mut zeros = 0;
+        for _ in 0..20000 {
+            let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
+            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
+            let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
+            assert_eq!(sign(o), sign(r), "{p:?}");
+            assert_eq!(
+                sign(orient3d_int(&p[0], &p[1], &p[2], &p[3]).unwrap()),
+                sign(r)
+            );
+            if o > 0.0 {
+                let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
+                let r = robust::insphere(
+                    coord(&p[0]),
+                    coord(&p[1]),
+                    coord(&p[2]),
+                    coord(&p[3]),
+                    coord(&p[4]),
+                );
+                assert_eq!(sign(i), sign(r), "{p:?}");
+                assert_eq!(
+                    sign(insphere_int(&p[0], &p[1], &p[2], &p[3], &p[4]).unwrap()),
+                    sign(r)
+                );
+                zeros += usize::from(r == 0.0);
+            }
+        }
+        assert!(zeros > 10, "the test must exercise exact ties");
+        // Too many significant bits: the integer stage declines.
+        assert!(
+            orient3d_int(
+                &[0.0; 3],
+                &[1.0, 0.0, 0.0],
+                &[0.0, 1.0, 0.0],
+                &[1e-30, 0.0, 1.0]
+            )
+            .is_none()
+        );
     }
 
     #[test]

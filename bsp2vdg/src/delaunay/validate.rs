@@ -4,7 +4,6 @@
 use std::fmt;
 
 use super::INFINITE;
-use super::predicates::{insphere, orient3d};
 use super::triangulation::Triangulation;
 
 /// A violated invariant, with the cell it was found at.
@@ -18,6 +17,25 @@ impl fmt::Display for InvalidTriangulation {
 }
 
 impl std::error::Error for InvalidTriangulation {}
+
+// The checks use `robust` directly, independent of the builder's own predicate stages.
+fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    let p = |q: &[f64; 3]| robust::Coord3D {
+        x: q[0],
+        y: q[1],
+        z: q[2],
+    };
+    robust::orient3d(p(a), p(b), p(c), p(d))
+}
+
+fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    let p = |q: &[f64; 3]| robust::Coord3D {
+        x: q[0],
+        y: q[1],
+        z: q[2],
+    };
+    robust::insphere(p(a), p(b), p(c), p(d), p(e))
+}
 
 macro_rules! bail {
     ($($arg:tt)*) => { return Err(InvalidTriangulation(format!($($arg)*))) };
