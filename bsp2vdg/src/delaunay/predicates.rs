@@ -375,6 +375,55 @@ mod tests {
         );
     }
 
+    /// For two cells on either side of a facet, "the far apex is inside my sphere" must be
+    /// decided identically from both sides — also for exact ties. This is what makes the
+    /// perturbation a perturbation (a wrong sign in either rule breaks it).
+    #[test]
+    fn perturbed_local_delaunay_test_is_symmetric() {
+        let mut rng = crate::delaunay::sort::SplitMix64(5);
+        let mut pts: Vec<[f64; 3]> = Vec::new();
+        for x in 0..3 {
+            for y in 0..3 {
+                for z in 0..3 {
+                    pts.push([x as f64, y as f64, z as f64]);
+                }
+            }
+        }
+        let n = pts.len() as u32;
+        let (mut ties, mut checked) = (0, 0);
+        for _ in 0..200_000 {
+            let mut ids = [0u32; 5];
+            for i in 0..5 {
+                ids[i] = rng.below(n as usize) as u32;
+            }
+            let [a, b, c, d, e] = ids;
+            if (1..5).any(|i| ids[..i].contains(&ids[i])) {
+                continue;
+            }
+            let mut t1 = [a, b, c, d];
+            let mut t2 = [a, b, c, e];
+            let (o1, o2) = (orient_ids(&pts, t1), orient_ids(&pts, t2));
+            if o1 == 0.0 || o2 == 0.0 || (o1 > 0.0) == (o2 > 0.0) {
+                continue; // need d and e strictly on opposite sides of (a, b, c)
+            }
+            if o1 < 0.0 {
+                t1.swap(0, 1);
+            }
+            if o2 < 0.0 {
+                t2.swap(0, 1);
+            }
+            let p = |i: u32| &pts[i as usize];
+            ties += usize::from(insphere(p(t1[0]), p(t1[1]), p(t1[2]), p(t1[3]), p(e)) == 0.0);
+            checked += 1;
+            assert_eq!(
+                in_conflict(&pts, t1, e),
+                in_conflict(&pts, t2, d),
+                "{ids:?}"
+            );
+        }
+        assert!(ties > 100 && checked > 1000, "{ties} ties of {checked}");
+    }
+
     #[test]
     fn perturbation_breaks_cospherical_ties_consistently() {
         // Cube corners: all 8 cospherical. Two tetrahedra sharing the diagonal facet must
