@@ -392,10 +392,7 @@ mod tests {
         let n = pts.len() as u32;
         let (mut ties, mut checked) = (0, 0);
         for _ in 0..200_000 {
-            let mut ids = [0u32; 5];
-            for i in 0..5 {
-                ids[i] = rng.below(n as usize) as u32;
-            }
+            let ids = [0; 5].map(|_: u32| rng.below(n as usize) as u32);
             let [a, b, c, d, e] = ids;
             if (1..5).any(|i| ids[..i].contains(&ids[i])) {
                 continue;
