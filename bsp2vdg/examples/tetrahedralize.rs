@@ -50,6 +50,13 @@ fn main() -> anyhow::Result<()> {
         bail!("usage: tetrahedralize POINTS.txt [--validate] [--rings]");
     };
     let pts = read_qhull_points(path)?;
+    if std::env::var_os("DELAUNAY_DEBUG").is_some() {
+        let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+        eprintln!(
+            "after read: {}",
+            st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("")
+        );
+    }
     let start = Instant::now();
     let tri = Triangulation::new(&pts)?;
     let seconds = start.elapsed().as_secs_f64();

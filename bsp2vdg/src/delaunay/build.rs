@@ -10,17 +10,32 @@ use super::{DelaunayError, INFINITE};
 /// Marks a tetrahedron slot that is on the free list.
 pub(super) const DEAD: u32 = u32::MAX - 1;
 
-/// Largest number of tetrahedron slots: 2 bits of a packed neighbour hold the facet index.
-const MAX_TETS: usize = 1 << 30;
+/// Largest number of tetrahedron slots: 2 bits of a packed neighbour hold the facet index
+/// and the top bit is a flag.
+const MAX_TETS: usize = 1 << 29;
 
-/// Builder state. Per tetrahedron: 16 bytes of vertices, 16 bytes of packed neighbours
-/// (`tet << 2 | facet`, neighbour `i` opposite vertex `i`) and a 4-byte visit stamp.
+/// Flag bit in `Cell::n[0]`: the cell is in the cavity of the current insertion.
+pub(super) const IN_CAVITY: u32 = 1 << 31;
+/// Flag bit in `Cell::n[1]`: the cell was tested during this insertion and is not in conflict.
+pub(super) const TESTED: u32 = 1 << 31;
+/// Mask removing the flag bit from a packed neighbour.
+pub(super) const NBR_MASK: u32 = !(1 << 31);
+
+/// One tetrahedron while building: 4 vertex ids and 4 packed neighbours
+/// (`tet << 2 | facet`, neighbour `i` opposite vertex `i`; bit 31 of `n[0]`/`n[1]` are the
+/// insertion's visit flags). 32 bytes, aligned so a cell is one half cache line: the
+/// cavity search reads a cell's flags, vertices and neighbours with one memory access.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub(super) struct Cell {
+    pub v: [u32; 4],
+    pub n: [u32; 4],
+}
+
+/// Builder state: 32 bytes per cell (plus 8 per point for the gluing table's local ids).
 pub(super) struct Builder<'a> {
     pub pts: &'a [[f64; 3]],
-    pub verts: Vec<[u32; 4]>,
-    pub nbrs: Vec<[u32; 4]>,
-    /// `2·epoch` = in the cavity of the current insertion, `2·epoch + 1` = tested, not in it.
-    pub stamp: Vec<u32>,
+    pub cells: Vec<Cell>,
     pub epoch: u32,
     pub free: Vec<u32>,
     /// A live tetrahedron near the last inserted point: where the next walk starts.
@@ -53,13 +68,11 @@ impl<'a> Builder<'a> {
     }
 
     fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
-        // Rough capacity: ~6.5 tetrahedra per point for uniform input, fewer on surfaces.
-        let cap = pts.len().saturating_mul(7).min(MAX_TETS);
+        // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
+        let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
             pts,
-            verts: Vec::with_capacity(cap),
-            nbrs: Vec::with_capacity(cap),
-            stamp: Vec::with_capacity(cap),
+            cells: Vec::with_capacity(cap),
             epoch: 0,
             free: Vec::new(),
             last: 0,
@@ -74,7 +87,7 @@ impl<'a> Builder<'a> {
             if simplex.contains(&q) {
                 continue;
             }
-            if b.verts.len() >= MAX_TETS - 64 {
+            if b.cells.len() >= MAX_TETS - 64 {
                 return Err(DelaunayError::TooManyPoints { count: pts.len() });
             }
             b.insert_point(q);
@@ -87,10 +100,15 @@ impl<'a> Builder<'a> {
         if let Some(t) = self.free.pop() {
             t
         } else {
-            self.verts.push([DEAD; 4]);
-            self.nbrs.push([0; 4]);
-            self.stamp.push(0);
-            (self.verts.len() - 1) as u32
+            if self.cells.len() == self.cells.capacity() {
+                // Grow by a quarter, not double: the estimate is usually close.
+                self.cells.reserve_exact(self.cells.len() / 4 + 1024);
+            }
+            self.cells.push(Cell {
+                v: [DEAD; 4],
+                n: [0; 4],
+            });
+            (self.cells.len() - 1) as u32
         }
     }
 
@@ -100,7 +118,7 @@ impl<'a> Builder<'a> {
             s.swap(0, 1);
         }
         let f = self.alloc();
-        self.verts[f as usize] = s;
+        self.cells[f as usize].v = s;
         for i in 0..4 {
             // Infinite cell on facet i: vertex i replaced by ∞, then two finite vertices
             // swapped, so that "∞ replaced by q is positive" means q is outside facet i.
@@ -113,18 +131,19 @@ impl<'a> Builder<'a> {
                 _ => (0, 1),
             };
             v.swap(a, b);
-            self.verts[t as usize] = v;
-            self.nbrs[f as usize][i] = (t << 2) | i as u32;
-            self.nbrs[t as usize][i] = (f << 2) | i as u32;
+            self.cells[t as usize].v = v;
+            self.cells[f as usize].n[i] = (t << 2) | i as u32;
+            self.cells[t as usize].n[i] = (f << 2) | i as u32;
         }
         // Infinite cells are glued along facets that contain ∞.
         for t in 1..5u32 {
             for k in 0..4 {
-                if self.verts[t as usize][k] == INFINITE {
+                if self.cells[t as usize].v[k] == INFINITE {
                     continue;
                 }
-                let missing = self.verts[t as usize][k];
-                let facet: Vec<u32> = self.verts[t as usize]
+                let missing = self.cells[t as usize].v[k];
+                let facet: Vec<u32> = self.cells[t as usize]
+                    .v
                     .iter()
                     .copied()
                     .filter(|&v| v != missing)
@@ -132,7 +151,7 @@ impl<'a> Builder<'a> {
                 let (other, j) = (1..5u32)
                     .filter(|&u| u != t)
                     .find_map(|u| {
-                        let vu = self.verts[u as usize];
+                        let vu = self.cells[u as usize].v;
                         if facet.iter().all(|x| vu.contains(x)) {
                             let j = vu.iter().position(|x| !facet.contains(x)).unwrap();
                             Some((u, j))
@@ -141,62 +160,73 @@ impl<'a> Builder<'a> {
                         }
                     })
                     .expect("the four infinite cells of a simplex are pairwise adjacent");
-                self.nbrs[t as usize][k] = (other << 2) | j as u32;
+                self.cells[t as usize].n[k] = (other << 2) | j as u32;
             }
         }
         self.last = f;
     }
 
-    /// Drop free slots and renumber: finite tetrahedra first, then infinite ones, each in
-    /// slot order (deterministic); map vertex ids back to input indices.
+    /// Drop free slots and renumber in place: finite cells first, then infinite ones, each
+    /// in slot order (deterministic); map vertex ids back to input indices. In place, so the
+    /// peak memory is the cell array plus a 4-byte remap per slot.
     fn finish(self, input: &[[f64; 3]], order: &[u32]) -> Triangulation {
         let Builder {
-            verts,
-            nbrs,
-            stamp,
+            mut cells,
             duplicates,
             vlocal,
             vstamp,
             ..
         } = self;
-        drop((stamp, vlocal, vstamp));
+        drop((vlocal, vstamp));
+        if std::env::var_os("DELAUNAY_DEBUG").is_some() {
+            let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+            let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");
+            eprintln!("cells len {} cap {} {hwm}", cells.len(), cells.capacity());
+        }
         let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
-        let mut remap = vec![u32::MAX; verts.len()];
+        let live = |c: &Cell| c.v[0] != DEAD;
+        let mut remap = vec![u32::MAX; cells.len()];
         let mut next = 0u32;
-        for (t, v) in verts.iter().enumerate() {
-            if v[0] != DEAD && !v.contains(&INFINITE) {
+        for (t, c) in cells.iter().enumerate() {
+            if live(c) && !c.v.contains(&INFINITE) {
                 remap[t] = next;
                 next += 1;
             }
         }
         let num_finite = next as usize;
-        for (t, v) in verts.iter().enumerate() {
-            if v[0] != DEAD && v.contains(&INFINITE) {
+        let mut infinite = Vec::new();
+        for (t, c) in cells.iter().enumerate() {
+            if live(c) && c.v.contains(&INFINITE) {
                 remap[t] = next;
                 next += 1;
+                infinite.push(*c);
             }
         }
-        let total = next as usize;
-        let mut new_verts = vec![[0u32; 4]; total];
-        for (t, v) in verts.iter().enumerate() {
-            if remap[t] != u32::MAX {
-                new_verts[remap[t] as usize] = v.map(to_input);
+        // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
+        // cell before it is moved.
+        for t in 0..cells.len() {
+            let r = remap[t] as usize;
+            if r < num_finite {
+                cells[r] = cells[t];
             }
         }
-        drop(verts);
-        let mut new_nbrs = vec![[0u32; 4]; total];
-        for (t, n) in nbrs.iter().enumerate() {
-            if remap[t] != u32::MAX {
-                new_nbrs[remap[t] as usize] = n.map(|p| (remap[(p >> 2) as usize] << 2) | (p & 3));
-            }
+        cells.truncate(num_finite);
+        cells.extend_from_slice(&infinite);
+        drop(infinite);
+        // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
+        // doubling the peak memory for a few unused slots.
+        for c in &mut cells {
+            debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
+            c.v = c.v.map(to_input);
+            c.n = c.n.map(|p| (remap[(p >> 2) as usize] << 2) | (p & 3));
         }
-        drop(nbrs);
+        drop(remap);
         let mut duplicates: Vec<(u32, u32)> = duplicates
             .into_iter()
             .map(|(d, v)| (to_input(d), to_input(v)))
             .collect();
         duplicates.sort_unstable();
-        Triangulation::from_parts(input.to_vec(), new_verts, new_nbrs, num_finite, duplicates)
+        Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
     }
 }
 

@@ -14,7 +14,7 @@
 //! the boundary edge they share; the table and all work lists are reused between insertions.
 
 use super::INFINITE;
-use super::build::{Builder, DEAD};
+use super::build::{Builder, DEAD, IN_CAVITY, NBR_MASK, TESTED};
 use super::locate::Location;
 use super::predicates::{in_conflict, orient3d};
 
@@ -54,32 +54,30 @@ impl Builder<'_> {
             Location::Cell(t) => t,
         };
         self.epoch += 1;
-        let in_cavity = 2 * self.epoch;
-        let outside = in_cavity + 1;
         let mut s = std::mem::take(&mut self.scratch);
         s.stack.clear();
         s.cavity.clear();
         s.boundary.clear();
-        self.stamp[start as usize] = in_cavity;
+        self.cells[start as usize].n[0] |= IN_CAVITY;
         s.stack.push(start);
         while let Some(c) = s.stack.pop() {
             s.cavity.push(c);
             for i in 0..4 {
-                let packed = self.nbrs[c as usize][i];
+                let packed = self.cells[c as usize].n[i] & NBR_MASK;
                 let n = packed >> 2;
-                let st = self.stamp[n as usize];
-                if st == in_cavity {
+                let nn = self.cells[n as usize].n;
+                if nn[0] & IN_CAVITY != 0 {
                     continue;
                 }
-                if st != outside {
+                if nn[1] & TESTED == 0 {
                     if self.cell_in_conflict(n, q) {
-                        self.stamp[n as usize] = in_cavity;
+                        self.cells[n as usize].n[0] |= IN_CAVITY;
                         s.stack.push(n);
                         continue;
                     }
-                    self.stamp[n as usize] = outside;
+                    self.cells[n as usize].n[1] |= TESTED;
                 }
-                let mut verts = self.verts[c as usize];
+                let mut verts = self.cells[c as usize].v;
                 verts[i] = q;
                 s.boundary.push(BoundaryFacet {
                     verts,
@@ -90,17 +88,19 @@ impl Builder<'_> {
         }
         // Recycle the cavity's slots (last freed is reused first: good locality).
         for &c in &s.cavity {
-            self.verts[c as usize] = [DEAD; 4];
+            self.cells[c as usize].v = [DEAD; 4];
             self.free.push(c);
         }
         s.new_cells.clear();
         for b in &s.boundary {
             let t = self.alloc();
-            self.verts[t as usize] = b.verts;
+            self.cells[t as usize].v = b.verts;
             let i = b.pos as usize;
-            self.nbrs[t as usize][i] = b.outside;
+            self.cells[t as usize].n[i] = b.outside;
             let (o, j) = (b.outside >> 2, b.outside & 3);
-            self.nbrs[o as usize][j as usize] = (t << 2) | b.pos;
+            let on = &mut self.cells[o as usize].n;
+            on[j as usize] = (t << 2) | b.pos;
+            on[1] &= NBR_MASK; // clear TESTED
             s.new_cells.push(t);
         }
         if !self.glue_by_edge_matrix(&mut s) {
@@ -113,7 +113,7 @@ impl Builder<'_> {
     /// Conflict test of any cell (finite or infinite) with point `q`.
     #[inline]
     fn cell_in_conflict(&self, t: u32, q: u32) -> bool {
-        let v = self.verts[t as usize];
+        let v = self.cells[t as usize].v;
         match v.iter().position(|&x| x == INFINITE) {
             None => in_conflict(self.pts, v, q),
             Some(k) => {
@@ -124,8 +124,8 @@ impl Builder<'_> {
                 if o != 0.0 {
                     o > 0.0
                 } else {
-                    let f = self.nbrs[t as usize][k] >> 2;
-                    in_conflict(self.pts, self.verts[f as usize], q)
+                    let f = self.cells[t as usize].n[k] >> 2;
+                    in_conflict(self.pts, self.cells[f as usize].v, q)
                 }
             }
         }
@@ -181,7 +181,7 @@ impl Builder<'_> {
             for (k, &(x, y)) in EVEN_REST[p].iter().enumerate() {
                 if k != p {
                     let (lx, ly) = (local(b.verts[x as usize]), local(b.verts[y as usize]));
-                    self.nbrs[t as usize][k] = s.edge_tab[ly * m + lx];
+                    self.cells[t as usize].n[k] = s.edge_tab[ly * m + lx];
                 }
             }
         }
@@ -225,8 +225,8 @@ impl Builder<'_> {
                     }
                     if s.keys[h] == key {
                         let other = s.vals[h];
-                        self.nbrs[t as usize][k] = other;
-                        self.nbrs[(other >> 2) as usize][(other & 3) as usize] =
+                        self.cells[t as usize].n[k] = other;
+                        self.cells[(other >> 2) as usize].n[(other & 3) as usize] =
                             (t << 2) | k as u32;
                         // Each edge is met exactly twice: the slot stays as a tombstone
                         // with a key no third lookup will ask for.

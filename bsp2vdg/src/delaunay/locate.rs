@@ -43,9 +43,9 @@ impl Builder<'_> {
         let mut prev = u32::MAX;
         // A walk in a Delaunay triangulation visits O(n^(1/3)) cells at worst in practice;
         // the bound only protects against an unforeseen cycle.
-        let limit = 64 + 8 * self.verts.len();
+        let limit = 64 + 8 * self.cells.len();
         for _ in 0..limit {
-            let v = self.verts[t as usize];
+            let v = self.cells[t as usize].v;
             if let Some(k) = v.iter().position(|&x| x == INFINITE) {
                 let mut w = v;
                 w[k] = q;
@@ -53,14 +53,14 @@ impl Builder<'_> {
                     return Location::Cell(t);
                 }
                 prev = t;
-                t = self.nbrs[t as usize][k] >> 2;
+                t = self.cells[t as usize].n[k] >> 2;
                 continue;
             }
             let r = self.next_walk_bits();
             let mut moved = false;
             for j in 0..4 {
                 let i = (r + j) & 3;
-                let n = self.nbrs[t as usize][i] >> 2;
+                let n = self.cells[t as usize].n[i] >> 2;
                 if n == prev {
                     continue;
                 }
@@ -89,7 +89,7 @@ impl Builder<'_> {
     #[cold]
     fn locate_brute_force(&mut self, q: u32) -> Location {
         let pq = self.pts[q as usize];
-        for v in &self.verts {
+        for v in self.cells.iter().map(|c| &c.v) {
             if v[0] == DEAD {
                 continue;
             }
@@ -100,7 +100,7 @@ impl Builder<'_> {
                 return Location::Duplicate(x);
             }
         }
-        for (t, v) in self.verts.iter().enumerate() {
+        for (t, v) in self.cells.iter().map(|c| &c.v).enumerate() {
             if v[0] == DEAD {
                 continue;
             }

@@ -62,7 +62,7 @@ impl Triangulation {
             skipped[d as usize] = true;
         }
         let mut used = vec![false; n];
-        for (t, c) in self.cells().iter().enumerate() {
+        for (t, c) in self.cells().enumerate() {
             let infinite = c.iter().filter(|&&v| v == INFINITE).count();
             let expect = usize::from(!self.is_finite(t as u32));
             if infinite != expect {
