@@ -44,9 +44,8 @@ pub(super) struct Builder<'a> {
     pub walk_rng: u32,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
-    /// Per point: local index in the current cavity boundary, and the epoch it was set in.
-    pub vlocal: Vec<u32>,
-    pub vstamp: Vec<u32>,
+    /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
+    pub vlocal: Vec<[u32; 2]>,
 }
 
 impl<'a> Builder<'a> {
@@ -79,8 +78,7 @@ impl<'a> Builder<'a> {
             walk_rng: 0x2545_F491,
             duplicates: Vec::new(),
             scratch: Default::default(),
-            vlocal: vec![0; pts.len()],
-            vstamp: vec![0; pts.len()],
+            vlocal: vec![[0; 2]; pts.len()],
         };
         b.create_simplex(simplex);
         for q in 0..pts.len() as u32 {
@@ -174,10 +172,9 @@ impl<'a> Builder<'a> {
             mut cells,
             duplicates,
             vlocal,
-            vstamp,
             ..
         } = self;
-        drop((vlocal, vstamp));
+        drop(vlocal);
         if std::env::var_os("DELAUNAY_DEBUG").is_some() {
             let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
             let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");

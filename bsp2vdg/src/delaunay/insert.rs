@@ -73,6 +73,10 @@ impl Builder<'_> {
                     if self.cell_in_conflict(n, q) {
                         self.cells[n as usize].n[0] |= IN_CAVITY;
                         s.stack.push(n);
+                        // Its neighbours are tested next: start loading them now.
+                        for &p in &nn {
+                            self.prefetch_cell((p & NBR_MASK) >> 2);
+                        }
                         continue;
                     }
                     self.cells[n as usize].n[1] |= TESTED;
@@ -108,6 +112,18 @@ impl Builder<'_> {
         }
         self.last = s.new_cells[0];
         self.scratch = s;
+    }
+
+    #[inline(always)]
+    fn prefetch_cell(&self, t: u32) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let p = self.cells.as_ptr().wrapping_add(t as usize) as *const i8;
+            // SAFETY: prefetching is a hint; it never faults, even on an invalid address.
+            unsafe { std::arch::x86_64::_mm_prefetch(p, std::arch::x86_64::_MM_HINT_T0) };
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = t;
     }
 
     /// Conflict test of any cell (finite or infinite) with point `q`.
@@ -147,9 +163,9 @@ impl Builder<'_> {
                 if k as u32 == b.pos || v == INFINITE {
                     continue;
                 }
-                if self.vstamp[v as usize] != epoch {
-                    self.vstamp[v as usize] = epoch;
-                    self.vlocal[v as usize] = m as u32;
+                let slot = &mut self.vlocal[v as usize];
+                if slot[0] != epoch {
+                    *slot = [epoch, m as u32];
                     m += 1;
                 }
             }
@@ -164,7 +180,7 @@ impl Builder<'_> {
             if v == INFINITE {
                 0
             } else {
-                self.vlocal[v as usize] as usize
+                self.vlocal[v as usize][1] as usize
             }
         };
         for (&t, b) in s.new_cells.iter().zip(&s.boundary) {

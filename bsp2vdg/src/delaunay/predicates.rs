@@ -25,6 +25,17 @@ const EPSILON: f64 = f64::EPSILON / 2.0;
 /// Shewchuk's first-stage error bound factors (as in `robust`).
 const O3D_ERRBOUND_A: f64 = (7.0 + 56.0 * EPSILON) * EPSILON;
 const ISP_ERRBOUND_A: f64 = (16.0 + 224.0 * EPSILON) * EPSILON;
+/// Static (semi-static) bounds: with `M` the largest absolute coordinate difference, the
+/// permanent of Shewchuk's first stage is at most `6 M³` (orient3d: 3 terms of
+/// |z|·(|x y| + |x y|)) and `72 M⁵` (insphere: 4 lifts ≤ 3M² times 3×3 permanents ≤ 6M³),
+/// so `A · 6 M³` and `A · 72 M⁵` bound the error of the float determinant. They need no
+/// permanent, which saves a third of the filter's flops; the margin covers the rounding of
+/// the bound itself. Outside `M ∈ [2^-100, 2^100]` (no underflow or overflow of M⁵)
+/// the exact stages are used.
+const O3D_STATIC: f64 = O3D_ERRBOUND_A * 6.0 * (1.0 + 1e-10);
+const ISP_STATIC: f64 = ISP_ERRBOUND_A * 72.0 * (1.0 + 1e-10);
+const STATIC_MIN: f64 = 7.888609052210118e-31; // 2^-100
+const STATIC_MAX: f64 = 1.2676506002282294e30; // 2^100
 
 /// Exact sign (and approximate value) of the orientation determinant of `a, b, c, d`.
 ///
@@ -44,11 +55,18 @@ pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
     let adxbdy = adx * bdy;
     let bdxady = bdx * ady;
     let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
-        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
-        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
-    let errbound = O3D_ERRBOUND_A * permanent;
-    if det > errbound || -det > errbound {
+    let m = adx
+        .abs()
+        .max(bdx.abs())
+        .max(cdx.abs())
+        .max(ady.abs())
+        .max(bdy.abs())
+        .max(cdy.abs())
+        .max(adz.abs())
+        .max(bdz.abs())
+        .max(cdz.abs());
+    let errbound = O3D_STATIC * (m * m * m);
+    if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
         return det;
     }
     orient3d_slow(a, b, c, d)
@@ -57,6 +75,11 @@ pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
 #[cold]
 #[inline(never)]
 fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    // `robust` starts with the dynamic (permanent-based) filter, tighter than the static one.
+    let quick = robust_orient3d_filter(a, b, c, d);
+    if quick != 0.0 {
+        return quick;
+    }
     if let Some(v) = orient3d_int(a, b, c, d) {
         return v;
     }
@@ -67,6 +90,91 @@ fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 
 /// Same three stages as [`orient3d`] (integer stage: differences of at most 23 bits).
 #[inline]
 pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    let (aex, bex, cex, dex) = (a[0] - e[0], b[0] - e[0], c[0] - e[0], d[0] - e[0]);
+    let (aey, bey, cey, dey) = (a[1] - e[1], b[1] - e[1], c[1] - e[1], d[1] - e[1]);
+    let (aez, bez, cez, dez) = (a[2] - e[2], b[2] - e[2], c[2] - e[2], d[2] - e[2]);
+    let aexbey = aex * bey;
+    let bexaey = bex * aey;
+    let ab = aexbey - bexaey;
+    let bexcey = bex * cey;
+    let cexbey = cex * bey;
+    let bc = bexcey - cexbey;
+    let cexdey = cex * dey;
+    let dexcey = dex * cey;
+    let cd = cexdey - dexcey;
+    let dexaey = dex * aey;
+    let aexdey = aex * dey;
+    let da = dexaey - aexdey;
+    let aexcey = aex * cey;
+    let cexaey = cex * aey;
+    let ac = aexcey - cexaey;
+    let bexdey = bex * dey;
+    let dexbey = dex * bey;
+    let bd = bexdey - dexbey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let alift = aex * aex + aey * aey + aez * aez;
+    let blift = bex * bex + bey * bey + bez * bez;
+    let clift = cex * cex + cey * cey + cez * cez;
+    let dlift = dex * dex + dey * dey + dez * dez;
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    let m = [aex, bex, cex, dex, aey, bey, cey, dey, aez, bez, cez, dez]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let m2 = m * m;
+    let errbound = ISP_STATIC * (m2 * m2 * m);
+    if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
+        return det;
+    }
+    insphere_slow(a, b, c, d, e)
+}
+
+#[cold]
+#[inline(never)]
+fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    let quick = robust_insphere_filter(a, b, c, d, e);
+    if quick != 0.0 {
+        return quick;
+    }
+    if let Some(v) = insphere_int(a, b, c, d, e) {
+        return v;
+    }
+    robust::insphere(coord(a), coord(b), coord(c), coord(d), coord(e))
+}
+
+/// Shewchuk's first-stage (dynamic) filter: the determinant if its sign is certain, else 0.
+fn robust_orient3d_filter(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let bdxcdy = bdx * cdy;
+    let cdxbdy = cdx * bdy;
+    let cdxady = cdx * ady;
+    let adxcdy = adx * cdy;
+    let adxbdy = adx * bdy;
+    let bdxady = bdx * ady;
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let errbound = O3D_ERRBOUND_A * permanent;
+    if det > errbound || -det > errbound {
+        det
+    } else {
+        0.0
+    }
+}
+
+/// Shewchuk's first-stage (dynamic) insphere filter: the determinant if certain, else 0.
+fn robust_insphere_filter(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    d: &[f64; 3],
+    e: &[f64; 3],
+) -> f64 {
     let (aex, bex, cex, dex) = (a[0] - e[0], b[0] - e[0], c[0] - e[0], d[0] - e[0]);
     let (aey, bey, cey, dey) = (a[1] - e[1], b[1] - e[1], c[1] - e[1], d[1] - e[1]);
     let (aez, bez, cez, dez) = (a[2] - e[2], b[2] - e[2], c[2] - e[2], d[2] - e[2]);
@@ -116,18 +224,10 @@ pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64
             * dlift;
     let errbound = ISP_ERRBOUND_A * permanent;
     if det > errbound || -det > errbound {
-        return det;
+        det
+    } else {
+        0.0
     }
-    insphere_slow(a, b, c, d, e)
-}
-
-#[cold]
-#[inline(never)]
-fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
-    if let Some(v) = insphere_int(a, b, c, d, e) {
-        return v;
-    }
-    robust::insphere(coord(a), coord(b), coord(c), coord(d), coord(e))
 }
 
 /// `x − y` if it is exact in f64 (Knuth's two-sum tail is zero).
