@@ -75,13 +75,14 @@ pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
 #[cold]
 #[inline(never)]
 fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
-    // `robust` starts with the dynamic (permanent-based) filter, tighter than the static one.
+    // Exact ties on grid-aligned input are the common case here: integers first, then the
+    // dynamic (permanent-based) filter, tighter than the static one, then expansions.
+    if let Some(v) = orient3d_int(a, b, c, d) {
+        return v;
+    }
     let quick = robust_orient3d_filter(a, b, c, d);
     if quick != 0.0 {
         return quick;
-    }
-    if let Some(v) = orient3d_int(a, b, c, d) {
-        return v;
     }
     robust::orient3d(coord(a), coord(b), coord(c), coord(d))
 }
@@ -134,12 +135,12 @@ pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64
 #[cold]
 #[inline(never)]
 fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    if let Some(v) = insphere_int(a, b, c, d, e) {
+        return v;
+    }
     let quick = robust_insphere_filter(a, b, c, d, e);
     if quick != 0.0 {
         return quick;
-    }
-    if let Some(v) = insphere_int(a, b, c, d, e) {
-        return v;
     }
     robust::insphere(coord(a), coord(b), coord(c), coord(d), coord(e))
 }
@@ -473,6 +474,58 @@ mod tests {
             )
             .is_none()
         );
+    }
+
+    /// The float stages (static and dynamic bounds) must agree with `robust` on nearly
+    /// degenerate, non-dyadic inputs of every magnitude.
+    #[test]
+    fn float_filters_agree_with_robust_near_degeneracy() {
+        let mut rng = crate::delaunay::sort::SplitMix64(17);
+        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for &scale in &[1e-6, 1.0, 3.7e3, 1e9] {
+            for _ in 0..20000 {
+                let off = [unit() * 100.0 * scale, unit() * scale, -unit() * scale];
+                let r = |u: f64| u * scale;
+                let a = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                let b = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                let c = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                // d nearly on the plane abc, e nearly on the sphere abcd.
+                let (s, t, noise) = (unit(), unit(), (unit() - 0.5) * 1e-14 * scale);
+                let d = [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]) + t * (c[k] - a[k]) + noise);
+                let o = orient3d(&a, &b, &c, &d);
+                let ro = robust::orient3d(coord(&a), coord(&b), coord(&c), coord(&d));
+                assert_eq!(sign(o), sign(ro), "{a:?} {b:?} {c:?} {d:?}");
+                let d2 = [d[0], d[1], d[2] + r(unit())];
+                let (p, q) = if orient3d(&a, &b, &c, &d2) > 0.0 {
+                    (a, b)
+                } else {
+                    (b, a)
+                };
+                // A point on the (float) circumsphere: its insphere sign is rounding noise.
+                let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+                let cross = |u: [f64; 3], v: [f64; 3]| {
+                    [
+                        u[1] * v[2] - u[2] * v[1],
+                        u[2] * v[0] - u[0] * v[2],
+                        u[0] * v[1] - u[1] * v[0],
+                    ]
+                };
+                let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+                let (u, v, w) = (sub(q, p), sub(c, p), sub(d2, p));
+                let den = 2.0 * dot(u, cross(v, w));
+                let (vw, wu, uv) = (cross(v, w), cross(w, u), cross(u, v));
+                let ctr = [0, 1, 2].map(|k| {
+                    p[k] + (dot(u, u) * vw[k] + dot(v, v) * wu[k] + dot(w, w) * uv[k]) / den
+                });
+                let rad = dot(sub(p, ctr), sub(p, ctr)).sqrt();
+                let dir = [unit() - 0.5, unit() - 0.5, unit() - 0.5];
+                let len = dot(dir, dir).sqrt();
+                let e = [0, 1, 2].map(|k| ctr[k] + rad * dir[k] / len);
+                let i = insphere(&p, &q, &c, &d2, &e);
+                let ri = robust::insphere(coord(&p), coord(&q), coord(&c), coord(&d2), coord(&e));
+                assert_eq!(sign(i), sign(ri));
+            }
+        }
     }
 
     /// For two cells on either side of a facet, "the far apex is inside my sphere" must be
