@@ -9,7 +9,9 @@
 # with /usr/bin/time (wall seconds of the whole process, peak RSS), and prints a table of
 # medians. Environment:
 #   RUNS=3            runs per measurement of ours (median reported)
-#   QHULL_RUNS=3      runs per qhull measurement (qhull needs minutes on the large inputs)
+#   QHULL_RUNS=3      runs per qhull measurement
+#   QHULL_RUNS_LARGE  runs per qhull measurement above 200k points (default QHULL_RUNS;
+#                     qhull needs ~5 minutes per run on the 475k wall samples)
 #   QHULL_TIMEOUT=900 seconds before a qhull run is abandoned
 #   ONLY=regex        only inputs whose name matches
 #   OUT=DIR           where point files are kept (default target/delaunay-bench)
@@ -52,4 +54,6 @@ if [ -s "$OUT/de_dust2.samples.txt" ]; then
     cp "$OUT/de_dust2.samples.txt" "$OUT/de_dust2.txt"
 fi
 
-exec python3 scripts/delaunay-bench.py "$OUT"
+# Time a private copy, so rebuilding during a long run does not change the binary.
+cp target/release/examples/tetrahedralize "$OUT/tetrahedralize"
+OURS="$OUT/tetrahedralize" exec python3 scripts/delaunay-bench.py "$OUT"
