@@ -7,6 +7,7 @@
 //! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
 
 pub mod bsp;
+pub mod delaunay;
 pub mod log;
 pub mod oracle;
 pub mod pipeline;

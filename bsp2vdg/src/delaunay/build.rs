@@ -1,0 +1,247 @@
+//! The incremental builder: the mutable tetrahedra store shared by point location
+//! ([`super::locate`]) and cavity insertion ([`super::insert`]), the initial simplex, and the
+//! final compaction into a [`Triangulation`].
+
+use super::predicates::{collinear, orient_ids};
+use super::sort::brio_order;
+use super::triangulation::Triangulation;
+use super::{DelaunayError, INFINITE};
+
+/// Marks a tetrahedron slot that is on the free list.
+pub(super) const DEAD: u32 = u32::MAX - 1;
+
+/// Largest number of tetrahedron slots: 2 bits of a packed neighbour hold the facet index
+/// and the top bit is a flag.
+const MAX_TETS: usize = 1 << 29;
+
+/// Flag bit in `Cell::n[0]`: the cell is in the cavity of the current insertion.
+pub(super) const IN_CAVITY: u32 = 1 << 31;
+/// Flag bit in `Cell::n[1]`: the cell was tested during this insertion and is not in conflict.
+pub(super) const TESTED: u32 = 1 << 31;
+/// Mask removing the flag bit from a packed neighbour.
+pub(super) const NBR_MASK: u32 = !(1 << 31);
+
+/// One tetrahedron while building: 4 vertex ids and 4 packed neighbours
+/// (`tet << 2 | facet`, neighbour `i` opposite vertex `i`; bit 31 of `n[0]`/`n[1]` are the
+/// insertion's visit flags). 32 bytes, aligned so a cell is one half cache line: the
+/// cavity search reads a cell's flags, vertices and neighbours with one memory access.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+pub(super) struct Cell {
+    pub v: [u32; 4],
+    pub n: [u32; 4],
+}
+
+/// Builder state: 32 bytes per cell (plus 8 per point for the gluing table's local ids).
+pub(super) struct Builder<'a> {
+    pub pts: &'a [[f64; 3]],
+    pub cells: Vec<Cell>,
+    pub epoch: u32,
+    pub free: Vec<u32>,
+    /// A live tetrahedron near the last inserted point: where the next walk starts.
+    pub last: u32,
+    /// State of the deterministic "stochastic" walk (xorshift32).
+    pub walk_rng: u32,
+    pub duplicates: Vec<(u32, u32)>,
+    pub scratch: super::insert::Scratch,
+    /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
+    pub vlocal: Vec<[u32; 2]>,
+}
+
+impl<'a> Builder<'a> {
+    /// Triangulate `input` (already checked to be finite).
+    ///
+    /// The points are copied in insertion order and get internal ids `0..n` in that order:
+    /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
+    /// indices when the result is assembled.
+    pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
+        if input.len() >= (MAX_TETS / 8) {
+            return Err(DelaunayError::TooManyPoints { count: input.len() });
+        }
+        let order = brio_order(input);
+        let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
+        let ids: Vec<u32> = (0..sorted.len() as u32).collect();
+        let simplex = initial_simplex(&sorted, &ids)?;
+        let b = Builder::triangulate(&sorted, simplex)?;
+        Ok(b.finish(input, &order))
+    }
+
+    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
+        // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
+        let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
+        let mut b = Builder {
+            pts,
+            cells: Vec::with_capacity(cap),
+            epoch: 0,
+            free: Vec::new(),
+            last: 0,
+            walk_rng: 0x2545_F491,
+            duplicates: Vec::new(),
+            scratch: Default::default(),
+            vlocal: vec![[0; 2]; pts.len()],
+        };
+        b.create_simplex(simplex);
+        for q in 0..pts.len() as u32 {
+            if simplex.contains(&q) {
+                continue;
+            }
+            if b.cells.len() >= MAX_TETS - 64 {
+                return Err(DelaunayError::TooManyPoints { count: pts.len() });
+            }
+            b.insert_point(q);
+        }
+        Ok(b)
+    }
+
+    #[inline]
+    pub fn alloc(&mut self) -> u32 {
+        if let Some(t) = self.free.pop() {
+            t
+        } else {
+            if self.cells.len() == self.cells.capacity() {
+                // Grow by a quarter, not double: the estimate is usually close.
+                self.cells.reserve_exact(self.cells.len() / 4 + 1024);
+            }
+            self.cells.push(Cell {
+                v: [DEAD; 4],
+                n: [0; 4],
+            });
+            (self.cells.len() - 1) as u32
+        }
+    }
+
+    /// The first tetrahedron (positively oriented) and its four infinite neighbours.
+    fn create_simplex(&mut self, mut s: [u32; 4]) {
+        if orient_ids(self.pts, s) < 0.0 {
+            s.swap(0, 1);
+        }
+        let f = self.alloc();
+        self.cells[f as usize].v = s;
+        for i in 0..4 {
+            // Infinite cell on facet i: vertex i replaced by ∞, then two finite vertices
+            // swapped, so that "∞ replaced by q is positive" means q is outside facet i.
+            let t = self.alloc();
+            let mut v = s;
+            v[i] = INFINITE;
+            let (a, b) = match i {
+                0 => (1, 2),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            v.swap(a, b);
+            self.cells[t as usize].v = v;
+            self.cells[f as usize].n[i] = (t << 2) | i as u32;
+            self.cells[t as usize].n[i] = (f << 2) | i as u32;
+        }
+        // Infinite cells are glued along facets that contain ∞.
+        for t in 1..5u32 {
+            for k in 0..4 {
+                if self.cells[t as usize].v[k] == INFINITE {
+                    continue;
+                }
+                let missing = self.cells[t as usize].v[k];
+                let facet: Vec<u32> = self.cells[t as usize]
+                    .v
+                    .iter()
+                    .copied()
+                    .filter(|&v| v != missing)
+                    .collect();
+                let (other, j) = (1..5u32)
+                    .filter(|&u| u != t)
+                    .find_map(|u| {
+                        let vu = self.cells[u as usize].v;
+                        if facet.iter().all(|x| vu.contains(x)) {
+                            let j = vu.iter().position(|x| !facet.contains(x)).unwrap();
+                            Some((u, j))
+                        } else {
+                            None
+                        }
+                    })
+                    .expect("the four infinite cells of a simplex are pairwise adjacent");
+                self.cells[t as usize].n[k] = (other << 2) | j as u32;
+            }
+        }
+        self.last = f;
+    }
+
+    /// Drop free slots and renumber in place: finite cells first, then infinite ones, each
+    /// in slot order (deterministic); map vertex ids back to input indices. In place, so the
+    /// peak memory is the cell array plus a 4-byte remap per slot.
+    fn finish(self, input: &[[f64; 3]], order: &[u32]) -> Triangulation {
+        let Builder {
+            mut cells,
+            duplicates,
+            vlocal,
+            ..
+        } = self;
+        drop(vlocal);
+        if std::env::var_os("DELAUNAY_DEBUG").is_some() {
+            let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+            let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");
+            eprintln!("cells len {} cap {} {hwm}", cells.len(), cells.capacity());
+        }
+        let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
+        let live = |c: &Cell| c.v[0] != DEAD;
+        let mut remap = vec![u32::MAX; cells.len()];
+        let mut next = 0u32;
+        for (t, c) in cells.iter().enumerate() {
+            if live(c) && !c.v.contains(&INFINITE) {
+                remap[t] = next;
+                next += 1;
+            }
+        }
+        let num_finite = next as usize;
+        let mut infinite = Vec::new();
+        for (t, c) in cells.iter().enumerate() {
+            if live(c) && c.v.contains(&INFINITE) {
+                remap[t] = next;
+                next += 1;
+                infinite.push(*c);
+            }
+        }
+        // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
+        // cell before it is moved.
+        for t in 0..cells.len() {
+            let r = remap[t] as usize;
+            if r < num_finite {
+                cells[r] = cells[t];
+            }
+        }
+        cells.truncate(num_finite);
+        cells.extend_from_slice(&infinite);
+        drop(infinite);
+        // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
+        // doubling the peak memory for a few unused slots.
+        for c in &mut cells {
+            debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
+            c.v = c.v.map(to_input);
+            c.n = c.n.map(|p| (remap[(p >> 2) as usize] << 2) | (p & 3));
+        }
+        drop(remap);
+        let mut duplicates: Vec<(u32, u32)> = duplicates
+            .into_iter()
+            .map(|(d, v)| (to_input(d), to_input(v)))
+            .collect();
+        duplicates.sort_unstable();
+        Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
+    }
+}
+
+/// Four affinely independent points, the earliest possible in insertion order (the first
+/// BRIO round is a random sample, so they span the domain well). Points skipped on the way
+/// are inserted normally later (duplicates among them are then detected by the walk).
+fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], DelaunayError> {
+    let p = |i: u32| &pts[i as usize];
+    let too_few = || DelaunayError::Degenerate { count: pts.len() };
+    let &a = order.first().ok_or_else(too_few)?;
+    let b = *order.iter().find(|&&i| p(i) != p(a)).ok_or_else(too_few)?;
+    let c = *order
+        .iter()
+        .find(|&&i| !collinear(p(a), p(b), p(i)))
+        .ok_or_else(too_few)?;
+    let d = *order
+        .iter()
+        .find(|&&i| orient_ids(pts, [a, b, c, i]) != 0.0)
+        .ok_or_else(too_few)?;
+    Ok([a, b, c, d])
+}

@@ -1,0 +1,605 @@
+//! Exact geometric predicates and the symbolic perturbation of the insphere test.
+//!
+//! `orient3d` and `insphere` are Shewchuk's adaptive predicates from the `robust` crate: a
+//! floating-point evaluation with a proven error bound answers almost every call, and only
+//! when the sign is uncertain are the exact expansions evaluated. The signs returned are
+//! therefore exact for any finite `f64` input.
+//!
+//! Sign conventions (Shewchuk's): `orient3d(a, b, c, d) > 0` when `d` lies below the plane
+//! through `a, b, c` seen counter-clockwise from above. Every finite tetrahedron of the
+//! triangulation is stored with `orient3d > 0`. `insphere(a, b, c, d, e) > 0` when `e` lies
+//! strictly inside the sphere through a positively oriented `a, b, c, d`.
+
+use robust::Coord3D;
+
+#[inline(always)]
+fn coord(p: &[f64; 3]) -> Coord3D<f64> {
+    Coord3D {
+        x: p[0],
+        y: p[1],
+        z: p[2],
+    }
+}
+
+const EPSILON: f64 = f64::EPSILON / 2.0;
+/// Shewchuk's first-stage error bound factors (as in `robust`).
+const O3D_ERRBOUND_A: f64 = (7.0 + 56.0 * EPSILON) * EPSILON;
+const ISP_ERRBOUND_A: f64 = (16.0 + 224.0 * EPSILON) * EPSILON;
+/// Static (semi-static) bounds: with `M` the largest absolute coordinate difference, the
+/// permanent of Shewchuk's first stage is at most `6 M³` (orient3d: 3 terms of
+/// |z|·(|x y| + |x y|)) and `72 M⁵` (insphere: 4 lifts ≤ 3M² times 3×3 permanents ≤ 6M³),
+/// so `A · 6 M³` and `A · 72 M⁵` bound the error of the float determinant. They need no
+/// permanent, which saves a third of the filter's flops; the margin covers the rounding of
+/// the bound itself. Outside `M ∈ [2^-100, 2^100]` (no underflow or overflow of M⁵)
+/// the exact stages are used.
+const O3D_STATIC: f64 = O3D_ERRBOUND_A * 6.0 * (1.0 + 1e-10);
+const ISP_STATIC: f64 = ISP_ERRBOUND_A * 72.0 * (1.0 + 1e-10);
+const STATIC_MIN: f64 = 7.888609052210118e-31; // 2^-100
+const STATIC_MAX: f64 = 1.2676506002282294e30; // 2^100
+
+/// Exact sign (and approximate value) of the orientation determinant of `a, b, c, d`.
+///
+/// Three stages: the float evaluation with Shewchuk's error bound; if that is inconclusive
+/// and all coordinate differences are exact dyadic numbers of at most 40 significant bits
+/// (always the case for grid-aligned wall samples), the determinant in 128-bit integers;
+/// otherwise `robust`'s adaptive expansion arithmetic.
+#[inline]
+pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let bdxcdy = bdx * cdy;
+    let cdxbdy = cdx * bdy;
+    let cdxady = cdx * ady;
+    let adxcdy = adx * cdy;
+    let adxbdy = adx * bdy;
+    let bdxady = bdx * ady;
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let m = adx
+        .abs()
+        .max(bdx.abs())
+        .max(cdx.abs())
+        .max(ady.abs())
+        .max(bdy.abs())
+        .max(cdy.abs())
+        .max(adz.abs())
+        .max(bdz.abs())
+        .max(cdz.abs());
+    let errbound = O3D_STATIC * (m * m * m);
+    if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
+        return det;
+    }
+    orient3d_slow(a, b, c, d)
+}
+
+#[cold]
+#[inline(never)]
+fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    // Exact ties on grid-aligned input are the common case here: integers first, then the
+    // dynamic (permanent-based) filter, tighter than the static one, then expansions.
+    if let Some(v) = orient3d_int(a, b, c, d) {
+        return v;
+    }
+    let quick = robust_orient3d_filter(a, b, c, d);
+    if quick != 0.0 {
+        return quick;
+    }
+    robust::orient3d(coord(a), coord(b), coord(c), coord(d))
+}
+
+/// Exact sign of the insphere determinant; `a, b, c, d` must be positively oriented.
+/// Same three stages as [`orient3d`] (integer stage: differences of at most 23 bits).
+#[inline]
+pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    let (aex, bex, cex, dex) = (a[0] - e[0], b[0] - e[0], c[0] - e[0], d[0] - e[0]);
+    let (aey, bey, cey, dey) = (a[1] - e[1], b[1] - e[1], c[1] - e[1], d[1] - e[1]);
+    let (aez, bez, cez, dez) = (a[2] - e[2], b[2] - e[2], c[2] - e[2], d[2] - e[2]);
+    let aexbey = aex * bey;
+    let bexaey = bex * aey;
+    let ab = aexbey - bexaey;
+    let bexcey = bex * cey;
+    let cexbey = cex * bey;
+    let bc = bexcey - cexbey;
+    let cexdey = cex * dey;
+    let dexcey = dex * cey;
+    let cd = cexdey - dexcey;
+    let dexaey = dex * aey;
+    let aexdey = aex * dey;
+    let da = dexaey - aexdey;
+    let aexcey = aex * cey;
+    let cexaey = cex * aey;
+    let ac = aexcey - cexaey;
+    let bexdey = bex * dey;
+    let dexbey = dex * bey;
+    let bd = bexdey - dexbey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let alift = aex * aex + aey * aey + aez * aez;
+    let blift = bex * bex + bey * bey + bez * bez;
+    let clift = cex * cex + cey * cey + cez * cez;
+    let dlift = dex * dex + dey * dey + dez * dez;
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    let m = [aex, bex, cex, dex, aey, bey, cey, dey, aez, bez, cez, dez]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    let m2 = m * m;
+    let errbound = ISP_STATIC * (m2 * m2 * m);
+    if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
+        return det;
+    }
+    insphere_slow(a, b, c, d, e)
+}
+
+#[cold]
+#[inline(never)]
+fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+    if let Some(v) = insphere_int(a, b, c, d, e) {
+        return v;
+    }
+    let quick = robust_insphere_filter(a, b, c, d, e);
+    if quick != 0.0 {
+        return quick;
+    }
+    robust::insphere(coord(a), coord(b), coord(c), coord(d), coord(e))
+}
+
+/// Shewchuk's first-stage (dynamic) filter: the determinant if its sign is certain, else 0.
+fn robust_orient3d_filter(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+    let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
+    let (ady, bdy, cdy) = (a[1] - d[1], b[1] - d[1], c[1] - d[1]);
+    let (adz, bdz, cdz) = (a[2] - d[2], b[2] - d[2], c[2] - d[2]);
+    let bdxcdy = bdx * cdy;
+    let cdxbdy = cdx * bdy;
+    let cdxady = cdx * ady;
+    let adxcdy = adx * cdy;
+    let adxbdy = adx * bdy;
+    let bdxady = bdx * ady;
+    let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
+    let permanent = (bdxcdy.abs() + cdxbdy.abs()) * adz.abs()
+        + (cdxady.abs() + adxcdy.abs()) * bdz.abs()
+        + (adxbdy.abs() + bdxady.abs()) * cdz.abs();
+    let errbound = O3D_ERRBOUND_A * permanent;
+    if det > errbound || -det > errbound {
+        det
+    } else {
+        0.0
+    }
+}
+
+/// Shewchuk's first-stage (dynamic) insphere filter: the determinant if certain, else 0.
+fn robust_insphere_filter(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    d: &[f64; 3],
+    e: &[f64; 3],
+) -> f64 {
+    let (aex, bex, cex, dex) = (a[0] - e[0], b[0] - e[0], c[0] - e[0], d[0] - e[0]);
+    let (aey, bey, cey, dey) = (a[1] - e[1], b[1] - e[1], c[1] - e[1], d[1] - e[1]);
+    let (aez, bez, cez, dez) = (a[2] - e[2], b[2] - e[2], c[2] - e[2], d[2] - e[2]);
+    let aexbey = aex * bey;
+    let bexaey = bex * aey;
+    let ab = aexbey - bexaey;
+    let bexcey = bex * cey;
+    let cexbey = cex * bey;
+    let bc = bexcey - cexbey;
+    let cexdey = cex * dey;
+    let dexcey = dex * cey;
+    let cd = cexdey - dexcey;
+    let dexaey = dex * aey;
+    let aexdey = aex * dey;
+    let da = dexaey - aexdey;
+    let aexcey = aex * cey;
+    let cexaey = cex * aey;
+    let ac = aexcey - cexaey;
+    let bexdey = bex * dey;
+    let dexbey = dex * bey;
+    let bd = bexdey - dexbey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let alift = aex * aex + aey * aey + aez * aez;
+    let blift = bex * bex + bey * bey + bez * bez;
+    let clift = cex * cex + cey * cey + cez * cez;
+    let dlift = dex * dex + dey * dey + dez * dez;
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    let (aezp, bezp, cezp, dezp) = (aez.abs(), bez.abs(), cez.abs(), dez.abs());
+    let permanent = ((cexdey.abs() + dexcey.abs()) * bezp
+        + (dexbey.abs() + bexdey.abs()) * cezp
+        + (bexcey.abs() + cexbey.abs()) * dezp)
+        * alift
+        + ((dexaey.abs() + aexdey.abs()) * cezp
+            + (aexcey.abs() + cexaey.abs()) * dezp
+            + (cexdey.abs() + dexcey.abs()) * aezp)
+            * blift
+        + ((aexbey.abs() + bexaey.abs()) * dezp
+            + (bexdey.abs() + dexbey.abs()) * aezp
+            + (dexaey.abs() + aexdey.abs()) * bezp)
+            * clift
+        + ((bexcey.abs() + cexbey.abs()) * aezp
+            + (cexaey.abs() + aexcey.abs()) * bezp
+            + (aexbey.abs() + bexaey.abs()) * cezp)
+            * dlift;
+    let errbound = ISP_ERRBOUND_A * permanent;
+    if det > errbound || -det > errbound {
+        det
+    } else {
+        0.0
+    }
+}
+
+/// `x − y` if it is exact in f64 (Knuth's two-sum tail is zero).
+#[inline]
+fn exact_diff(x: f64, y: f64) -> Option<f64> {
+    let d = x - y;
+    let bvirt = x - d;
+    let avirt = d + bvirt;
+    let tail = (x - avirt) + (bvirt - y);
+    (tail == 0.0).then_some(d)
+}
+
+/// Scale exact differences to integers: `Some(ints)` when all of them are dyadic numbers
+/// spanning at most `bits` bits between the highest and lowest set bit over the whole set
+/// (a common binary scale keeps ratios, so determinant signs are unchanged).
+fn scaled_ints<const N: usize>(diffs: [f64; N], bits: i32) -> Option<[i64; N]> {
+    let mut lo = i32::MAX;
+    let mut hi = i32::MIN;
+    for &x in &diffs {
+        if x == 0.0 {
+            continue;
+        }
+        let raw = x.to_bits();
+        let exp = ((raw >> 52) & 0x7ff) as i32;
+        if exp == 0 || exp == 0x7ff {
+            return None; // subnormal or non-finite
+        }
+        let mant = (raw & ((1u64 << 52) - 1)) | (1u64 << 52);
+        lo = lo.min(exp - 1075 + mant.trailing_zeros() as i32);
+        hi = hi.max(exp - 1022); // |x| < 2^hi
+    }
+    if lo == i32::MAX {
+        return Some([0; N]);
+    }
+    if hi - lo > bits {
+        return None;
+    }
+    // x · 2^-lo is an integer below 2^bits: exact in f64 and in i64.
+    let scale = f64::from_bits(((1023 - lo) as u64) << 52);
+    if !(scale.is_finite() && scale > 0.0) {
+        return None;
+    }
+    Some(diffs.map(|x| (x * scale) as i64))
+}
+
+fn orient3d_int(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<f64> {
+    let mut diffs = [0.0; 9];
+    for k in 0..3 {
+        diffs[k] = exact_diff(a[k], d[k])?;
+        diffs[3 + k] = exact_diff(b[k], d[k])?;
+        diffs[6 + k] = exact_diff(c[k], d[k])?;
+    }
+    // |entries| < 2^40: 2×2 minors < 2^81, the determinant < 2^123.
+    let v = scaled_ints(diffs, 40)?.map(|x| x as i128);
+    let [adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz] = v;
+    let det = adz * (bdx * cdy - cdx * bdy)
+        + bdz * (cdx * ady - adx * cdy)
+        + cdz * (adx * bdy - bdx * ady);
+    Some(det.signum() as f64)
+}
+
+fn insphere_int(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    d: &[f64; 3],
+    e: &[f64; 3],
+) -> Option<f64> {
+    let mut diffs = [0.0; 12];
+    for k in 0..3 {
+        diffs[k] = exact_diff(a[k], e[k])?;
+        diffs[3 + k] = exact_diff(b[k], e[k])?;
+        diffs[6 + k] = exact_diff(c[k], e[k])?;
+        diffs[9 + k] = exact_diff(d[k], e[k])?;
+    }
+    // |entries| < 2^23: 2×2 minors < 2^47 (i64), 3×3 < 2^72, lifts < 2^48, det < 2^122.
+    let [aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez] = scaled_ints(diffs, 23)?;
+    let ab = (aex * bey - bex * aey) as i128;
+    let bc = (bex * cey - cex * bey) as i128;
+    let cd = (cex * dey - dex * cey) as i128;
+    let da = (dex * aey - aex * dey) as i128;
+    let ac = (aex * cey - cex * aey) as i128;
+    let bd = (bex * dey - dex * bey) as i128;
+    let (aez, bez, cez, dez) = (aez as i128, bez as i128, cez as i128, dez as i128);
+    let abc = aez * bc - bez * ac + cez * ab;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let cda = cez * da + dez * ac + aez * cd;
+    let dab = dez * ab + aez * bd + bez * da;
+    let lift = |x: i64, y: i64, z: i128| (x * x + y * y) as i128 + z * z;
+    let alift = lift(aex, aey, aez);
+    let blift = lift(bex, bey, bez);
+    let clift = lift(cex, cey, cez);
+    let dlift = lift(dex, dey, dez);
+    let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
+    Some(det.signum() as f64)
+}
+
+/// Exact 2D orientation in one of the coordinate planes (`axes` picks the two coordinates).
+#[inline]
+fn orient2d_proj(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], axes: (usize, usize)) -> f64 {
+    let p = |q: &[f64; 3]| robust::Coord {
+        x: q[axes.0],
+        y: q[axes.1],
+    };
+    robust::orient2d(p(a), p(b), p(c))
+}
+
+/// Whether three points lie exactly on one line (all three axis projections are degenerate).
+pub fn collinear(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3]) -> bool {
+    orient2d_proj(a, b, c, (0, 1)) == 0.0
+        && orient2d_proj(a, b, c, (1, 2)) == 0.0
+        && orient2d_proj(a, b, c, (0, 2)) == 0.0
+}
+
+/// Orientation of the tetrahedron `ids` (vertex ids into `pts`).
+#[inline]
+pub fn orient_ids(pts: &[[f64; 3]], ids: [u32; 4]) -> f64 {
+    orient3d(
+        &pts[ids[0] as usize],
+        &pts[ids[1] as usize],
+        &pts[ids[2] as usize],
+        &pts[ids[3] as usize],
+    )
+}
+
+/// Is the point `q` in conflict with (strictly inside the circumsphere of) the positively
+/// oriented finite tetrahedron `tet`, after symbolic perturbation?
+///
+/// Exact ties (five cospherical points) are broken as if every point `p_i` were lifted to
+/// `|p_i|² + ε^(N − id_i)` on the paraboloid: the point with the largest id receives the
+/// dominant perturbation. Expanding the 5×5 lifted determinant in ε, the coefficient of that
+/// point's term is the orientation of the four *other* points, so the sign of the perturbed
+/// determinant is the sign of the first non-zero orientation in decreasing id order. This is
+/// the scheme of Devillers & Teillaud ("Perturbations for Delaunay and weighted Delaunay 3D
+/// triangulations", CGAL's `side_of_oriented_sphere`). Because it is a genuine perturbation
+/// of the lifted points, all decisions are mutually consistent: the result is the (unique)
+/// Delaunay triangulation of the perturbed points, which is a Delaunay triangulation of the
+/// real points with no flat cells. At most two terms are needed: if the four points other
+/// than the largest are coplanar, the four other than the second largest cannot be (the
+/// tetrahedron itself is not flat).
+#[inline]
+pub fn in_conflict(pts: &[[f64; 3]], tet: [u32; 4], q: u32) -> bool {
+    let p = |i: u32| &pts[i as usize];
+    let s = insphere(p(tet[0]), p(tet[1]), p(tet[2]), p(tet[3]), p(q));
+    if s > 0.0 {
+        true
+    } else if s < 0.0 {
+        false
+    } else {
+        perturbed_in_conflict(pts, tet, q)
+    }
+}
+
+/// The symbolic tie-break of [`in_conflict`] for exactly cospherical `tet` and `q`.
+#[cold]
+pub fn perturbed_in_conflict(pts: &[[f64; 3]], tet: [u32; 4], q: u32) -> bool {
+    let mut ids = [tet[0], tet[1], tet[2], tet[3], q];
+    ids.sort_unstable_by(|a, b| b.cmp(a));
+    for &m in &ids[..2] {
+        if m == q {
+            // Raising q's own lift pushes it outside the sphere.
+            return false;
+        }
+        let k = tet
+            .iter()
+            .position(|&v| v == m)
+            .expect("m is a vertex of tet");
+        let mut w = tet;
+        w[k] = q;
+        // Raising vertex m's lift tilts the lifted plane up over q exactly when q's
+        // barycentric coordinate for m is positive.
+        let o = orient_ids(pts, w);
+        if o != 0.0 {
+            return o > 0.0;
+        }
+    }
+    debug_assert!(
+        false,
+        "perturbation needs at most two terms for a non-flat tetrahedron"
+    );
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_convention_matches_doc() {
+        let a = [0.0, 0.0, 0.0];
+        let b = [1.0, 0.0, 0.0];
+        let c = [0.0, 1.0, 0.0];
+        // d below the plane of counter-clockwise a, b, c.
+        assert!(orient3d(&a, &b, &c, &[0.0, 0.0, -1.0]) > 0.0);
+        assert!(orient3d(&a, &b, &c, &[0.0, 0.0, 1.0]) < 0.0);
+        assert_eq!(orient3d(&a, &b, &c, &[5.0, 7.0, 0.0]), 0.0);
+    }
+
+    fn sign(x: f64) -> i32 {
+        (x > 0.0) as i32 - (x < 0.0) as i32
+    }
+
+    /// The integer stage must agree with `robust` on near-degenerate dyadic inputs.
+    #[test]
+    fn integer_stage_agrees_with_robust() {
+        let mut rng = crate::delaunay::sort::SplitMix64(99);
+        let mut pick = || ((rng.next_u64() % 9) as f64 - 4.0) * 0.25 + 1024.0;
+        let mut zeros = 0;
+        for _ in 0..20000 {
+            let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
+            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
+            let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
+            assert_eq!(sign(o), sign(r), "{p:?}");
+            assert_eq!(
+                sign(orient3d_int(&p[0], &p[1], &p[2], &p[3]).unwrap()),
+                sign(r)
+            );
+            if o > 0.0 {
+                let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
+                let r = robust::insphere(
+                    coord(&p[0]),
+                    coord(&p[1]),
+                    coord(&p[2]),
+                    coord(&p[3]),
+                    coord(&p[4]),
+                );
+                assert_eq!(sign(i), sign(r), "{p:?}");
+                assert_eq!(
+                    sign(insphere_int(&p[0], &p[1], &p[2], &p[3], &p[4]).unwrap()),
+                    sign(r)
+                );
+                zeros += usize::from(r == 0.0);
+            }
+        }
+        assert!(zeros > 10, "the test must exercise exact ties");
+        // Too many significant bits: the integer stage declines.
+        assert!(
+            orient3d_int(
+                &[0.0; 3],
+                &[1.0, 0.0, 0.0],
+                &[0.0, 1.0, 0.0],
+                &[1e-30, 0.0, 1.0]
+            )
+            .is_none()
+        );
+    }
+
+    /// The float stages (static and dynamic bounds) must agree with `robust` on nearly
+    /// degenerate, non-dyadic inputs of every magnitude.
+    #[test]
+    fn float_filters_agree_with_robust_near_degeneracy() {
+        let mut rng = crate::delaunay::sort::SplitMix64(17);
+        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        for &scale in &[1e-6, 1.0, 3.7e3, 1e9] {
+            for _ in 0..20000 {
+                let off = [unit() * 100.0 * scale, unit() * scale, -unit() * scale];
+                let r = |u: f64| u * scale;
+                let a = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                let b = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                let c = [off[0] + r(unit()), off[1] + r(unit()), off[2] + r(unit())];
+                // d nearly on the plane abc, e nearly on the sphere abcd.
+                let (s, t, noise) = (unit(), unit(), (unit() - 0.5) * 1e-14 * scale);
+                let d = [0, 1, 2].map(|k| a[k] + s * (b[k] - a[k]) + t * (c[k] - a[k]) + noise);
+                let o = orient3d(&a, &b, &c, &d);
+                let ro = robust::orient3d(coord(&a), coord(&b), coord(&c), coord(&d));
+                assert_eq!(sign(o), sign(ro), "{a:?} {b:?} {c:?} {d:?}");
+                let d2 = [d[0], d[1], d[2] + r(unit())];
+                let (p, q) = if orient3d(&a, &b, &c, &d2) > 0.0 {
+                    (a, b)
+                } else {
+                    (b, a)
+                };
+                // A point on the (float) circumsphere: its insphere sign is rounding noise.
+                let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+                let cross = |u: [f64; 3], v: [f64; 3]| {
+                    [
+                        u[1] * v[2] - u[2] * v[1],
+                        u[2] * v[0] - u[0] * v[2],
+                        u[0] * v[1] - u[1] * v[0],
+                    ]
+                };
+                let dot = |u: [f64; 3], v: [f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+                let (u, v, w) = (sub(q, p), sub(c, p), sub(d2, p));
+                let den = 2.0 * dot(u, cross(v, w));
+                let (vw, wu, uv) = (cross(v, w), cross(w, u), cross(u, v));
+                let ctr = [0, 1, 2].map(|k| {
+                    p[k] + (dot(u, u) * vw[k] + dot(v, v) * wu[k] + dot(w, w) * uv[k]) / den
+                });
+                let rad = dot(sub(p, ctr), sub(p, ctr)).sqrt();
+                let dir = [unit() - 0.5, unit() - 0.5, unit() - 0.5];
+                let len = dot(dir, dir).sqrt();
+                let e = [0, 1, 2].map(|k| ctr[k] + rad * dir[k] / len);
+                let i = insphere(&p, &q, &c, &d2, &e);
+                let ri = robust::insphere(coord(&p), coord(&q), coord(&c), coord(&d2), coord(&e));
+                assert_eq!(sign(i), sign(ri));
+            }
+        }
+    }
+
+    /// For two cells on either side of a facet, "the far apex is inside my sphere" must be
+    /// decided identically from both sides — also for exact ties. This is what makes the
+    /// perturbation a perturbation (a wrong sign in either rule breaks it).
+    #[test]
+    fn perturbed_local_delaunay_test_is_symmetric() {
+        let mut rng = crate::delaunay::sort::SplitMix64(5);
+        let mut pts: Vec<[f64; 3]> = Vec::new();
+        for x in 0..3 {
+            for y in 0..3 {
+                for z in 0..3 {
+                    pts.push([x as f64, y as f64, z as f64]);
+                }
+            }
+        }
+        let n = pts.len() as u32;
+        let (mut ties, mut checked) = (0, 0);
+        for _ in 0..200_000 {
+            let ids = [0; 5].map(|_: u32| rng.below(n as usize) as u32);
+            let [a, b, c, d, e] = ids;
+            if (1..5).any(|i| ids[..i].contains(&ids[i])) {
+                continue;
+            }
+            let mut t1 = [a, b, c, d];
+            let mut t2 = [a, b, c, e];
+            let (o1, o2) = (orient_ids(&pts, t1), orient_ids(&pts, t2));
+            if o1 == 0.0 || o2 == 0.0 || (o1 > 0.0) == (o2 > 0.0) {
+                continue; // need d and e strictly on opposite sides of (a, b, c)
+            }
+            if o1 < 0.0 {
+                t1.swap(0, 1);
+            }
+            if o2 < 0.0 {
+                t2.swap(0, 1);
+            }
+            let p = |i: u32| &pts[i as usize];
+            ties += usize::from(insphere(p(t1[0]), p(t1[1]), p(t1[2]), p(t1[3]), p(e)) == 0.0);
+            checked += 1;
+            assert_eq!(
+                in_conflict(&pts, t1, e),
+                in_conflict(&pts, t2, d),
+                "{ids:?}"
+            );
+        }
+        assert!(ties > 100 && checked > 1000, "{ties} ties of {checked}");
+    }
+
+    #[test]
+    fn perturbation_breaks_cospherical_ties_consistently() {
+        // Cube corners: all 8 cospherical. Two tetrahedra sharing the diagonal facet must
+        // not both claim the other's opposite vertex.
+        let pts = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+        ];
+        let mut t = [0, 1, 2, 3];
+        if orient_ids(&pts, t) < 0.0 {
+            t.swap(0, 1);
+        }
+        assert_eq!(insphere(&pts[0], &pts[1], &pts[2], &pts[3], &pts[4]), 0.0);
+        // Vertex 4 has the largest id: it is never inside.
+        assert!(!in_conflict(&pts, t, 4));
+        // The tetrahedron on the other side of facet (1,2,3) must agree that the facet is
+        // locally Delaunay: 0 is not inside (1,2,3,4) either (symmetry of the lifting).
+        let mut u = [1, 2, 3, 4];
+        if orient_ids(&pts, u) < 0.0 {
+            u.swap(0, 1);
+        }
+        assert!(!in_conflict(&pts, u, 0));
+        assert!(collinear(&pts[0], &[2.0, 0.0, 0.0], &pts[1]));
+        assert!(!collinear(&pts[0], &pts[1], &pts[2]));
+    }
+}

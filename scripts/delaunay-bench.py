@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+"""Timing driver of scripts/bench-delaunay.sh: medians of RUNS runs of ours and qhull on
+every point file of OUT (argv[1]), printed as a table."""
+import json
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+OURS = os.environ.get("OURS", "target/release/examples/tetrahedralize")
+ORDER = ["uniform-100k", "uniform-1M", "walls-112k", "walls-112k-jitter", "walls-475k",
+         "walls-475k-jitter", "de_dust2"]
+
+
+def timed(cmd, stdin=None, timeout=None):
+    """Run cmd under /usr/bin/time; return (stdout, wall s, peak MB, cpu s) or None."""
+    with tempfile.NamedTemporaryFile("r") as tf:
+        full = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", tf.name] + cmd
+        try:
+            with open(stdin) if stdin else open(os.devnull) as inp:
+                out = subprocess.run(full, stdin=inp, capture_output=True, text=True,
+                                     timeout=timeout)
+        except subprocess.TimeoutExpired:
+            return None
+        if out.returncode != 0:
+            sys.stderr.write("failed: %s: %s\n" % (" ".join(cmd), out.stderr[-300:]))
+            return None
+        wall, kb, user, system = tf.read().split()[-4:]
+        return out.stdout, float(wall), int(kb) / 1024.0, float(user) + float(system)
+
+
+def main():
+    out_dir = sys.argv[1]
+    runs = int(os.environ.get("RUNS", "3"))
+    qruns = int(os.environ.get("QHULL_RUNS", "3"))
+    # qhull needs ~5 minutes per run on the 475k wall samples: allow fewer runs there.
+    qruns_large = int(os.environ.get("QHULL_RUNS_LARGE", str(qruns)))
+    qtimeout = float(os.environ.get("QHULL_TIMEOUT", "900"))
+    only = re.compile(os.environ.get("ONLY", "."))
+    have_qhull = subprocess.run(["sh", "-c", "command -v qdelaunay"],
+                                capture_output=True).returncode == 0
+    rows = []
+    for name in ORDER:
+        path = os.path.join(out_dir, name + ".txt")
+        if not os.path.exists(path) or not only.search(name):
+            continue
+        ours = []
+        for _ in range(runs):
+            r = timed([OURS, path])
+            if r is None:
+                break
+            info = json.loads(r[0])
+            ours.append((info["seconds"], r[1], r[2], info, r[3]))
+        if not ours:
+            continue
+        info = ours[0][3]
+        row = {
+            "input": name,
+            "points": info["points"],
+            "tets": info["tetrahedra"],
+            "tri_s": statistics.median(o[0] for o in ours),
+            "proc_s": statistics.median(o[1] for o in ours),
+            "mb": max(o[2] for o in ours),
+            "cpu_s": statistics.median(o[4] for o in ours),
+            "q_tets": None, "q_s": None, "q_mb": None, "q_cpu_s": None,
+        }
+        if have_qhull:
+            qs = []
+            for _ in range(qruns if info["points"] <= 200000 else qruns_large):
+                r = timed(["qdelaunay", "Qt", "i"], stdin=path, timeout=qtimeout)
+                if r is None:
+                    break
+                qs.append(r)
+            if qs:
+                row["q_tets"] = int(qs[0][0].split("\n", 1)[0])
+                row["q_s"] = statistics.median(q[1] for q in qs)
+                row["q_mb"] = max(q[2] for q in qs)
+                row["q_cpu_s"] = statistics.median(q[3] for q in qs)
+                row["q_runs"] = len(qs)
+        rows.append(row)
+        print_row(row, header=len(rows) == 1)
+    print("\nours: median of %d runs; tri = triangulation only (JSON 'seconds'), proc = whole "
+          "process incl. file parsing (/usr/bin/time), cpu = user+sys of the process; qhull: `qdelaunay Qt i`, median of up "
+          "to %d runs; ratio = ours proc / qhull proc" % (runs, qruns))
+
+
+def print_row(r, header):
+    if header:
+        print("| input | points | ours tets | ours tri s | ours proc s | ours cpu s | ours peak MB "
+              "| qhull tets | qhull s | qhull cpu s | qhull peak MB | ratio |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    f = lambda v, fmt: "-" if v is None else fmt % v
+    ratio = None if not r["q_s"] else r["proc_s"] / r["q_s"]
+    print("| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %s | %s | %s | %s | %s |" % (
+        r["input"], r["points"], r["tets"], r["tri_s"], r["proc_s"], r["cpu_s"], r["mb"],
+        f(r["q_tets"], "%d"),
+        f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
+        f(r["q_cpu_s"], "%.2f"), f(r["q_mb"], "%.0f"), f(ratio, "%.4f")), flush=True)
+
+
+if __name__ == "__main__":
+    main()
