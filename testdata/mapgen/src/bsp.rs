@@ -108,13 +108,24 @@ pub fn compile(world: &World) -> Compiled {
             faces,
             textures,
             bounds: (lo, hi),
-            entity: vec![
-                ("classname".into(), e.classname.clone()),
-                ("model".into(), format!("*{}", i + 1)),
-            ],
+            entity: brush_entity_keys(&e.classname, &e.texture, i + 1),
         });
     }
     Compiled { planes, models }
+}
+
+/// Entity keys of brush model `*model`; `{`-textures (alpha-tested fences)
+/// get the render mode that shows them as GoldSrc maps do.
+fn brush_entity_keys(classname: &str, texture: &str, model: usize) -> Vec<(String, String)> {
+    let mut keys = vec![
+        ("classname".to_string(), classname.to_string()),
+        ("model".to_string(), format!("*{model}")),
+    ];
+    if texture.starts_with('{') {
+        keys.push(("rendermode".into(), "4".into()));
+        keys.push(("renderamt".into(), "255".into()));
+    }
+    keys
 }
 
 /// Compiles `world` and returns the bytes of its BSP v30 file.
@@ -662,9 +673,33 @@ mod tests {
                 );
                 assert!(fm + nm <= marks);
             }
-            for i in 0..marks {
-                assert!((p.u16(lump::MARKSURFACES, i, 0) as usize) < faces);
+            // Every face is listed by exactly one node and by the
+            // marksurfaces of exactly one leaf (the free leaf it faces).
+            let mut by_node = vec![0; faces];
+            for i in 0..nodes {
+                let (ff, nf) = (
+                    p.u16(lump::NODES, i, 20) as usize,
+                    p.u16(lump::NODES, i, 22) as usize,
+                );
+                by_node[ff..ff + nf].iter_mut().for_each(|c| *c += 1);
             }
+            let mut by_leaf = vec![0; faces];
+            for i in 0..marks {
+                let f = p.u16(lump::MARKSURFACES, i, 0) as usize;
+                assert!(f < faces);
+                by_leaf[f] += 1;
+            }
+            let world_face_count = p.i32(lump::MODELS, 0, 60) as usize;
+            assert!(
+                by_node.iter().all(|&c| c == 1),
+                "{}: node face ranges",
+                w.name
+            );
+            assert!(
+                by_leaf[..world_face_count].iter().all(|&c| c == 1),
+                "{}: marksurfaces",
+                w.name
+            );
             let (edges, surfedges, verts, texinfo) = (
                 n(lump::EDGES),
                 n(lump::SURFEDGES),

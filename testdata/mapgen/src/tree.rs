@@ -718,6 +718,24 @@ mod tests {
     }
 
     #[test]
+    fn two_rooms_wall_area_is_analytic() {
+        // Two 384x384x192 rooms, minus two 128x112 door openings, plus the
+        // visible 256-long corridor (floor, ceiling 128 wide; walls 112 high).
+        let room = 2.0 * 384.0 * 384.0 + 4.0 * 384.0 * 192.0;
+        let doors = 2.0 * 128.0 * 112.0;
+        let corridor = 2.0 * 256.0 * 128.0 + 2.0 * 256.0 * 112.0;
+        let total: f64 = crate::worlds::two_rooms()
+            .wall_polygons()
+            .iter()
+            .map(|p| p.area())
+            .sum();
+        assert!(
+            (total - (2.0 * room - doors + corridor)).abs() < 1e-6,
+            "{total}"
+        );
+    }
+
+    #[test]
     fn expanded_cell_of_a_wedge_is_its_minkowski_sum() {
         let r = crate::world::Ramp::rising(
             Aabb::new([0.0, 0.0, 0.0], [256.0, 128.0, 128.0]),
