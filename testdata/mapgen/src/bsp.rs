@@ -850,12 +850,11 @@ mod tests {
 
     #[test]
     fn committed_maps_are_regenerated_byte_identically() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../maps");
         for (w, c) in standard() {
             let bytes = write(w, c);
             let json = Manifest::new(w, c, bytes.len()).to_json();
-            let bsp_path = dir.join(format!("{}.bsp", w.name));
-            let json_path = dir.join(format!("{}.json", w.name));
+            let bsp_path = crate::worlds::committed_map_path(&w.name, "bsp");
+            let json_path = crate::worlds::committed_map_path(&w.name, "json");
             let on_disk = std::fs::read(&bsp_path).expect("committed map");
             assert!(
                 on_disk == bytes,
