@@ -227,16 +227,85 @@ fn i16_index(v: i64, what: &str) -> i16 {
     i16::try_from(v).unwrap_or_else(|_| panic!("{what} index out of i16 range: {v}"))
 }
 
+/// Where each model's records start in the shared lumps, and which BSP leaf
+/// each tree leaf becomes.
+struct Layout {
+    /// Per model: tree leaf index → BSP leaf index (0 = the shared solid leaf).
+    leaf_maps: Vec<Vec<usize>>,
+    /// BSP leaves 1.. as (model, tree leaf).
+    leaf_list: Vec<(usize, usize)>,
+    face_offsets: Vec<usize>,
+    node_offsets: Vec<usize>,
+    /// Per model: the first clipnode of hulls 1, 2, 3.
+    clip_roots: Vec<[usize; 3]>,
+}
+
+impl Layout {
+    fn new(compiled: &Compiled) -> Self {
+        let mut layout = Layout {
+            leaf_maps: Vec::new(),
+            leaf_list: Vec::new(),
+            face_offsets: Vec::new(),
+            node_offsets: Vec::new(),
+            clip_roots: Vec::new(),
+        };
+        let (mut faces, mut nodes, mut clipnodes) = (0, 0, 0);
+        for (mi, m) in compiled.models.iter().enumerate() {
+            let mut map = Vec::with_capacity(m.hull0.leaves.len());
+            for (li, l) in m.hull0.leaves.iter().enumerate() {
+                if l.contents == Contents::Solid {
+                    map.push(0);
+                } else {
+                    layout.leaf_list.push((mi, li));
+                    map.push(layout.leaf_list.len());
+                }
+            }
+            layout.leaf_maps.push(map);
+            layout.face_offsets.push(faces);
+            layout.node_offsets.push(nodes);
+            faces += m.faces.len();
+            nodes += m.hull0.nodes.len();
+            let mut roots = [0; 3];
+            for (root, t) in roots.iter_mut().zip(&m.clip) {
+                *root = clipnodes;
+                clipnodes += t.nodes.len();
+            }
+            layout.clip_roots.push(roots);
+        }
+        layout
+    }
+}
+
 /// Serialises compiled trees as a BSP v30 file.
 ///
 /// Panics only if the world is far too big for the format's 16-bit indices
 /// (the standard worlds are tiny).
 pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
+    let layout = Layout::new(compiled);
     let mut lumps: Vec<Buf> = (0..LUMP_COUNT).map(|_| Buf::default()).collect();
+    write_planes(&compiled.planes, &mut lumps[lump::PLANES]);
+    let (textures, texinfos) = write_faces(compiled, &mut lumps);
+    write_texinfo(&textures, &texinfos, &mut lumps[lump::TEXINFO]);
+    write_textures(&textures, &mut lumps[lump::TEXTURES]);
+    write_nodes(compiled, &layout, &mut lumps[lump::NODES]);
+    let (leaves, marks) = two_lumps(&mut lumps, lump::LEAVES, lump::MARKSURFACES);
+    write_leaves(compiled, &layout, leaves, marks);
+    write_clipnodes(compiled, &layout, &mut lumps[lump::CLIPNODES]);
+    write_models(compiled, &layout, &mut lumps[lump::MODELS]);
+    lumps[lump::ENTITIES]
+        .0
+        .extend_from_slice(entities_text(world, compiled).as_bytes());
+    assemble(&lumps)
+}
 
-    // Planes.
-    for p in compiled.planes.iter() {
-        let b = &mut lumps[lump::PLANES];
+fn two_lumps(lumps: &mut [Buf], a: usize, b: usize) -> (&mut Buf, &mut Buf) {
+    assert!(a < b);
+    let (lo, hi) = lumps.split_at_mut(b);
+    (&mut lo[a], &mut hi[0])
+}
+
+fn write_planes(planes: &PlaneSet, b: &mut Buf) {
+    for p in planes.iter() {
         for i in 0..3 {
             b.f32(p.normal.get(i) as f32);
         }
@@ -246,46 +315,11 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             None => 3 + p.dominant_axis() as i32,
         });
     }
+}
 
-    // Leaves: leaf 0 is the shared solid leaf; then every non-solid leaf.
-    let mut leaf_maps: Vec<Vec<usize>> = Vec::new();
-    let mut leaf_list: Vec<(usize, usize)> = Vec::new(); // (model, tree leaf)
-    for (mi, m) in compiled.models.iter().enumerate() {
-        let map = m
-            .hull0
-            .leaves
-            .iter()
-            .enumerate()
-            .map(|(li, l)| {
-                if l.contents == Contents::Solid {
-                    0
-                } else {
-                    leaf_list.push((mi, li));
-                    leaf_list.len()
-                }
-            })
-            .collect();
-        leaf_maps.push(map);
-    }
-
-    // Faces, vertices, edges, texinfo, textures.
-    let mut face_offsets = Vec::new();
-    let mut node_offsets = Vec::new();
-    let mut clip_offsets = Vec::new();
-    let (mut face_count, mut node_count, mut clip_count) = (0usize, 0usize, 0usize);
-    for m in &compiled.models {
-        face_offsets.push(face_count);
-        node_offsets.push(node_count);
-        face_count += m.faces.len();
-        node_count += m.hull0.nodes.len();
-        let mut roots = [0usize; 3];
-        for (h, t) in m.clip.iter().enumerate() {
-            roots[h] = clip_count;
-            clip_count += t.nodes.len();
-        }
-        clip_offsets.push(roots);
-    }
-
+/// Faces with their vertices, edges and surfedges; returns the texture names
+/// and the (texture, projection axis) pairs of the texinfo records.
+fn write_faces(compiled: &Compiled, lumps: &mut [Buf]) -> (Vec<String>, Vec<(usize, usize)>) {
     let mut textures: Vec<String> = Vec::new();
     let mut texinfos: Vec<(usize, usize)> = Vec::new();
     let mut vertex_ids: HashMap<[u32; 3], u16> = HashMap::new();
@@ -296,15 +330,8 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
     let mut surfedge_count = 0usize;
     for m in &compiled.models {
         for (f, tex) in m.faces.iter().zip(&m.textures) {
-            let t = textures.iter().position(|x| x == tex).unwrap_or_else(|| {
-                textures.push(tex.clone());
-                textures.len() - 1
-            });
-            let key = (t, base_axis(f.normal));
-            let ti = texinfos.iter().position(|x| *x == key).unwrap_or_else(|| {
-                texinfos.push(key);
-                texinfos.len() - 1
-            });
+            let t = index_of(&mut textures, tex.clone());
+            let ti = index_of(&mut texinfos, (t, base_axis(f.normal)));
             let node = &m.hull0.nodes[f.node];
             let side = u16::from(f.normal.dot(node.plane.normal) < 0.0);
             // BSP windings run clockwise seen from the front.
@@ -313,9 +340,8 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
                 let key = [v.x as f32, v.y as f32, v.z as f32].map(f32::to_bits);
                 let next = vertex_ids.len();
                 let id = *vertex_ids.entry(key).or_insert_with(|| {
-                    let b = &mut lumps[lump::VERTICES];
                     for c in key {
-                        b.f32(f32::from_bits(c));
+                        lumps[lump::VERTICES].f32(f32::from_bits(c));
                     }
                     u16_index(next, "vertices")
                 });
@@ -340,7 +366,7 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
                 surfedge_count += 1;
             }
             let b = &mut lumps[lump::FACES];
-            b.u16(u16_index(f.node_plane(m), "planes"));
+            b.u16(u16_index(node.plane_id, "planes"));
             b.u16(side);
             b.i32(first_edge as i32);
             b.u16(u16_index(ids.len(), "edges per face"));
@@ -350,10 +376,22 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
         }
     }
     u16_index(edge_count, "edges");
+    (textures, texinfos)
+}
 
-    // Texinfo.
-    for &(t, axis) in &texinfos {
-        let b = &mut lumps[lump::TEXINFO];
+/// Index of `item` in `list`, appending it when new (first-use order).
+fn index_of<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
+    match list.iter().position(|x| *x == item) {
+        Some(i) => i,
+        None => {
+            list.push(item);
+            list.len() - 1
+        }
+    }
+}
+
+fn write_texinfo(textures: &[String], texinfos: &[(usize, usize)], b: &mut Buf) {
+    for &(t, axis) in texinfos {
         for v in [BASE_AXES[axis][1], BASE_AXES[axis][2]] {
             for c in v {
                 b.f32(c);
@@ -361,35 +399,34 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             b.f32(0.0);
         }
         b.i32(t as i32);
-        let special = textures[t] == "sky"
-            || textures[t].starts_with(['!', '*', '{'])
-            || textures[t] == "aaatrigger";
+        let name = &textures[t];
+        let special = name == "sky" || name == "aaatrigger" || name.starts_with(['!', '*', '{']);
         b.i32(i32::from(special));
     }
+}
 
-    // Textures (named miptex headers only).
-    {
-        let b = &mut lumps[lump::TEXTURES];
-        b.i32(textures.len() as i32);
-        let header = 4 + 4 * textures.len();
-        for i in 0..textures.len() {
-            b.i32((header + 40 * i) as i32);
-        }
-        for t in &textures {
-            let mut name = [0u8; 16];
-            let bytes = t.as_bytes();
-            assert!(bytes.len() < 16, "texture name too long: {t}");
-            name[..bytes.len()].copy_from_slice(bytes);
-            b.0.extend_from_slice(&name);
-            b.u32(64);
-            b.u32(64);
-            for _ in 0..4 {
-                b.u32(0);
-            }
+/// The miptex lump: named 64×64 headers without pixels (they live in a WAD).
+fn write_textures(textures: &[String], b: &mut Buf) {
+    b.i32(textures.len() as i32);
+    let header = 4 + 4 * textures.len();
+    for i in 0..textures.len() {
+        b.i32((header + 40 * i) as i32);
+    }
+    for t in textures {
+        let mut name = [0u8; 16];
+        let bytes = t.as_bytes();
+        assert!(bytes.len() < 16, "texture name too long: {t}");
+        name[..bytes.len()].copy_from_slice(bytes);
+        b.0.extend_from_slice(&name);
+        b.u32(64);
+        b.u32(64);
+        for _ in 0..4 {
+            b.u32(0);
         }
     }
+}
 
-    // Nodes (with their face ranges).
+fn write_nodes(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
         let mut first = vec![0usize; m.hull0.nodes.len()];
         let mut count = vec![0usize; m.hull0.nodes.len()];
@@ -398,12 +435,11 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             count[f.node] += 1;
         }
         for (ni, n) in m.hull0.nodes.iter().enumerate() {
-            let b = &mut lumps[lump::NODES];
             b.i32(n.plane_id as i32);
             for c in [n.front, n.back] {
                 let v = match c {
-                    Child::Node(i) => (node_offsets[mi] + i) as i64,
-                    Child::Leaf(l) => -(leaf_maps[mi][l] as i64) - 1,
+                    Child::Node(i) => (layout.node_offsets[mi] + i) as i64,
+                    Child::Leaf(l) => -(layout.leaf_maps[mi][l] as i64) - 1,
                 };
                 b.i16(i16_index(v, "node child"));
             }
@@ -411,35 +447,34 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             let ff = if count[ni] == 0 {
                 0
             } else {
-                face_offsets[mi] + first[ni]
+                layout.face_offsets[mi] + first[ni]
             };
             b.u16(u16_index(ff, "faces"));
             b.u16(u16_index(count[ni], "faces per node"));
         }
     }
+}
 
-    // Leaves and marksurfaces.
-    {
-        let b = &mut lumps[lump::LEAVES];
-        b.i32(Contents::Solid.bsp_value());
-        b.i32(-1);
-        b.bounds16((V3::ZERO, V3::ZERO));
-        b.u16(0);
-        b.u16(0);
-        b.0.extend_from_slice(&[0; 4]);
-    }
+/// Leaf 0 (shared solid), then every other leaf with the faces bordering it
+/// as its marksurfaces.
+fn write_leaves(compiled: &Compiled, layout: &Layout, b: &mut Buf, marks: &mut Buf) {
+    b.i32(Contents::Solid.bsp_value());
+    b.i32(-1);
+    b.bounds16((V3::ZERO, V3::ZERO));
+    b.u16(0);
+    b.u16(0);
+    b.0.extend_from_slice(&[0; 4]);
     let mut mark_count = 0usize;
-    for &(mi, li) in &leaf_list {
+    for &(mi, li) in &layout.leaf_list {
         let m = &compiled.models[mi];
         let leaf = &m.hull0.leaves[li];
         let first = mark_count;
         for (fi, f) in m.faces.iter().enumerate() {
             if f.free_leaf == li {
-                lumps[lump::MARKSURFACES].u16(u16_index(face_offsets[mi] + fi, "faces"));
+                marks.u16(u16_index(layout.face_offsets[mi] + fi, "faces"));
                 mark_count += 1;
             }
         }
-        let b = &mut lumps[lump::LEAVES];
         b.i32(leaf.contents.bsp_value());
         b.i32(-1);
         b.bounds16(leaf.cell.bounds());
@@ -447,16 +482,16 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
         b.u16(u16_index(mark_count - first, "marksurfaces"));
         b.0.extend_from_slice(&[0; 4]);
     }
+}
 
-    // Clipnodes.
+fn write_clipnodes(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
         for (h, t) in m.clip.iter().enumerate() {
             for n in &t.nodes {
-                let b = &mut lumps[lump::CLIPNODES];
                 b.i32(n.plane_id as i32);
                 for c in [n.front, n.back] {
                     let v = match c {
-                        Child::Node(i) => (clip_offsets[mi][h] + i) as i64,
+                        Child::Node(i) => (layout.clip_roots[mi][h] + i) as i64,
                         Child::Leaf(l) => t.leaves[l].contents.bsp_value() as i64,
                     };
                     b.i16(i16_index(v, "clipnode child"));
@@ -464,55 +499,47 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             }
         }
     }
+}
 
-    // Models.
+fn write_models(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
-        let b = &mut lumps[lump::MODELS];
         for v in [m.bounds.0, m.bounds.1, V3::ZERO] {
             for i in 0..3 {
                 b.f32(v.get(i) as f32);
             }
         }
-        b.i32(node_offsets[mi] as i32);
-        for root in clip_offsets[mi] {
+        b.i32(layout.node_offsets[mi] as i32);
+        for root in layout.clip_roots[mi] {
             b.i32(root as i32);
         }
         let visleafs = if mi == 0 {
-            leaf_list.iter().filter(|(m, _)| *m == 0).count()
+            layout.leaf_list.iter().filter(|(m, _)| *m == 0).count()
         } else {
             0
         };
         b.i32(visleafs as i32);
-        b.i32(face_offsets[mi] as i32);
+        b.i32(layout.face_offsets[mi] as i32);
         b.i32(m.faces.len() as i32);
     }
+}
 
-    lumps[lump::ENTITIES]
-        .0
-        .extend_from_slice(entities_text(world, compiled).as_bytes());
-
-    // Header + aligned lumps.
+/// Header (version + lump directory) followed by the lumps, each padded to
+/// a multiple of 4 bytes.
+fn assemble(lumps: &[Buf]) -> Vec<u8> {
     let header_len = 4 + 8 * LUMP_COUNT;
     let mut out = Buf::default();
     out.i32(BSP_VERSION);
     let mut offset = header_len;
-    for l in &lumps {
+    for l in lumps {
         out.i32(offset as i32);
         out.i32(l.0.len() as i32);
         offset += l.0.len().next_multiple_of(4);
     }
-    for l in &lumps {
+    for l in lumps {
         out.0.extend_from_slice(&l.0);
         out.0.resize(out.0.len().next_multiple_of(4), 0);
     }
     out.0
-}
-
-impl TreeFace {
-    /// Plane index of the node holding this face.
-    fn node_plane(&self, m: &CompiledModel) -> usize {
-        m.hull0.nodes[self.node].plane_id
-    }
 }
 
 #[cfg(test)]
