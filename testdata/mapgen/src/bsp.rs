@@ -781,7 +781,7 @@ mod tests {
                     })
                     .collect();
                 for v in &vs {
-                    assert!(p.plane_distance(plane, (*v).into()).abs() < 1e-2);
+                    assert!(p.plane_distance(plane, (*v).into()).abs() < 1e-3);
                 }
                 let mut facing = -crate::geometry::polygon_area_vector(&vs).normalized();
                 let pn = V3::new(
@@ -829,7 +829,7 @@ mod tests {
             let mut rng = Rng::new(7);
             for _ in 0..20_000 {
                 let q = rng.point_in(&w.bounds(), 32.0);
-                if w.distance_to_boundary(q) < 1e-2 {
+                if w.distance_to_boundary(q) < 1e-3 {
                     continue;
                 }
                 assert_eq!(
@@ -843,7 +843,7 @@ mod tests {
                 let tree = &c.models[0].clip[hull - 1];
                 for _ in 0..5_000 {
                     let q = rng.point_in(&w.free_bounds(), 48.0);
-                    if tree.path_plane_distance(q) < 1e-2 {
+                    if tree.path_plane_distance(q) < 1e-3 {
                         continue;
                     }
                     let expected = w.hull_contents(hull, q).bsp_value();
@@ -872,6 +872,45 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn written_trees_are_exact_to_1e3_next_to_walls() {
+        // Points 1.5e-3 in front of and behind every wall polygon: the f32
+        // planes of the file must still classify them like the world.
+        for (w, c) in standard() {
+            let bytes = write(w, c);
+            let p = Parsed::new(&bytes);
+            let head = p.i32(lump::MODELS, 0, 36);
+            let mut rng = Rng::new(10);
+            let mut tested = 0;
+            for poly in w.wall_polygons() {
+                let v: Vec<V3> = poly.vertices.iter().map(|&x| x.into()).collect();
+                let n = V3::from(poly.normal);
+                for _ in 0..20 {
+                    let k = 1 + (rng.next_u64() as usize) % (v.len() - 2);
+                    let (mut a, mut b) = (rng.unit(), rng.unit());
+                    if a + b > 1.0 {
+                        (a, b) = (1.0 - a, 1.0 - b);
+                    }
+                    let on = v[0] + (v[k] - v[0]) * a + (v[k + 1] - v[0]) * b;
+                    for off in [1.5e-3, -1.5e-3] {
+                        let q: [f64; 3] = (on + n * off).into();
+                        if w.distance_to_boundary(q) < 1e-3 {
+                            continue;
+                        }
+                        tested += 1;
+                        assert_eq!(
+                            p.point_contents(head, q),
+                            w.contents(q).bsp_value(),
+                            "{} {q:?}",
+                            w.name
+                        );
+                    }
+                }
+            }
+            assert!(tested > 100, "{}: {tested}", w.name);
         }
     }
 
