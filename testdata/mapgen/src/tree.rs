@@ -6,6 +6,15 @@
 //! fragment crosses is homogeneous and is classified by one interior point.
 //! Splits prefer planes whose fragments lie in the cell, that cut few other
 //! fragments and that balance the rest (the classic qbsp heuristic).
+//!
+//! Clip hulls describe where the centre of a hull box may be: the complement
+//! of (obstacle ⊕ box). Shrinking each free box on its own would be wrong
+//! wherever a hull straddles two overlapping free boxes (a door opening), so
+//! the obstacle is taken as the union of the hull-0 obstacle cells, each grown
+//! exactly (Minkowski sum with the box: the cell's face normals, the axes and
+//! the edge × axis bevel planes), and only the parts of their faces outside
+//! the other grown cells become candidates. Cells are classified by the exact
+//! [`World::hull_contents`].
 
 use crate::geometry::{
     ConvexCell, EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, snap_normal, split_polygon,
@@ -211,7 +220,7 @@ fn build_cell(
             back: Child::Leaf(0),
             bounds,
         });
-        drop(cell);
+        drop(cell); // the children own their halves; free it before recursing
         let f = build_cell(tree, front_cell, front, planes, classify);
         let b = build_cell(tree, back_cell, back, planes, classify);
         tree.nodes[index].front = f;
