@@ -1,7 +1,7 @@
 //! GoldSrc BSP v30 writer.
 //!
 //! [`compile`] builds every tree of a world (hull 0 and clip hulls 1–3 for
-//! the world model and for each brush entity); [`write`] lays them out as a
+//! the world model and for each brush entity); [`write()`] lays them out as a
 //! v30 file: a header of 15 lumps (entities, planes, textures, vertices,
 //! visibility, nodes, texinfo, faces, lighting, clipnodes, leaves,
 //! marksurfaces, edges, surfedges, models), little-endian, each lump 4-byte
