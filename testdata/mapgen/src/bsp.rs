@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use crate::geometry::{PlaneSet, V3};
+use crate::geometry::{EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, split_polygon};
 use crate::tree::{
     Child, FaceKind, Tree, TreeFace, build_box_model, build_world_clip_hull, build_world_hull0,
     extract_faces,
@@ -87,6 +87,7 @@ pub fn compile(world: &World) -> Compiled {
             FaceKind::WaterSurface => WATER_TEXTURE.to_string(),
         })
         .collect();
+    let (faces, textures) = subdivide_for_lightmaps(faces, textures);
     let b = world.bounds();
     let mut models = vec![CompiledModel {
         hull0,
@@ -102,6 +103,7 @@ pub fn compile(world: &World) -> Compiled {
         let clip = [1, 2, 3].map(|h| build_box_model(lo, hi, h, &mut planes));
         let faces = extract_faces(&hull0, &|c| c == Contents::Empty);
         let textures = vec![e.texture.clone(); faces.len()];
+        let (faces, textures) = subdivide_for_lightmaps(faces, textures);
         models.push(CompiledModel {
             hull0,
             clip,
@@ -112,6 +114,80 @@ pub fn compile(world: &World) -> Compiled {
         });
     }
     Compiled { planes, models }
+}
+
+/// Largest extent of a lit face along a texture axis, in units: GoldSrc
+/// rejects faces wider than 256 lightmap texels ("Bad surface extents"), so
+/// faces are cut on a 240-unit grid like hlbsp's default subdivision.
+pub const SUBDIVIDE_SIZE: f64 = 240.0;
+
+/// Textures without lightmaps (TEX_SPECIAL): sky, liquids, triggers.
+pub fn is_special(texture: &str) -> bool {
+    texture == "sky" || texture == "aaatrigger" || texture.starts_with(['!', '*'])
+}
+
+/// Cuts every lit face along its texture axes at multiples of
+/// [`SUBDIVIDE_SIZE`]; the pieces keep node, leaves and texture.
+fn subdivide_for_lightmaps(
+    faces: Vec<TreeFace>,
+    textures: Vec<String>,
+) -> (Vec<TreeFace>, Vec<String>) {
+    let mut out_faces = Vec::with_capacity(faces.len());
+    let mut out_textures = Vec::with_capacity(textures.len());
+    for (f, tex) in faces.into_iter().zip(textures) {
+        let mut pieces = vec![f.polygon.clone()];
+        if !is_special(&tex) {
+            let axes = &BASE_AXES[base_axis(f.normal)];
+            for v in [axes[1], axes[2]] {
+                let axis = (0..3).find(|&i| v[i] != 0.0).expect("axial texture vector");
+                pieces = pieces
+                    .into_iter()
+                    .flat_map(|p| cut_on_grid(p, axis, SUBDIVIDE_SIZE))
+                    .collect();
+            }
+        }
+        for polygon in pieces {
+            out_faces.push(TreeFace {
+                polygon,
+                ..f.clone()
+            });
+            out_textures.push(tex.clone());
+        }
+    }
+    (out_faces, out_textures)
+}
+
+/// Cuts a polygon by the planes `coordinate[axis] = k * size`.
+fn cut_on_grid(poly: Polygon, axis: usize, size: f64) -> Vec<Polygon> {
+    let (lo, hi) = poly
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v.get(axis)), h.max(v.get(axis)))
+        });
+    let mut pieces = Vec::new();
+    let mut rest = poly;
+    let mut k = (lo / size).floor() + 1.0;
+    while k * size < hi - EPS {
+        let plane = Plane {
+            normal: V3::axis(axis),
+            dist: k * size,
+        };
+        match split_polygon(&rest, &plane) {
+            Side::Spanning(front, back) => {
+                if back.len() >= 3 && polygon_area(&back) > EPS {
+                    pieces.push(back);
+                }
+                rest = front;
+            }
+            Side::Back | Side::On => break,
+            Side::Front => {}
+        }
+        k += 1.0;
+    }
+    if rest.len() >= 3 && polygon_area(&rest) > EPS {
+        pieces.push(rest);
+    }
+    pieces
 }
 
 /// Entity keys of brush model `*model`; `{`-textures (alpha-tested fences)
@@ -400,8 +476,7 @@ fn write_texinfo(textures: &[String], texinfos: &[(usize, usize)], b: &mut Buf) 
         }
         b.i32(t as i32);
         let name = &textures[t];
-        let special = name == "sky" || name == "aaatrigger" || name.starts_with(['!', '*', '{']);
-        b.i32(i32::from(special));
+        b.i32(i32::from(is_special(name)));
     }
 }
 
@@ -798,6 +873,23 @@ mod tests {
                     w.name
                 );
                 let name = p.texture_name(p.i32(lump::TEXINFO, ti, 32) as usize);
+                // Lightmap extents as GoldSrc computes them (16-unit texels).
+                if !is_special(&name) {
+                    for axis in 0..2 {
+                        let st: Vec<f64> = vs
+                            .iter()
+                            .map(|v| {
+                                let at = 16 * axis;
+                                let c = [0, 4, 8, 12]
+                                    .map(|o| f64::from(p.f32(lump::TEXINFO, ti, at + o)));
+                                v.x * c[0] + v.y * c[1] + v.z * c[2] + c[3]
+                            })
+                            .collect();
+                        let lo = (st.iter().cloned().fold(f64::MAX, f64::min) / 16.0).floor();
+                        let hi = (st.iter().cloned().fold(f64::MIN, f64::max) / 16.0).ceil();
+                        assert!((hi - lo) * 16.0 <= 256.0, "{} face {i}: extents", w.name);
+                    }
+                }
                 let allowed: &[&str] = if i < world_faces {
                     &["wall", "floor", "ceiling", "sky", WATER_TEXTURE]
                 } else {
