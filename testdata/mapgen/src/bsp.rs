@@ -1,7 +1,7 @@
 //! GoldSrc BSP v30 writer.
 //!
 //! [`compile`] builds every tree of a world (hull 0 and clip hulls 1–3 for
-//! the world model and for each brush entity); [`write`] lays them out as a
+//! the world model and for each brush entity); [`write()`] lays them out as a
 //! v30 file: a header of 15 lumps (entities, planes, textures, vertices,
 //! visibility, nodes, texinfo, faces, lighting, clipnodes, leaves,
 //! marksurfaces, edges, surfedges, models), little-endian, each lump 4-byte
@@ -10,7 +10,7 @@
 
 use std::collections::HashMap;
 
-use crate::geometry::{PlaneSet, V3};
+use crate::geometry::{EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, split_polygon};
 use crate::tree::{
     Child, FaceKind, Tree, TreeFace, build_box_model, build_world_clip_hull, build_world_hull0,
     extract_faces,
@@ -87,6 +87,7 @@ pub fn compile(world: &World) -> Compiled {
             FaceKind::WaterSurface => WATER_TEXTURE.to_string(),
         })
         .collect();
+    let (faces, textures) = subdivide_for_lightmaps(faces, textures);
     let b = world.bounds();
     let mut models = vec![CompiledModel {
         hull0,
@@ -102,19 +103,105 @@ pub fn compile(world: &World) -> Compiled {
         let clip = [1, 2, 3].map(|h| build_box_model(lo, hi, h, &mut planes));
         let faces = extract_faces(&hull0, &|c| c == Contents::Empty);
         let textures = vec![e.texture.clone(); faces.len()];
+        let (faces, textures) = subdivide_for_lightmaps(faces, textures);
         models.push(CompiledModel {
             hull0,
             clip,
             faces,
             textures,
             bounds: (lo, hi),
-            entity: vec![
-                ("classname".into(), e.classname.clone()),
-                ("model".into(), format!("*{}", i + 1)),
-            ],
+            entity: brush_entity_keys(&e.classname, &e.texture, i + 1),
         });
     }
     Compiled { planes, models }
+}
+
+/// Largest extent of a lit face along a texture axis, in units: GoldSrc
+/// rejects faces wider than 256 lightmap texels ("Bad surface extents"), so
+/// faces are cut on a 240-unit grid like hlbsp's default subdivision.
+pub const SUBDIVIDE_SIZE: f64 = 240.0;
+
+/// Textures without lightmaps (TEX_SPECIAL): sky, liquids, triggers.
+pub fn is_special(texture: &str) -> bool {
+    texture == "sky" || texture == "aaatrigger" || texture.starts_with(['!', '*'])
+}
+
+/// Cuts every lit face along its texture axes at multiples of
+/// [`SUBDIVIDE_SIZE`]; the pieces keep node, leaves and texture.
+fn subdivide_for_lightmaps(
+    faces: Vec<TreeFace>,
+    textures: Vec<String>,
+) -> (Vec<TreeFace>, Vec<String>) {
+    let mut out_faces = Vec::with_capacity(faces.len());
+    let mut out_textures = Vec::with_capacity(textures.len());
+    for (f, tex) in faces.into_iter().zip(textures) {
+        let mut pieces = vec![f.polygon.clone()];
+        if !is_special(&tex) {
+            let axes = &BASE_AXES[base_axis(f.normal)];
+            for v in [axes[1], axes[2]] {
+                let axis = (0..3).find(|&i| v[i] != 0.0).expect("axial texture vector");
+                pieces = pieces
+                    .into_iter()
+                    .flat_map(|p| cut_on_grid(p, axis, SUBDIVIDE_SIZE))
+                    .collect();
+            }
+        }
+        for polygon in pieces {
+            out_faces.push(TreeFace {
+                polygon,
+                ..f.clone()
+            });
+            out_textures.push(tex.clone());
+        }
+    }
+    (out_faces, out_textures)
+}
+
+/// Cuts a polygon by the planes `coordinate[axis] = k * size`.
+fn cut_on_grid(poly: Polygon, axis: usize, size: f64) -> Vec<Polygon> {
+    let (lo, hi) = poly
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(v.get(axis)), h.max(v.get(axis)))
+        });
+    let mut pieces = Vec::new();
+    let mut rest = poly;
+    let mut k = (lo / size).floor() + 1.0;
+    while k * size < hi - EPS {
+        let plane = Plane {
+            normal: V3::axis(axis),
+            dist: k * size,
+        };
+        match split_polygon(&rest, &plane) {
+            Side::Spanning(front, back) => {
+                if back.len() >= 3 && polygon_area(&back) > EPS {
+                    pieces.push(back);
+                }
+                rest = front;
+            }
+            Side::Back | Side::On => break,
+            Side::Front => {}
+        }
+        k += 1.0;
+    }
+    if rest.len() >= 3 && polygon_area(&rest) > EPS {
+        pieces.push(rest);
+    }
+    pieces
+}
+
+/// Entity keys of brush model `*model`; `{`-textures (alpha-tested fences)
+/// get the render mode that shows them as GoldSrc maps do.
+fn brush_entity_keys(classname: &str, texture: &str, model: usize) -> Vec<(String, String)> {
+    let mut keys = vec![
+        ("classname".to_string(), classname.to_string()),
+        ("model".to_string(), format!("*{model}")),
+    ];
+    if texture.starts_with('{') {
+        keys.push(("rendermode".into(), "4".into()));
+        keys.push(("renderamt".into(), "255".into()));
+    }
+    keys
 }
 
 /// Compiles `world` and returns the bytes of its BSP v30 file.
@@ -216,16 +303,85 @@ fn i16_index(v: i64, what: &str) -> i16 {
     i16::try_from(v).unwrap_or_else(|_| panic!("{what} index out of i16 range: {v}"))
 }
 
+/// Where each model's records start in the shared lumps, and which BSP leaf
+/// each tree leaf becomes.
+struct Layout {
+    /// Per model: tree leaf index → BSP leaf index (0 = the shared solid leaf).
+    leaf_maps: Vec<Vec<usize>>,
+    /// BSP leaves 1.. as (model, tree leaf).
+    leaf_list: Vec<(usize, usize)>,
+    face_offsets: Vec<usize>,
+    node_offsets: Vec<usize>,
+    /// Per model: the first clipnode of hulls 1, 2, 3.
+    clip_roots: Vec<[usize; 3]>,
+}
+
+impl Layout {
+    fn new(compiled: &Compiled) -> Self {
+        let mut layout = Layout {
+            leaf_maps: Vec::new(),
+            leaf_list: Vec::new(),
+            face_offsets: Vec::new(),
+            node_offsets: Vec::new(),
+            clip_roots: Vec::new(),
+        };
+        let (mut faces, mut nodes, mut clipnodes) = (0, 0, 0);
+        for (mi, m) in compiled.models.iter().enumerate() {
+            let mut map = Vec::with_capacity(m.hull0.leaves.len());
+            for (li, l) in m.hull0.leaves.iter().enumerate() {
+                if l.contents == Contents::Solid {
+                    map.push(0);
+                } else {
+                    layout.leaf_list.push((mi, li));
+                    map.push(layout.leaf_list.len());
+                }
+            }
+            layout.leaf_maps.push(map);
+            layout.face_offsets.push(faces);
+            layout.node_offsets.push(nodes);
+            faces += m.faces.len();
+            nodes += m.hull0.nodes.len();
+            let mut roots = [0; 3];
+            for (root, t) in roots.iter_mut().zip(&m.clip) {
+                *root = clipnodes;
+                clipnodes += t.nodes.len();
+            }
+            layout.clip_roots.push(roots);
+        }
+        layout
+    }
+}
+
 /// Serialises compiled trees as a BSP v30 file.
 ///
 /// Panics only if the world is far too big for the format's 16-bit indices
 /// (the standard worlds are tiny).
 pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
+    let layout = Layout::new(compiled);
     let mut lumps: Vec<Buf> = (0..LUMP_COUNT).map(|_| Buf::default()).collect();
+    write_planes(&compiled.planes, &mut lumps[lump::PLANES]);
+    let (textures, texinfos) = write_faces(compiled, &mut lumps);
+    write_texinfo(&textures, &texinfos, &mut lumps[lump::TEXINFO]);
+    write_textures(&textures, &mut lumps[lump::TEXTURES]);
+    write_nodes(compiled, &layout, &mut lumps[lump::NODES]);
+    let (leaves, marks) = two_lumps(&mut lumps, lump::LEAVES, lump::MARKSURFACES);
+    write_leaves(compiled, &layout, leaves, marks);
+    write_clipnodes(compiled, &layout, &mut lumps[lump::CLIPNODES]);
+    write_models(compiled, &layout, &mut lumps[lump::MODELS]);
+    lumps[lump::ENTITIES]
+        .0
+        .extend_from_slice(entities_text(world, compiled).as_bytes());
+    assemble(&lumps)
+}
 
-    // Planes.
-    for p in compiled.planes.iter() {
-        let b = &mut lumps[lump::PLANES];
+fn two_lumps(lumps: &mut [Buf], a: usize, b: usize) -> (&mut Buf, &mut Buf) {
+    assert!(a < b);
+    let (lo, hi) = lumps.split_at_mut(b);
+    (&mut lo[a], &mut hi[0])
+}
+
+fn write_planes(planes: &PlaneSet, b: &mut Buf) {
+    for p in planes.iter() {
         for i in 0..3 {
             b.f32(p.normal.get(i) as f32);
         }
@@ -235,46 +391,11 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             None => 3 + p.dominant_axis() as i32,
         });
     }
+}
 
-    // Leaves: leaf 0 is the shared solid leaf; then every non-solid leaf.
-    let mut leaf_maps: Vec<Vec<usize>> = Vec::new();
-    let mut leaf_list: Vec<(usize, usize)> = Vec::new(); // (model, tree leaf)
-    for (mi, m) in compiled.models.iter().enumerate() {
-        let map = m
-            .hull0
-            .leaves
-            .iter()
-            .enumerate()
-            .map(|(li, l)| {
-                if l.contents == Contents::Solid {
-                    0
-                } else {
-                    leaf_list.push((mi, li));
-                    leaf_list.len()
-                }
-            })
-            .collect();
-        leaf_maps.push(map);
-    }
-
-    // Faces, vertices, edges, texinfo, textures.
-    let mut face_offsets = Vec::new();
-    let mut node_offsets = Vec::new();
-    let mut clip_offsets = Vec::new();
-    let (mut face_count, mut node_count, mut clip_count) = (0usize, 0usize, 0usize);
-    for m in &compiled.models {
-        face_offsets.push(face_count);
-        node_offsets.push(node_count);
-        face_count += m.faces.len();
-        node_count += m.hull0.nodes.len();
-        let mut roots = [0usize; 3];
-        for (h, t) in m.clip.iter().enumerate() {
-            roots[h] = clip_count;
-            clip_count += t.nodes.len();
-        }
-        clip_offsets.push(roots);
-    }
-
+/// Faces with their vertices, edges and surfedges; returns the texture names
+/// and the (texture, projection axis) pairs of the texinfo records.
+fn write_faces(compiled: &Compiled, lumps: &mut [Buf]) -> (Vec<String>, Vec<(usize, usize)>) {
     let mut textures: Vec<String> = Vec::new();
     let mut texinfos: Vec<(usize, usize)> = Vec::new();
     let mut vertex_ids: HashMap<[u32; 3], u16> = HashMap::new();
@@ -285,15 +406,8 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
     let mut surfedge_count = 0usize;
     for m in &compiled.models {
         for (f, tex) in m.faces.iter().zip(&m.textures) {
-            let t = textures.iter().position(|x| x == tex).unwrap_or_else(|| {
-                textures.push(tex.clone());
-                textures.len() - 1
-            });
-            let key = (t, base_axis(f.normal));
-            let ti = texinfos.iter().position(|x| *x == key).unwrap_or_else(|| {
-                texinfos.push(key);
-                texinfos.len() - 1
-            });
+            let t = index_of(&mut textures, tex.clone());
+            let ti = index_of(&mut texinfos, (t, base_axis(f.normal)));
             let node = &m.hull0.nodes[f.node];
             let side = u16::from(f.normal.dot(node.plane.normal) < 0.0);
             // BSP windings run clockwise seen from the front.
@@ -302,9 +416,8 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
                 let key = [v.x as f32, v.y as f32, v.z as f32].map(f32::to_bits);
                 let next = vertex_ids.len();
                 let id = *vertex_ids.entry(key).or_insert_with(|| {
-                    let b = &mut lumps[lump::VERTICES];
                     for c in key {
-                        b.f32(f32::from_bits(c));
+                        lumps[lump::VERTICES].f32(f32::from_bits(c));
                     }
                     u16_index(next, "vertices")
                 });
@@ -329,7 +442,7 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
                 surfedge_count += 1;
             }
             let b = &mut lumps[lump::FACES];
-            b.u16(u16_index(f.node_plane(m), "planes"));
+            b.u16(u16_index(node.plane_id, "planes"));
             b.u16(side);
             b.i32(first_edge as i32);
             b.u16(u16_index(ids.len(), "edges per face"));
@@ -339,10 +452,22 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
         }
     }
     u16_index(edge_count, "edges");
+    (textures, texinfos)
+}
 
-    // Texinfo.
-    for &(t, axis) in &texinfos {
-        let b = &mut lumps[lump::TEXINFO];
+/// Index of `item` in `list`, appending it when new (first-use order).
+fn index_of<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
+    match list.iter().position(|x| *x == item) {
+        Some(i) => i,
+        None => {
+            list.push(item);
+            list.len() - 1
+        }
+    }
+}
+
+fn write_texinfo(textures: &[String], texinfos: &[(usize, usize)], b: &mut Buf) {
+    for &(t, axis) in texinfos {
         for v in [BASE_AXES[axis][1], BASE_AXES[axis][2]] {
             for c in v {
                 b.f32(c);
@@ -350,35 +475,33 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             b.f32(0.0);
         }
         b.i32(t as i32);
-        let special = textures[t] == "sky"
-            || textures[t].starts_with(['!', '*', '{'])
-            || textures[t] == "aaatrigger";
-        b.i32(i32::from(special));
+        let name = &textures[t];
+        b.i32(i32::from(is_special(name)));
     }
+}
 
-    // Textures (named miptex headers only).
-    {
-        let b = &mut lumps[lump::TEXTURES];
-        b.i32(textures.len() as i32);
-        let header = 4 + 4 * textures.len();
-        for i in 0..textures.len() {
-            b.i32((header + 40 * i) as i32);
-        }
-        for t in &textures {
-            let mut name = [0u8; 16];
-            let bytes = t.as_bytes();
-            assert!(bytes.len() < 16, "texture name too long: {t}");
-            name[..bytes.len()].copy_from_slice(bytes);
-            b.0.extend_from_slice(&name);
-            b.u32(64);
-            b.u32(64);
-            for _ in 0..4 {
-                b.u32(0);
-            }
+/// The miptex lump: named 64×64 headers without pixels (they live in a WAD).
+fn write_textures(textures: &[String], b: &mut Buf) {
+    b.i32(textures.len() as i32);
+    let header = 4 + 4 * textures.len();
+    for i in 0..textures.len() {
+        b.i32((header + 40 * i) as i32);
+    }
+    for t in textures {
+        let mut name = [0u8; 16];
+        let bytes = t.as_bytes();
+        assert!(bytes.len() < 16, "texture name too long: {t}");
+        name[..bytes.len()].copy_from_slice(bytes);
+        b.0.extend_from_slice(&name);
+        b.u32(64);
+        b.u32(64);
+        for _ in 0..4 {
+            b.u32(0);
         }
     }
+}
 
-    // Nodes (with their face ranges).
+fn write_nodes(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
         let mut first = vec![0usize; m.hull0.nodes.len()];
         let mut count = vec![0usize; m.hull0.nodes.len()];
@@ -387,12 +510,11 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             count[f.node] += 1;
         }
         for (ni, n) in m.hull0.nodes.iter().enumerate() {
-            let b = &mut lumps[lump::NODES];
             b.i32(n.plane_id as i32);
             for c in [n.front, n.back] {
                 let v = match c {
-                    Child::Node(i) => (node_offsets[mi] + i) as i64,
-                    Child::Leaf(l) => -(leaf_maps[mi][l] as i64) - 1,
+                    Child::Node(i) => (layout.node_offsets[mi] + i) as i64,
+                    Child::Leaf(l) => -(layout.leaf_maps[mi][l] as i64) - 1,
                 };
                 b.i16(i16_index(v, "node child"));
             }
@@ -400,35 +522,34 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             let ff = if count[ni] == 0 {
                 0
             } else {
-                face_offsets[mi] + first[ni]
+                layout.face_offsets[mi] + first[ni]
             };
             b.u16(u16_index(ff, "faces"));
             b.u16(u16_index(count[ni], "faces per node"));
         }
     }
+}
 
-    // Leaves and marksurfaces.
-    {
-        let b = &mut lumps[lump::LEAVES];
-        b.i32(Contents::Solid.bsp_value());
-        b.i32(-1);
-        b.bounds16((V3::ZERO, V3::ZERO));
-        b.u16(0);
-        b.u16(0);
-        b.0.extend_from_slice(&[0; 4]);
-    }
+/// Leaf 0 (shared solid), then every other leaf with the faces bordering it
+/// as its marksurfaces.
+fn write_leaves(compiled: &Compiled, layout: &Layout, b: &mut Buf, marks: &mut Buf) {
+    b.i32(Contents::Solid.bsp_value());
+    b.i32(-1);
+    b.bounds16((V3::ZERO, V3::ZERO));
+    b.u16(0);
+    b.u16(0);
+    b.0.extend_from_slice(&[0; 4]);
     let mut mark_count = 0usize;
-    for &(mi, li) in &leaf_list {
+    for &(mi, li) in &layout.leaf_list {
         let m = &compiled.models[mi];
         let leaf = &m.hull0.leaves[li];
         let first = mark_count;
         for (fi, f) in m.faces.iter().enumerate() {
             if f.free_leaf == li {
-                lumps[lump::MARKSURFACES].u16(u16_index(face_offsets[mi] + fi, "faces"));
+                marks.u16(u16_index(layout.face_offsets[mi] + fi, "faces"));
                 mark_count += 1;
             }
         }
-        let b = &mut lumps[lump::LEAVES];
         b.i32(leaf.contents.bsp_value());
         b.i32(-1);
         b.bounds16(leaf.cell.bounds());
@@ -436,16 +557,16 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
         b.u16(u16_index(mark_count - first, "marksurfaces"));
         b.0.extend_from_slice(&[0; 4]);
     }
+}
 
-    // Clipnodes.
+fn write_clipnodes(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
         for (h, t) in m.clip.iter().enumerate() {
             for n in &t.nodes {
-                let b = &mut lumps[lump::CLIPNODES];
                 b.i32(n.plane_id as i32);
                 for c in [n.front, n.back] {
                     let v = match c {
-                        Child::Node(i) => (clip_offsets[mi][h] + i) as i64,
+                        Child::Node(i) => (layout.clip_roots[mi][h] + i) as i64,
                         Child::Leaf(l) => t.leaves[l].contents.bsp_value() as i64,
                     };
                     b.i16(i16_index(v, "clipnode child"));
@@ -453,55 +574,47 @@ pub fn write(world: &World, compiled: &Compiled) -> Vec<u8> {
             }
         }
     }
+}
 
-    // Models.
+fn write_models(compiled: &Compiled, layout: &Layout, b: &mut Buf) {
     for (mi, m) in compiled.models.iter().enumerate() {
-        let b = &mut lumps[lump::MODELS];
         for v in [m.bounds.0, m.bounds.1, V3::ZERO] {
             for i in 0..3 {
                 b.f32(v.get(i) as f32);
             }
         }
-        b.i32(node_offsets[mi] as i32);
-        for root in clip_offsets[mi] {
+        b.i32(layout.node_offsets[mi] as i32);
+        for root in layout.clip_roots[mi] {
             b.i32(root as i32);
         }
         let visleafs = if mi == 0 {
-            leaf_list.iter().filter(|(m, _)| *m == 0).count()
+            layout.leaf_list.iter().filter(|(m, _)| *m == 0).count()
         } else {
             0
         };
         b.i32(visleafs as i32);
-        b.i32(face_offsets[mi] as i32);
+        b.i32(layout.face_offsets[mi] as i32);
         b.i32(m.faces.len() as i32);
     }
+}
 
-    lumps[lump::ENTITIES]
-        .0
-        .extend_from_slice(entities_text(world, compiled).as_bytes());
-
-    // Header + aligned lumps.
+/// Header (version + lump directory) followed by the lumps, each padded to
+/// a multiple of 4 bytes.
+fn assemble(lumps: &[Buf]) -> Vec<u8> {
     let header_len = 4 + 8 * LUMP_COUNT;
     let mut out = Buf::default();
     out.i32(BSP_VERSION);
     let mut offset = header_len;
-    for l in &lumps {
+    for l in lumps {
         out.i32(offset as i32);
         out.i32(l.0.len() as i32);
         offset += l.0.len().next_multiple_of(4);
     }
-    for l in &lumps {
+    for l in lumps {
         out.0.extend_from_slice(&l.0);
         out.0.resize(out.0.len().next_multiple_of(4), 0);
     }
     out.0
-}
-
-impl TreeFace {
-    /// Plane index of the node holding this face.
-    fn node_plane(&self, m: &CompiledModel) -> usize {
-        m.hull0.nodes[self.node].plane_id
-    }
 }
 
 #[cfg(test)]
@@ -662,9 +775,33 @@ mod tests {
                 );
                 assert!(fm + nm <= marks);
             }
-            for i in 0..marks {
-                assert!((p.u16(lump::MARKSURFACES, i, 0) as usize) < faces);
+            // Every face is listed by exactly one node and by the
+            // marksurfaces of exactly one leaf (the free leaf it faces).
+            let mut by_node = vec![0; faces];
+            for i in 0..nodes {
+                let (ff, nf) = (
+                    p.u16(lump::NODES, i, 20) as usize,
+                    p.u16(lump::NODES, i, 22) as usize,
+                );
+                by_node[ff..ff + nf].iter_mut().for_each(|c| *c += 1);
             }
+            let mut by_leaf = vec![0; faces];
+            for i in 0..marks {
+                let f = p.u16(lump::MARKSURFACES, i, 0) as usize;
+                assert!(f < faces);
+                by_leaf[f] += 1;
+            }
+            let world_face_count = p.i32(lump::MODELS, 0, 60) as usize;
+            assert!(
+                by_node.iter().all(|&c| c == 1),
+                "{}: node face ranges",
+                w.name
+            );
+            assert!(
+                by_leaf[..world_face_count].iter().all(|&c| c == 1),
+                "{}: marksurfaces",
+                w.name
+            );
             let (edges, surfedges, verts, texinfo) = (
                 n(lump::EDGES),
                 n(lump::SURFEDGES),
@@ -719,7 +856,7 @@ mod tests {
                     })
                     .collect();
                 for v in &vs {
-                    assert!(p.plane_distance(plane, (*v).into()).abs() < 1e-2);
+                    assert!(p.plane_distance(plane, (*v).into()).abs() < 1e-3);
                 }
                 let mut facing = -crate::geometry::polygon_area_vector(&vs).normalized();
                 let pn = V3::new(
@@ -736,6 +873,23 @@ mod tests {
                     w.name
                 );
                 let name = p.texture_name(p.i32(lump::TEXINFO, ti, 32) as usize);
+                // Lightmap extents as GoldSrc computes them (16-unit texels).
+                if !is_special(&name) {
+                    for axis in 0..2 {
+                        let st: Vec<f64> = vs
+                            .iter()
+                            .map(|v| {
+                                let at = 16 * axis;
+                                let c = [0, 4, 8, 12]
+                                    .map(|o| f64::from(p.f32(lump::TEXINFO, ti, at + o)));
+                                v.x * c[0] + v.y * c[1] + v.z * c[2] + c[3]
+                            })
+                            .collect();
+                        let lo = (st.iter().cloned().fold(f64::MAX, f64::min) / 16.0).floor();
+                        let hi = (st.iter().cloned().fold(f64::MIN, f64::max) / 16.0).ceil();
+                        assert!((hi - lo) * 16.0 <= 256.0, "{} face {i}: extents", w.name);
+                    }
+                }
                 let allowed: &[&str] = if i < world_faces {
                     &["wall", "floor", "ceiling", "sky", WATER_TEXTURE]
                 } else {
@@ -767,7 +921,7 @@ mod tests {
             let mut rng = Rng::new(7);
             for _ in 0..20_000 {
                 let q = rng.point_in(&w.bounds(), 32.0);
-                if w.distance_to_boundary(q) < 1e-2 {
+                if w.distance_to_boundary(q) < 1e-3 {
                     continue;
                 }
                 assert_eq!(
@@ -781,7 +935,7 @@ mod tests {
                 let tree = &c.models[0].clip[hull - 1];
                 for _ in 0..5_000 {
                     let q = rng.point_in(&w.free_bounds(), 48.0);
-                    if tree.path_plane_distance(q) < 1e-2 {
+                    if tree.path_plane_distance(q) < 1e-3 {
                         continue;
                     }
                     let expected = w.hull_contents(hull, q).bsp_value();
@@ -814,13 +968,51 @@ mod tests {
     }
 
     #[test]
+    fn written_trees_are_exact_to_1e3_next_to_walls() {
+        // Points 1.5e-3 in front of and behind every wall polygon: the f32
+        // planes of the file must still classify them like the world.
+        for (w, c) in standard() {
+            let bytes = write(w, c);
+            let p = Parsed::new(&bytes);
+            let head = p.i32(lump::MODELS, 0, 36);
+            let mut rng = Rng::new(10);
+            let mut tested = 0;
+            for poly in w.wall_polygons() {
+                let v: Vec<V3> = poly.vertices.iter().map(|&x| x.into()).collect();
+                let n = V3::from(poly.normal);
+                for _ in 0..20 {
+                    let k = 1 + (rng.next_u64() as usize) % (v.len() - 2);
+                    let (mut a, mut b) = (rng.unit(), rng.unit());
+                    if a + b > 1.0 {
+                        (a, b) = (1.0 - a, 1.0 - b);
+                    }
+                    let on = v[0] + (v[k] - v[0]) * a + (v[k + 1] - v[0]) * b;
+                    for off in [1.5e-3, -1.5e-3] {
+                        let q: [f64; 3] = (on + n * off).into();
+                        if w.distance_to_boundary(q) < 1e-3 {
+                            continue;
+                        }
+                        tested += 1;
+                        assert_eq!(
+                            p.point_contents(head, q),
+                            w.contents(q).bsp_value(),
+                            "{} {q:?}",
+                            w.name
+                        );
+                    }
+                }
+            }
+            assert!(tested > 100, "{}: {tested}", w.name);
+        }
+    }
+
+    #[test]
     fn committed_maps_are_regenerated_byte_identically() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../maps");
         for (w, c) in standard() {
             let bytes = write(w, c);
             let json = Manifest::new(w, c, bytes.len()).to_json();
-            let bsp_path = dir.join(format!("{}.bsp", w.name));
-            let json_path = dir.join(format!("{}.json", w.name));
+            let bsp_path = crate::worlds::committed_map_path(&w.name, "bsp");
+            let json_path = crate::worlds::committed_map_path(&w.name, "json");
             let on_disk = std::fs::read(&bsp_path).expect("committed map");
             assert!(
                 on_disk == bytes,

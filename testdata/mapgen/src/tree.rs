@@ -6,6 +6,15 @@
 //! fragment crosses is homogeneous and is classified by one interior point.
 //! Splits prefer planes whose fragments lie in the cell, that cut few other
 //! fragments and that balance the rest (the classic qbsp heuristic).
+//!
+//! Clip hulls describe where the centre of a hull box may be: the complement
+//! of (obstacle ⊕ box). Shrinking each free box on its own would be wrong
+//! wherever a hull straddles two overlapping free boxes (a door opening), so
+//! the obstacle is taken as the union of the hull-0 obstacle cells, each grown
+//! exactly (Minkowski sum with the box: the cell's face normals, the axes and
+//! the edge × axis bevel planes), and only the parts of their faces outside
+//! the other grown cells become candidates. Cells are classified by the exact
+//! [`World::hull_contents`].
 
 use crate::geometry::{
     ConvexCell, EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, snap_normal, split_polygon,
@@ -211,7 +220,7 @@ fn build_cell(
             back: Child::Leaf(0),
             bounds,
         });
-        drop(cell);
+        drop(cell); // the children own their halves; free it before recursing
         let f = build_cell(tree, front_cell, front, planes, classify);
         let b = build_cell(tree, back_cell, back, planes, classify);
         tree.nodes[index].front = f;
@@ -476,25 +485,83 @@ pub fn build_world_clip_hull(
     let (lo, hi) = root_box(world);
     let h = V3::from(HULL_HALF_EXTENTS[hull]);
     let big = V3::new(1.0, 1.0, 1.0) * (2.0 * ROOT_MARGIN);
+    let f = world.free_bounds();
+    let cells: Vec<(ConvexCell, (V3, V3))> = hull0
+        .leaves
+        .iter()
+        .filter(|leaf| !leaf.contents.is_free())
+        .filter(|leaf| {
+            // Cells far inside the solid border cannot reach free space.
+            let (clo, chi) = leaf.cell.bounds();
+            (0..3).all(|i| clo.get(i) <= f.max[i] + h.get(i) && chi.get(i) >= f.min[i] - h.get(i))
+        })
+        .filter_map(|leaf| expand_cell(&leaf.cell, h, lo - big, hi + big))
+        .map(|c| {
+            let b = c.bounds();
+            (c, b)
+        })
+        .collect();
+    // Only the parts of the grown cells' faces outside every other grown
+    // cell can carry the boundary of the union: the rest would only add
+    // needless splits.
     let mut surfaces = Vec::new();
-    for leaf in &hull0.leaves {
-        if leaf.contents.is_free() {
-            continue;
-        }
-        // Cells far inside the solid border cannot reach free space.
-        let (clo, chi) = leaf.cell.bounds();
-        let f = world.free_bounds();
-        if (0..3).any(|i| clo.get(i) > f.max[i] + h.get(i) || chi.get(i) < f.min[i] - h.get(i)) {
-            continue;
-        }
-        if let Some(c) = expand_cell(&leaf.cell, h, lo - big, hi + big) {
-            surfaces.extend(c.faces.into_iter().map(|f| (f.plane, f.polygon)));
+    for (i, (c, _)) in cells.iter().enumerate() {
+        for face in &c.faces {
+            for piece in outside_other_cells(face.polygon.clone(), &cells, i) {
+                surfaces.push((face.plane, piece));
+            }
         }
     }
     let frags = fragments_in_box(surfaces, lo, hi, planes);
     build(lo, hi, frags, planes, &|p| {
         world.hull_contents(hull, p.into())
     })
+}
+
+/// The parts of `poly` outside the open interior of every cell but `skip`.
+fn outside_other_cells(
+    poly: Polygon,
+    cells: &[(ConvexCell, (V3, V3))],
+    skip: usize,
+) -> Vec<Polygon> {
+    let mut pieces = vec![poly];
+    for (j, (cell, (lo, hi))) in cells.iter().enumerate() {
+        if j == skip || pieces.is_empty() {
+            continue;
+        }
+        let mut next = Vec::new();
+        for piece in pieces {
+            let (mut plo, mut phi) = (piece[0], piece[0]);
+            for &v in &piece {
+                plo = plo.min(v);
+                phi = phi.max(v);
+            }
+            if (0..3).any(|k| plo.get(k) >= hi.get(k) - EPS || phi.get(k) <= lo.get(k) + EPS) {
+                next.push(piece);
+                continue;
+            }
+            let mut rest = Some(piece);
+            for f in &cell.faces {
+                let Some(r) = rest.take() else { break };
+                match split_polygon(&r, &f.plane) {
+                    // On the cell's boundary or outside it: not interior.
+                    Side::Front | Side::On => next.push(r),
+                    Side::Back => rest = Some(r),
+                    Side::Spanning(front, back) => {
+                        if front.len() >= 3 && polygon_area(&front) > EPS {
+                            next.push(front);
+                        }
+                        if back.len() >= 3 && polygon_area(&back) > EPS {
+                            rest = Some(back);
+                        }
+                    }
+                }
+            }
+            // Whatever is left lies inside the cell: dropped.
+        }
+        pieces = next;
+    }
+    pieces
 }
 
 /// The exact boundary polygons of a world's free space.
@@ -715,6 +782,24 @@ mod tests {
         let total: f64 = walls.iter().map(|p| p.area()).sum();
         let (a, b, c) = (512.0, 384.0, 256.0);
         assert!((total - 2.0 * (a * b + b * c + a * c)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn two_rooms_wall_area_is_analytic() {
+        // Two 384x384x192 rooms, minus two 128x112 door openings, plus the
+        // visible 256-long corridor (floor, ceiling 128 wide; walls 112 high).
+        let room = 2.0 * 384.0 * 384.0 + 4.0 * 384.0 * 192.0;
+        let doors = 2.0 * 128.0 * 112.0;
+        let corridor = 2.0 * 256.0 * 128.0 + 2.0 * 256.0 * 112.0;
+        let total: f64 = crate::worlds::two_rooms()
+            .wall_polygons()
+            .iter()
+            .map(|p| p.area())
+            .sum();
+        assert!(
+            (total - (2.0 * room - doors + corridor)).abs() < 1e-6,
+            "{total}"
+        );
     }
 
     #[test]

@@ -533,6 +533,15 @@ impl World {
     /// deepest midpoint of its blocked stretches. Any segment within this
     /// distance of `a`–`b` gets the same answer, so tests comparing against a
     /// BSP trace should skip segments where it is below `1e-3`.
+    ///
+    /// ```
+    /// let w = mapgen::worlds::box_room();
+    /// // 10 units above the floor, far from the other walls.
+    /// let m = w.segment_margin([100.0, 150.0, 10.0], [300.0, 150.0, 10.0]);
+    /// assert!((m - 10.0).abs() < 1e-9);
+    /// // Through the wall at x = 512, up to 20 units deep.
+    /// assert!(w.segment_margin([400.0, 150.0, 100.0], [550.0, 150.0, 100.0]) > 1.0);
+    /// ```
     pub fn segment_margin(&self, a: [f64; 3], b: [f64; 3]) -> f64 {
         let (va, vb) = (V3::from(a), V3::from(b));
         let free = self.free_intervals(a, b);
@@ -565,6 +574,11 @@ impl World {
     /// The exact Euclidean distance from `p` to the nearest obstacle (SOLID
     /// or SKY), i.e. to the nearest [`wall polygon`](Self::wall_polygons);
     /// 0 if `p` is not free.
+    ///
+    /// ```
+    /// let w = mapgen::worlds::box_room(); // [0,512]x[0,384]x[0,256]
+    /// assert!((w.clearance([256.0, 100.0, 128.0]) - 100.0).abs() < 1e-9);
+    /// ```
     pub fn clearance(&self, p: [f64; 3]) -> f64 {
         if !self.is_free(p) {
             return 0.0;
@@ -597,6 +611,12 @@ impl World {
     /// Distance from `p` to the nearest surface of any primitive (box or
     /// wedge): a lower bound of the distance to any change of contents. Tests
     /// should skip points where it is below `1e-3`.
+    ///
+    /// ```
+    /// let w = mapgen::worlds::box_room();
+    /// assert!((w.distance_to_boundary([0.5, 100.0, 100.0]) - 0.5).abs() < 1e-12);
+    /// assert!((w.distance_to_boundary([-2.0, 100.0, 100.0]) - 2.0).abs() < 1e-12);
+    /// ```
     pub fn distance_to_boundary(&self, p: [f64; 3]) -> f64 {
         let boxes = self
             .free
@@ -624,6 +644,12 @@ impl World {
     /// are farther than this from every box face coordinate, and `p` from
     /// every face of the ramps grown by the hull. Tests comparing clip hulls
     /// should skip points where it is below `1e-3`.
+    ///
+    /// ```
+    /// let w = mapgen::worlds::box_room();
+    /// // The standing hull's bottom is 1 unit above the floor.
+    /// assert!((w.hull_distance_to_boundary(1, [200.0, 200.0, 37.0]) - 1.0).abs() < 1e-12);
+    /// ```
     pub fn hull_distance_to_boundary(&self, hull: usize, p: [f64; 3]) -> f64 {
         let h = HULL_HALF_EXTENTS[hull];
         let mut best = f64::INFINITY;
@@ -658,11 +684,26 @@ impl World {
 
     /// The exact boundary of free space as convex polygons facing into it
     /// (computed once from the world's BSP tree, then cached).
+    ///
+    /// ```
+    /// use mapgen::SurfaceClass;
+    /// let w = mapgen::worlds::sky_room();
+    /// let sky: f64 = w.wall_polygons().iter()
+    ///     .filter(|p| p.class == SurfaceClass::Sky)
+    ///     .map(|p| p.area())
+    ///     .sum();
+    /// assert!((sky - 512.0 * 512.0).abs() < 1e-6); // the courtyard's open ceiling
+    /// ```
     pub fn wall_polygons(&self) -> &[WallPolygon] {
         self.walls.get_or_init(|| crate::tree::wall_polygons(self))
     }
 
     /// The player spawn origins.
+    ///
+    /// ```
+    /// let w = mapgen::worlds::complex();
+    /// assert!(w.spawn_points().iter().all(|&p| w.hull_contents(1, p) == mapgen::Contents::Empty));
+    /// ```
     pub fn spawn_points(&self) -> &[[f64; 3]] {
         &self.spawns
     }

@@ -26,6 +26,21 @@ pub fn worlds() -> Vec<World> {
     ]
 }
 
+/// Where the committed files of a standard map live
+/// (`testdata/maps/NAME.bsp` and `NAME.json`).
+///
+/// ```
+/// let bsp = mapgen::worlds::committed_map_path("box_room", "bsp");
+/// assert!(bsp.ends_with("testdata/maps/box_room.bsp"));
+/// ```
+pub fn committed_map_path(name: &str, extension: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("crate lives in testdata/")
+        .join("maps")
+        .join(format!("{name}.{extension}"))
+}
+
 /// One closed box room, 512 × 384 × 256, spanning `[0,512]×[0,384]×[0,256]`.
 /// Its clearance is the distance to the nearest of six planes, so its medial
 /// structure is known in closed form.
