@@ -1,1 +1,52 @@
-//! The `.vdg` file format and runtime queries (placeholder; see issue 4).
+//! The `.vdg` Voronoi Distance Graph file and its runtime queries.
+//!
+//! A VDG (thesis "Kameraführung in virtuellen Räumen mittels reduzierter
+//! Voronoi Graphen", ch. 3) approximates the medial axis of a level's free
+//! space by triangles whose vertices carry a clearance; the union of balls
+//! over the triangles is free space a camera may use. This crate is what an
+//! engine links: it memory-maps a `.vdg` written by `bsp2vdg`, validates it
+//! once, and then answers queries straight from the mapped bytes with no
+//! parsing or allocation step — clearance at a point, tracking a moving
+//! point's face, nearest face via the BBox tree, line-of-sight (`Visible`),
+//! Voronoi distance and paths by A*, and the reachable local vertices. The
+//! writer half ([`VdgBuilder`]) precomputes everything the queries need
+//! (adjacency, tree, checksum) and writes files atomically and
+//! deterministically. It knows nothing about BSP maps.
+//!
+//! ```
+//! use vdgformat::{VdgBuilder, VdgFile};
+//!
+//! // A strip of two triangles with clearance 32 along the x axis.
+//! let mut b = VdgBuilder::new();
+//! let v: Vec<u32> = [[0.0, 0.0], [256.0, 0.0], [0.0, 64.0], [256.0, 64.0]]
+//!     .iter()
+//!     .map(|&[x, y]| b.add_vertex([x, y, 0.0], 32.0))
+//!     .collect();
+//! b.add_face([v[0], v[1], v[2]]);
+//! b.add_face([v[1], v[3], v[2]]);
+//! let file = VdgFile::from_bytes(&b.to_bytes()?)?;
+//! let g = file.graph();
+//! assert!(g.visible([0.0, 10.0, 20.0], [250.0, 50.0, -20.0]));
+//! assert!(!g.visible([0.0, 10.0, 20.0], [0.0, 10.0, 40.0]));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! The file layout is documented in `FORMAT.md` next to this crate.
+
+mod build;
+mod geom;
+mod hash;
+pub mod layout;
+pub mod query;
+mod read;
+
+pub use build::{BuildError, DEFAULT_LEAF_SIZE, VdgBuilder, WriteError};
+pub use hash::xxh64;
+pub use query::{FaceHit, VdgPath};
+pub use read::{ReadError, Vdg, VdgFile};
+
+#[doc(hidden)]
+pub mod __private {
+    //! For this crate's tests and fuzz harness only.
+    pub use crate::build::seal;
+}
