@@ -135,7 +135,7 @@ impl<'a> Vdg<'a> {
         loop {
             let node = self.nodes[n];
             if node.kind == TreeNode::LEAF {
-                return &self.leaf_faces[node.a as usize..(node.a + node.b) as usize];
+                return &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize];
             }
             n = if c[node.kind as usize] < f64::from(node.split) {
                 node.a as usize
@@ -219,7 +219,7 @@ impl<'a> Vdg<'a> {
             let cell = cells[ci];
             let node = self.nodes[n as usize];
             if node.kind == TreeNode::LEAF {
-                for &f in &self.leaf_faces[node.a as usize..(node.a + node.b) as usize] {
+                for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
                     let c = self.fc(f, p);
                     if c > best.1 || (c == best.1 && f < best.0) {
                         best = (f, c);
