@@ -560,7 +560,7 @@ fn unaligned_buffer() {
     let a = Vdg::from_aligned_bytes(&copy[1..]);
     let b = Vdg::from_aligned_bytes(file.as_bytes());
     assert!(b.is_ok());
-    let misaligned = (copy.as_ptr() as usize + 1) % 16 != 0;
+    let misaligned = !(copy.as_ptr() as usize + 1).is_multiple_of(16);
     if misaligned {
         assert!(matches!(a, Err(ReadError::UnalignedBuffer)));
     }

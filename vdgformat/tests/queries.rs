@@ -293,12 +293,9 @@ fn dijkstra(g: &vdgformat::Vdg<'_>, from: u32, to: u32) -> Option<f64> {
     let mut done = vec![false; n];
     dist[from as usize] = 0.0;
     loop {
-        let Some(u) = (0..n)
+        let u = (0..n)
             .filter(|&u| !done[u] && dist[u].is_finite())
-            .min_by(|&a, &b| dist[a].total_cmp(&dist[b]))
-        else {
-            return None;
-        };
+            .min_by(|&a, &b| dist[a].total_cmp(&dist[b]))?;
         if u == to as usize {
             return Some(dist[u]);
         }
