@@ -49,4 +49,30 @@ pub use read::{ReadError, Vdg, VdgFile};
 pub mod __private {
     //! For this crate's tests and fuzz harness only.
     pub use crate::build::seal;
+
+    /// Runs every query on a few points derived from the graph itself, so a
+    /// fuzzer can check that an accepted file never makes a query panic or
+    /// hang.
+    pub fn exercise_queries(g: crate::Vdg<'_>) {
+        let info = g.info();
+        let mut pts = vec![info.volume_min, info.volume_max, [0.0; 3]];
+        pts.extend(g.vertices().iter().take(4).map(|v| v.pos));
+        let mut hint = 0;
+        for (i, &p) in pts.iter().enumerate() {
+            let q = pts[(i + 1) % pts.len()];
+            let _ = g.clearance(p);
+            if let Some(h) = g.track(hint, p) {
+                hint = h.face;
+                let _ = g.reachable(p, h.face);
+                let _ = g.trace(h.face, p, q);
+                let _ = g.visible_from(h.face, p, q);
+            }
+            let _ = g.faces_containing(p);
+            let _ = g.visible(p, q);
+            let _ = g.path(p, q);
+        }
+        if g.vertex_count() > 1 {
+            let _ = g.vertex_path(0, g.vertex_count() as u32 - 1);
+        }
+    }
 }

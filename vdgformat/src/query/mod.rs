@@ -101,6 +101,43 @@ impl<'a> Vdg<'a> {
         face_clearance(self.ball(a), self.ball(b), self.ball(c), p)
     }
 
+    /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
+    /// some value `≤ floor`. A face's volume lies in the box of its three
+    /// vertex balls, and for `p` outside that box the clearance is at most
+    /// minus the distance to it — a test ~10× cheaper than the exact
+    /// evaluation that culls most candidates of a leaf.
+    #[inline]
+    pub(crate) fn fc_above(&self, f: u32, p: V3, floor: f64) -> f64 {
+        let [a, b, c] = self.faces[f as usize];
+        let (a, b, c) = (
+            self.vertices[a as usize],
+            self.vertices[b as usize],
+            self.vertices[c as usize],
+        );
+        let q = [p.0, p.1, p.2];
+        let mut d2 = 0.0;
+        for i in 0..3 {
+            let lo = (a.pos[i] - a.clearance)
+                .min(b.pos[i] - b.clearance)
+                .min(c.pos[i] - c.clearance);
+            let hi = (a.pos[i] + a.clearance)
+                .max(b.pos[i] + b.clearance)
+                .max(c.pos[i] + c.clearance);
+            // f32 rounding of the bounds: widen by a relative epsilon so
+            // the box test never culls a face it should not.
+            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
+            let e = (f64::from(lo) - slack - q[i]).max(q[i] - f64::from(hi) - slack);
+            if e > 0.0 {
+                d2 += e * e;
+            }
+        }
+        let bound = -d2.sqrt();
+        if bound <= floor && d2 > 0.0 {
+            return bound;
+        }
+        self.fc(f, p)
+    }
+
     /// Calls `visit` for `f` and every face sharing a vertex with it
     /// (thesis: Neighbours(f)); faces sharing an edge are visited more than
     /// once, which is cheaper than deduplicating.
@@ -196,10 +233,13 @@ impl<'a> Vdg<'a> {
         if self.faces.is_empty() {
             return None;
         }
+        // Faces with clearance ≤ floor may come back as bounds, so only
+        // values above the floor are taken (those are exact).
         let mut best = (u32::MAX, f64::NEG_INFINITY);
         for &f in self.leaf_faces_at(p) {
-            let c = self.fc(f, p);
-            if c > best.1 || (c == best.1 && f < best.0) {
+            let floor = best.1.max(0.0);
+            let c = self.fc_above(f, p, floor);
+            if c > floor {
                 best = (f, c);
             }
         }
@@ -220,8 +260,8 @@ impl<'a> Vdg<'a> {
             let node = self.nodes[n as usize];
             if node.kind == TreeNode::LEAF {
                 for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
-                    let c = self.fc(f, p);
-                    if c > best.1 || (c == best.1 && f < best.0) {
+                    let c = self.fc_above(f, p, best.1);
+                    if c > best.1 {
                         best = (f, c);
                     }
                 }
@@ -296,7 +336,7 @@ impl<'a> Vdg<'a> {
             .leaf_faces_at(q)
             .iter()
             .copied()
-            .filter(|&f| self.fc(f, q) > 0.0)
+            .filter(|&f| self.fc_above(f, q, 0.0) > 0.0)
             .collect();
         out.sort_unstable();
         out.dedup();

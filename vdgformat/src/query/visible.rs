@@ -167,10 +167,10 @@ impl<'a> Vdg<'a> {
             if reach >= 1.0 {
                 break;
             }
-            if reach > t && self.fc(f, seg.at(reach)) <= INSIDE_EPS {
+            if reach > t && self.fc_above(f, seg.at(reach), INSIDE_EPS) <= INSIDE_EPS {
                 continue;
             }
-            if self.fc(f, here) <= INSIDE_EPS {
+            if self.fc_above(f, here, INSIDE_EPS) <= INSIDE_EPS {
                 continue;
             }
             let exit = self.exit_param(f, seg, reach, INSIDE_EPS);
