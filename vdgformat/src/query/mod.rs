@@ -114,9 +114,8 @@ impl<'a> Vdg<'a> {
             self.vertices[b as usize],
             self.vertices[c as usize],
         );
-        let q = [p.0, p.1, p.2];
         let mut d2 = 0.0;
-        for i in 0..3 {
+        for (i, qi) in [p.0, p.1, p.2].into_iter().enumerate() {
             let lo = (a.pos[i] - a.clearance)
                 .min(b.pos[i] - b.clearance)
                 .min(c.pos[i] - c.clearance);
@@ -126,7 +125,7 @@ impl<'a> Vdg<'a> {
             // f32 rounding of the bounds: widen by a relative epsilon so
             // the box test never culls a face it should not.
             let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
-            let e = (f64::from(lo) - slack - q[i]).max(q[i] - f64::from(hi) - slack);
+            let e = (f64::from(lo) - slack - qi).max(qi - f64::from(hi) - slack);
             if e > 0.0 {
                 d2 += e * e;
             }
