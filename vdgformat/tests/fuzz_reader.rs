@@ -120,7 +120,7 @@ fn mutated_files_never_panic() {
         match VdgFile::from_bytes(&bytes) {
             Ok(file) => {
                 accepted += 1;
-                if accepted % 4 == 0 || bytes.len() < 4000 {
+                if accepted.is_multiple_of(4) || bytes.len() < 4000 {
                     exercise_queries(file.graph());
                 }
             }
