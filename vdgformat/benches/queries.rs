@@ -218,6 +218,7 @@ fn main() {
     // VDistance between points ~500 units apart.
     let mut times = Vec::new();
     let mut lens = Vec::new();
+    let mut pairs = Vec::new();
     for _ in 0..n / 4 {
         let p = point_near_vertex(&g, &mut rng);
         let mut q = point_near_vertex(&g, &mut rng);
@@ -233,6 +234,7 @@ fn main() {
             lens.push(d);
         }
         times.push(t);
+        pairs.push((p, q));
     }
     lens.sort_by(f32::total_cmp);
     let med_len = lens.get(lens.len() / 2).copied().unwrap_or(0.0);
@@ -241,6 +243,34 @@ fn main() {
         times,
         &format!("(median path length {med_len:.0} units)"),
     );
+
+    let mut finder = vdgformat::query::PathFinder::new();
+    let times = pairs
+        .iter()
+        .map(|&(p, q)| time(|| finder.path(&g, p, q).map(|x| x.length)).0)
+        .collect();
+    report(
+        "vdistance (PathFinder)",
+        times,
+        "(same pairs, reused scratch)",
+    );
+    let vpairs: Vec<(u32, u32)> = pairs
+        .iter()
+        .map(|&(p, q)| {
+            let f = |x| g.faces()[g.nearest_face(x).expect("faces").face as usize][0];
+            (f(p), f(q))
+        })
+        .collect();
+    let times = vpairs
+        .iter()
+        .map(|&(a, b)| time(|| g.vertex_path(a, b).map(|x| x.length)).0)
+        .collect();
+    report("vertex_path (A* only)", times, "(hash-map state)");
+    let times = vpairs
+        .iter()
+        .map(|&(a, b)| time(|| finder.vertex_path(&g, a, b).map(|x| x.length)).0)
+        .collect();
+    report("vertex_path (PathFinder)", times, "(stamped arrays)");
 
     // Reachable around points inside the volume.
     let mut times = Vec::new();

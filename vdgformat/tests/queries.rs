@@ -318,11 +318,14 @@ fn astar_equals_dijkstra_on_random_graphs() {
         let b = random_soup(150 + 50 * round, 200 + 60 * round, &mut rng);
         let file = open(&b);
         let g = file.graph();
+        let mut finder = vdgformat::query::PathFinder::new();
         for _ in 0..40 {
             let a = rng.below(g.vertex_count()) as u32;
             let z = rng.below(g.vertex_count()) as u32;
             let want = dijkstra(&g, a, z);
             let got = g.vertex_path(a, z);
+            // The reusable finder (one per graph round, reused) agrees exactly.
+            assert_eq!(finder.vertex_path(&g, a, z), got);
             match (want, &got) {
                 (None, None) => {}
                 (Some(w), Some(path)) => {

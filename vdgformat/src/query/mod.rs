@@ -8,7 +8,7 @@
 mod path;
 mod visible;
 
-pub use path::VdgPath;
+pub use path::{PathFinder, VdgPath};
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;

@@ -96,17 +96,28 @@ impl<'a> Vdg<'a> {
 
     /// A* from `starts` (vertex, initial cost) to the virtual target behind
     /// `goals` (edge cost |P(v) − goal|). The heuristic |P(v) − goal| is
-    /// consistent for both graph and target edges (triangle inequality).
+    /// consistent for both graph and target edges (triangle inequality), so
+    /// a settled vertex is final.
     fn astar(&self, starts: &[(u32, f64)], goals: &[u32], goal: V3) -> Option<VdgPath> {
-        // vertex → (best cost, predecessor, settled)
-        let mut state: IdMap<(f64, u32, bool)> = IdMap::default();
-        let mut heap: BinaryHeap<(Reverse<u64>, u32)> = BinaryHeap::new();
+        let mut state = MapState(IdMap::default());
+        let mut heap = BinaryHeap::new();
+        self.astar_in(&mut state, &mut heap, starts, goals, goal)
+    }
+
+    pub(crate) fn astar_in<S: SearchState>(
+        &self,
+        state: &mut S,
+        heap: &mut BinaryHeap<(Reverse<u64>, u32)>,
+        starts: &[(u32, f64)],
+        goals: &[u32],
+        goal: V3,
+    ) -> Option<VdgPath> {
+        heap.clear();
         let key = |g: f64, h: f64| Reverse((g + h).max(0.0).to_bits());
         let h = |v: u32| (self.pos(v) - goal).norm();
         for &(v, g) in starts {
-            let e = state.entry(v).or_insert((f64::INFINITY, TARGET, false));
-            if g < e.0 {
-                *e = (g, TARGET, false);
+            if g < state.get(v).0 {
+                state.set(v, (g, TARGET, false));
                 heap.push((key(g, h(v)), v));
             }
         }
@@ -114,15 +125,15 @@ impl<'a> Vdg<'a> {
         while let Some((Reverse(bits), v)) = heap.pop() {
             if v == TARGET {
                 if f64::from_bits(bits) >= target.0 {
-                    return Some(self.unwind(&state, target));
+                    return Some(unwind(state, target));
                 }
                 continue;
             }
-            let (g, _, settled) = state[&v];
+            let (g, pred, settled) = state.get(v);
             if settled {
                 continue;
             }
-            state.get_mut(&v).expect("present").2 = true;
+            state.set(v, (g, pred, true));
             if goals.contains(&v) {
                 let total = g + h(v);
                 if total < target.0 {
@@ -133,30 +144,167 @@ impl<'a> Vdg<'a> {
             let pv = self.pos(v);
             for &w in self.vertex_neighbours(v) {
                 let gw = g + (self.pos(w) - pv).norm();
-                let e = state.entry(w).or_insert((f64::INFINITY, TARGET, false));
-                if !e.2 && gw < e.0 {
-                    *e = (gw, v, false);
+                let (old, _, done) = state.get(w);
+                if !done && gw < old {
+                    state.set(w, (gw, v, false));
                     heap.push((key(gw, h(w)), w));
                 }
             }
         }
         None
     }
+}
 
-    fn unwind(&self, state: &IdMap<(f64, u32, bool)>, target: (f64, u32)) -> VdgPath {
-        let mut vertices = vec![target.1];
-        let mut v = target.1;
-        while let Some(&(_, pred, _)) = state.get(&v) {
-            if pred == TARGET {
-                break;
-            }
-            vertices.push(pred);
-            v = pred;
+fn unwind<S: SearchState>(state: &S, target: (f64, u32)) -> VdgPath {
+    let mut vertices = vec![target.1];
+    let mut v = target.1;
+    loop {
+        let (_, pred, _) = state.get(v);
+        if pred == TARGET {
+            break;
         }
-        vertices.reverse();
-        VdgPath {
-            length: target.0 as f32,
-            vertices,
+        vertices.push(pred);
+        v = pred;
+    }
+    vertices.reverse();
+    VdgPath {
+        length: target.0 as f32,
+        vertices,
+    }
+}
+
+/// Per-vertex A* state: (best cost, predecessor, settled).
+pub(crate) trait SearchState {
+    fn get(&self, v: u32) -> (f64, u32, bool);
+    fn set(&mut self, v: u32, s: (f64, u32, bool));
+}
+
+const UNSEEN: (f64, u32, bool) = (f64::INFINITY, TARGET, false);
+
+/// Hash-map state: O(vertices visited) per query, no set-up.
+struct MapState(IdMap<(f64, u32, bool)>);
+
+impl SearchState for MapState {
+    fn get(&self, v: u32) -> (f64, u32, bool) {
+        self.0.get(&v).copied().unwrap_or(UNSEEN)
+    }
+    fn set(&mut self, v: u32, s: (f64, u32, bool)) {
+        self.0.insert(v, s);
+    }
+}
+
+/// Reusable scratch for repeated path queries: flat arrays indexed by
+/// vertex and stamped with a query number, so a query neither hashes nor
+/// clears anything. Grows to the graph's vertex count on first use
+/// (16 bytes per vertex). About 2–4× faster than [`Vdg::path`] on large
+/// searches; results are identical.
+///
+/// ```
+/// # let mut b = vdgformat::VdgBuilder::new();
+/// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+/// # b.add_face(v);
+/// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+/// let g = file.graph();
+/// let mut finder = vdgformat::query::PathFinder::new();
+/// let path = finder.vertex_path(&g, 1, 2).unwrap();
+/// assert_eq!(path.vertices, vec![1, 2]);
+/// ```
+#[derive(Debug, Default)]
+pub struct PathFinder {
+    cost: Vec<f64>,
+    pred: Vec<u32>,
+    stamp: Vec<u32>,
+    epoch: u32,
+    heap: BinaryHeap<(Reverse<u64>, u32)>,
+}
+
+struct StampState<'s> {
+    cost: &'s mut [f64],
+    pred: &'s mut [u32],
+    stamp: &'s mut [u32],
+    epoch: u32,
+}
+
+impl SearchState for StampState<'_> {
+    #[inline]
+    fn get(&self, v: u32) -> (f64, u32, bool) {
+        let s = self.stamp[v as usize];
+        if s >> 1 != self.epoch {
+            return UNSEEN;
         }
+        (self.cost[v as usize], self.pred[v as usize], s & 1 == 1)
+    }
+    #[inline]
+    fn set(&mut self, v: u32, s: (f64, u32, bool)) {
+        self.cost[v as usize] = s.0;
+        self.pred[v as usize] = s.1;
+        self.stamp[v as usize] = (self.epoch << 1) | u32::from(s.2);
+    }
+}
+
+impl PathFinder {
+    /// An empty finder; it sizes itself on first use.
+    pub fn new() -> PathFinder {
+        PathFinder::default()
+    }
+
+    fn run(
+        &mut self,
+        g: &Vdg<'_>,
+        starts: &[(u32, f64)],
+        goals: &[u32],
+        goal: V3,
+    ) -> Option<VdgPath> {
+        let n = g.vertex_count();
+        if self.stamp.len() < n {
+            self.cost.resize(n, f64::INFINITY);
+            self.pred.resize(n, TARGET);
+            self.stamp.resize(n, 0);
+        }
+        // Epochs live in the upper 31 bits of a stamp; on wrap-around clear.
+        self.epoch = (self.epoch + 1) & (u32::MAX >> 1);
+        if self.epoch == 0 {
+            self.stamp.fill(0);
+            self.epoch = 1;
+        }
+        let mut state = StampState {
+            cost: &mut self.cost,
+            pred: &mut self.pred,
+            stamp: &mut self.stamp,
+            epoch: self.epoch,
+        };
+        g.astar_in(&mut state, &mut self.heap, starts, goals, goal)
+    }
+
+    /// [`Vdg::path`] with reused scratch.
+    pub fn path(&mut self, g: &Vdg<'_>, p: [f32; 3], q: [f32; 3]) -> Option<VdgPath> {
+        let fs = g.nearest_face(p)?.face;
+        let fg = g.nearest_face(q)?.face;
+        self.path_between_faces(g, fs, p, fg, q)
+    }
+
+    /// [`Vdg::path_between_faces`] with reused scratch.
+    pub fn path_between_faces(
+        &mut self,
+        g: &Vdg<'_>,
+        p_face: u32,
+        p: [f32; 3],
+        q_face: u32,
+        q: [f32; 3],
+    ) -> Option<VdgPath> {
+        let (ps, qs) = (V3::from_f32(p), V3::from_f32(q));
+        if p_face == q_face {
+            return Some(VdgPath {
+                length: (qs - ps).norm() as f32,
+                vertices: Vec::new(),
+            });
+        }
+        let starts = g.faces[p_face as usize].map(|v| (v, (g.pos(v) - ps).norm()));
+        self.run(g, &starts, &g.faces[q_face as usize], qs)
+    }
+
+    /// [`Vdg::vertex_path`] with reused scratch.
+    pub fn vertex_path(&mut self, g: &Vdg<'_>, from: u32, to: u32) -> Option<VdgPath> {
+        self.run(g, &[(from, 0.0)], &[to], g.pos(to))
     }
 }
