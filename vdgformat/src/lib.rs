@@ -31,6 +31,17 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! Queries at a glance (all on [`Vdg`], see [`query`]):
+//!
+//! | query | thesis | cost |
+//! |---|---|---|
+//! | [`Vdg::face_clearance`] | 3.7 | closed form, ~0.1 µs |
+//! | [`Vdg::clearance`], [`Vdg::nearest_face`] | 3.7, 5.2 | one tree leaf inside the volume |
+//! | [`Vdg::track`] | 3.3, 5.2 | the hint face and its neighbours |
+//! | [`Vdg::trace`], [`Vdg::visible`], [`Vdg::visible_from`] | 3.9 | a hop per face volume crossed |
+//! | [`Vdg::vdistance`], [`Vdg::path`], [`query::PathFinder`] | 5.1 | A* over the vertex graph |
+//! | [`Vdg::reachable`] | 5.3 | the face's neighbourhood |
+//!
 //! The file layout is documented in `FORMAT.md` next to this crate.
 
 mod build;

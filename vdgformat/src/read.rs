@@ -199,7 +199,7 @@ impl From<std::io::Error> for ReadError {
 
 /// A validated, zero-copy view of a `.vdg` image. All queries live here
 /// (see [`crate::query`]). Cheap to copy; borrow it from a [`VdgFile`].
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy)]
 pub struct Vdg<'a> {
     pub(crate) info: &'a Info,
     pub(crate) vertices: &'a [Vertex],
@@ -211,6 +211,18 @@ pub struct Vdg<'a> {
     pub(crate) nodes: &'a [TreeNode],
     pub(crate) leaf_faces: &'a [u32],
     pub(crate) metadata: &'a str,
+}
+
+impl fmt::Debug for Vdg<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Vdg")
+            .field("vertices", &self.vertices.len())
+            .field("faces", &self.faces.len())
+            .field("tree_nodes", &self.nodes.len())
+            .field("leaf_entries", &self.leaf_faces.len())
+            .field("leaf_size", &self.info.leaf_size)
+            .finish()
+    }
 }
 
 /// 16-byte aligned owned storage (for files that are not memory-mapped).
@@ -249,7 +261,7 @@ impl fmt::Debug for VdgFile {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("VdgFile")
             .field("bytes", &self.storage.bytes().len())
-            .field("info", self.graph().info())
+            .field("graph", &self.graph())
             .finish()
     }
 }

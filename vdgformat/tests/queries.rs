@@ -249,7 +249,7 @@ fn tracking_equals_from_scratch_on_random_walks() {
     let file = open(b.clone().set_leaf_size(48.0));
     let g = file.graph();
     let mut rng = Rng(17);
-    let (mut steps, mut same_value) = (0, 0);
+    let (mut steps, mut same_value, mut face_changes) = (0, 0, 0);
     for _ in 0..20 {
         let mut p = [rng.range(100.0, 600.0), rng.range(100.0, 600.0), 0.0];
         let mut hit = g.nearest_face(p.map(|x| x as f32)).unwrap();
@@ -261,7 +261,9 @@ fn tracking_equals_from_scratch_on_random_walks() {
             p[1] = p[1].clamp(0.0, 720.0);
             p[2] = p[2].clamp(-40.0, 40.0);
             let q = p.map(|x| x as f32);
-            hit = g.track(hit.face, q).unwrap();
+            let next = g.track(hit.face, q).unwrap();
+            face_changes += usize::from(next.face != hit.face);
+            hit = next;
             let scratch = g.nearest_face(q).unwrap();
             steps += 1;
             if (hit.clearance - scratch.clearance).abs() <= 1e-5 {
@@ -273,6 +275,10 @@ fn tracking_equals_from_scratch_on_random_walks() {
         }
     }
     assert_eq!(same_value, steps, "tracking differed from the tree search");
+    assert!(
+        face_changes > steps / 10,
+        "walk too short: {face_changes} face changes"
+    );
 }
 
 /// Dijkstra over the edges of the faces, independent of the file's CSR.

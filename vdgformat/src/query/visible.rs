@@ -186,17 +186,20 @@ impl<'a> Vdg<'a> {
     /// recursion, kept greedy: the neighbour reaching farthest), and the
     /// faces of the tree leaf at the cover's end when no neighbour helps.
     fn cover_from(&self, mut cur: u32, seg: &Seg, mut t: f64) -> bool {
+        // A hop must gain at least this much (a thousandth of a unit), so
+        // the hop limit bounds the work; smaller gains answer "not visible".
+        let min_gain = if seg.len > 0.0 { 1e-3 / seg.len } else { 0.0 };
         for _ in 0..MAX_HOPS {
             let mut neighbours = Vec::with_capacity(64);
             self.for_face_and_neighbours(cur, |f| neighbours.push(f));
             let mut step = self
                 .best_cover_step(neighbours.into_iter(), seg, t)
-                .filter(|&(_, r)| r > t);
+                .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
                 let leaf = self.leaf_faces_at(seg.at(t));
                 step = self
                     .best_cover_step(leaf.iter().copied(), seg, t)
-                    .filter(|&(_, r)| r > t);
+                    .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
             match step {
                 Some((_, r)) if r >= 1.0 => return true,
