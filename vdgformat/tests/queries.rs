@@ -133,6 +133,7 @@ fn tree_queries_equal_brute_force_over_all_faces() {
                 .filter(|&f| g.face_clearance(f, p) > 0.0)
                 .collect();
             inside.sort_unstable();
+            assert_eq!(g.contains(p), !inside.is_empty());
             assert_eq!(g.faces_containing(p), inside);
         }
     }

@@ -328,6 +328,27 @@ impl<'a> Vdg<'a> {
         self.nearest_face(p)
     }
 
+    /// Whether `p` lies in Volume(VDG) (some face clearance > 0). Always one
+    /// tree leaf, however far `p` is from the volume — use this rather than
+    /// `clearance(p) > 0` for membership tests of arbitrary points (the
+    /// exact clearance of a point far outside needs a wider search).
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// # b.add_face(v);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// assert!(g.contains([20.0, 20.0, 9.0]));
+    /// assert!(!g.contains([20.0, 20.0, 11.0]));
+    /// ```
+    pub fn contains(&self, p: [f32; 3]) -> bool {
+        let q = V3::from_f32(p);
+        self.leaf_faces_at(q)
+            .iter()
+            .any(|&f| self.fc_above(f, q, 0.0) > 0.0)
+    }
+
     /// Every face whose volume contains `p` (clearance > 0), ascending.
     pub fn faces_containing(&self, p: [f32; 3]) -> Vec<u32> {
         let q = V3::from_f32(p);
