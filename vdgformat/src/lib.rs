@@ -79,6 +79,7 @@ pub mod __private {
                 let _ = g.visible_from(h.face, p, q);
             }
             let _ = g.faces_containing(p);
+            let _ = g.contains(p);
             let _ = g.visible(p, q);
             let _ = g.path(p, q);
         }
