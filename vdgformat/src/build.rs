@@ -9,7 +9,7 @@ use crate::geom::Aabb;
 use crate::hash::xxh64;
 use crate::layout::{
     CHECKSUM_END, CHECKSUM_OFFSET, FORMAT_VERSION, Header, Info, MAGIC, MAX_BUILD_DEPTH,
-    SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
+    NodeBounds, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
 };
 
 /// Default minimum leaf extent of the BBox tree (thesis 6.1.6, `-bb`).
@@ -302,6 +302,7 @@ impl VdgBuilder {
         let (vf_offsets, vf_targets) = vertex_faces(vcount, &self.faces);
         let (vn_offsets, vn_targets) = vertex_neighbours(vcount, &self.faces);
         let tree = build_tree(&face_boxes, volume, self.leaf_size);
+        let node_bounds = node_bounds(&tree.nodes, &tree.leaf_faces, &self.faces, &self.vertices);
         if tree.leaf_faces.len() >= u32::MAX as usize || tree.nodes.len() >= u32::MAX as usize {
             return Err(BuildError::TooLarge("tree entries"));
         }
@@ -330,7 +331,7 @@ impl VdgBuilder {
             meta.push('\n');
         }
 
-        let sections: [(u32, &[u8], u64); 10] = [
+        let sections: [(u32, &[u8], u64); 11] = [
             (section::INFO, bytemuck::bytes_of(&info), 1),
             (
                 section::VERTICES,
@@ -373,6 +374,11 @@ impl VdgBuilder {
                 tree.leaf_faces.len() as u64,
             ),
             (section::METADATA, meta.as_bytes(), meta.len() as u64),
+            (
+                section::TREE_NODE_BOUNDS,
+                bytemuck::cast_slice(&node_bounds),
+                node_bounds.len() as u64,
+            ),
         ];
         Ok(assemble(&sections))
     }
@@ -402,6 +408,56 @@ impl VdgBuilder {
         }
         b
     }
+}
+
+/// [`NodeBounds`] of every tree node. Nodes are in preorder, so a reverse
+/// sweep sees children before parents. Shared by the writer and by the
+/// reader, which recomputes them to validate the stored ones.
+pub(crate) fn node_bounds(
+    nodes: &[TreeNode],
+    leaf_faces: &[u32],
+    faces: &[[u32; 3]],
+    vertices: &[Vertex],
+) -> Vec<NodeBounds> {
+    let empty = NodeBounds {
+        tri_min: [0.0; 3],
+        r_max: -1.0,
+        tri_max: [0.0; 3],
+        reserved: 0,
+    };
+    let mut out = vec![empty; nodes.len()];
+    for i in (0..nodes.len()).rev() {
+        let node = nodes[i];
+        let mut acc = (Aabb::EMPTY, -1.0f32);
+        let mut add = |min: [f32; 3], max: [f32; 3], r: f32| {
+            if r >= 0.0 {
+                acc.0.grow(&Aabb { min, max });
+                acc.1 = acc.1.max(r);
+            }
+        };
+        if node.kind == TreeNode::LEAF {
+            for &f in &leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
+                for &v in &faces[f as usize] {
+                    let v = vertices[v as usize];
+                    add(v.pos, v.pos, v.clearance);
+                }
+            }
+        } else {
+            for c in [node.a, node.b] {
+                let b = out[c as usize];
+                add(b.tri_min, b.tri_max, b.r_max);
+            }
+        }
+        if acc.1 >= 0.0 {
+            out[i] = NodeBounds {
+                tri_min: acc.0.min,
+                r_max: acc.1,
+                tri_max: acc.0.max,
+                reserved: 0,
+            };
+        }
+    }
+    out
 }
 
 fn is_metadata_key(k: &str) -> bool {

@@ -87,9 +87,11 @@ pub mod section {
     pub const TREE_LEAF_FACES: u32 = 9;
     /// UTF-8 text, `key=value` lines.
     pub const METADATA: u32 = 10;
+    /// [`super::NodeBounds`] records, one per tree node.
+    pub const TREE_NODE_BOUNDS: u32 = 11;
 
     /// Every section a version-1 file must contain, in file order.
-    pub const REQUIRED: [u32; 10] = [
+    pub const REQUIRED: [u32; 11] = [
         INFO,
         VERTICES,
         FACES,
@@ -100,6 +102,7 @@ pub mod section {
         TREE_NODES,
         TREE_LEAF_FACES,
         METADATA,
+        TREE_NODE_BOUNDS,
     ];
 
     /// Element size of a known section id.
@@ -115,6 +118,7 @@ pub mod section {
             | TREE_LEAF_FACES => 4,
             TREE_NODES => size_of::<super::TreeNode>() as u32,
             METADATA => 1,
+            TREE_NODE_BOUNDS => size_of::<super::NodeBounds>() as u32,
             _ => return None,
         })
     }
@@ -132,6 +136,7 @@ pub mod section {
             TREE_NODES => "tree nodes",
             TREE_LEAF_FACES => "tree leaf faces",
             METADATA => "metadata",
+            TREE_NODE_BOUNDS => "tree node bounds",
             _ => "unknown",
         }
     }
@@ -187,4 +192,19 @@ pub struct TreeNode {
 impl TreeNode {
     /// `kind` of a leaf.
     pub const LEAF: u32 = 3;
+}
+
+/// Search bounds of a tree node, from the faces listed below it: the box of
+/// their triangles (vertex positions, no radii) and their largest vertex
+/// clearance. Any listed face has clearance at most
+/// `r_max − dist(p, [tri_min, tri_max])` at `p` — the bound that lets the
+/// nearest-face search skip subtrees for points outside the volume. A node
+/// without faces has `r_max = -1` and a zero box.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct NodeBounds {
+    pub tri_min: [f32; 3],
+    pub r_max: f32,
+    pub tri_max: [f32; 3],
+    pub reserved: u32,
 }

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use crate::hash::xxh64;
 use crate::layout::{
-    CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, SECTION_ALIGN, SectionEntry,
-    TreeNode, Vertex, section,
+    CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, NodeBounds, SECTION_ALIGN,
+    SectionEntry, TreeNode, Vertex, section,
 };
 
 /// Why a file was rejected. Every malformed-file class has its own variant;
@@ -211,6 +211,7 @@ pub struct Vdg<'a> {
     pub(crate) nodes: &'a [TreeNode],
     pub(crate) leaf_faces: &'a [u32],
     pub(crate) metadata: &'a str,
+    pub(crate) node_bounds: &'a [NodeBounds],
 }
 
 impl fmt::Debug for Vdg<'_> {
@@ -269,7 +270,7 @@ impl fmt::Debug for VdgFile {
 /// Validated byte ranges of the sections.
 #[derive(Clone, Copy, Debug, Default)]
 struct Layout {
-    ranges: [(usize, usize); 10],
+    ranges: [(usize, usize); 11],
 }
 
 impl VdgFile {
@@ -336,6 +337,7 @@ fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
         nodes: bytemuck::cast_slice(s(7)),
         leaf_faces: bytemuck::cast_slice(s(8)),
         metadata: std::str::from_utf8(s(9)).unwrap_or(""),
+        node_bounds: bytemuck::cast_slice(s(10)),
     }
 }
 
@@ -408,7 +410,7 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         .map(|i| read_pod(bytes, header_len + i * size_of::<SectionEntry>()))
         .collect();
     let mut layout = Layout::default();
-    let mut found = [false; 10];
+    let mut found = [false; 11];
     for e in &entries {
         if e.offset < table_end || e.offset > len || e.byte_len > len - e.offset {
             return Err(SectionOutOfBounds { id: e.id });
@@ -496,6 +498,11 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
         g.vn_offsets.len() as u64,
     )?;
     check_count("vertex-face entry count", 3 * nf, g.vf.len() as u64)?;
+    check_count(
+        "tree node bounds count",
+        g.nodes.len() as u64,
+        g.node_bounds.len() as u64,
+    )?;
 
     let info_floats = info
         .vertex_min
@@ -583,6 +590,15 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
         }
     }
     validate_tree(g)?;
+    // Node bounds steer the nearest-face search; they must be exactly what
+    // the faces below each node give (the computation is deterministic).
+    let expected = crate::build::node_bounds(g.nodes, g.leaf_faces, g.faces, g.vertices);
+    if let Some(i) = (0..expected.len()).find(|&i| expected[i] != g.node_bounds[i]) {
+        return Err(BadTreeNode {
+            node: i as u64,
+            reason: "stored search bounds do not match the node's faces",
+        });
+    }
     let meta = &bytes[layout.ranges[9].0..layout.ranges[9].1];
     validate_metadata(meta)?;
     Ok(())
@@ -691,6 +707,16 @@ fn validate_tree(g: &Vdg<'_>) -> Result<(), ReadError> {
                 limit: nf,
             });
         }
+    }
+    let mut listed = vec![false; g.faces.len()];
+    for &f in g.leaf_faces {
+        listed[f as usize] = true;
+    }
+    if listed.contains(&false) {
+        return Err(BadTreeNode {
+            node: 0,
+            reason: "a face is listed in no tree leaf",
+        });
     }
     // Depth and split placement, walking cells down from the root box.
     let root = (g.info.volume_min, g.info.volume_max);

@@ -95,7 +95,7 @@ fn writes_are_byte_identical_and_atomic() {
 fn sections_are_aligned_and_in_file_order() {
     let bytes = sample().to_bytes().unwrap();
     let table = entries(&bytes);
-    assert_eq!(table.len(), 10);
+    assert_eq!(table.len(), 11);
     for (_, e) in &table {
         assert_eq!(e.offset % 16, 0);
     }

@@ -78,7 +78,7 @@ fn mutate(base: &[u8], rng: &mut Rng) -> Vec<u8> {
         // A u32 anywhere in the sections: indices, offsets, floats.
         4 => {
             for _ in 0..1 + rng.below(3) {
-                let at = 4 * ((384 + rng.below(b.len() - 384)) / 4);
+                let at = 4 * ((416 + rng.below(b.len() - 416)) / 4);
                 if at + 4 <= b.len() {
                     let here = u32::from_le_bytes(b[at..at + 4].try_into().unwrap());
                     b[at..at + 4].copy_from_slice(&interesting_u32(rng, here).to_le_bytes());

@@ -10,12 +10,35 @@ mod visible;
 
 pub use path::{PathFinder, VdgPath};
 
-use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use crate::geom::{Aabb, Ball, V3, face_clearance};
 use crate::layout::{Info, TreeNode, Vertex};
 use crate::read::Vdg;
+
+/// Best-first search entry, ordered by `key` (largest first).
+struct Candidate {
+    key: f64,
+    node: u32,
+    cell: u32,
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == std::cmp::Ordering::Equal
+    }
+}
+impl Eq for Candidate {}
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Candidate {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.key.total_cmp(&o.key).then(o.node.cmp(&self.node))
+    }
+}
 
 /// A face and the clearance of the query point for it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -215,11 +238,12 @@ impl<'a> Vdg<'a> {
     /// graph without faces.
     ///
     /// Inside the volume one leaf suffices: every face whose volume holds
-    /// `p` is listed in `p`'s leaf. Outside, leaves are visited nearest
-    /// first; a face's clearance is at most minus the distance from `p` to
-    /// its volume box, which is covered by the cells listing the face, so
-    /// the search stops once the best clearance beats minus the next cell
-    /// distance.
+    /// `p` is listed in `p`'s leaf. Outside, tree nodes are visited in order
+    /// of an upper bound on their faces' clearance (from the cell and the
+    /// stored triangle box and largest clearance below the node) until the
+    /// best face found beats every remaining bound. Far outside the volume
+    /// this evaluates many faces; for a yes/no membership test use
+    /// [`Self::contains`].
     pub fn nearest_face(&self, p: [f32; 3]) -> Option<FaceHit> {
         self.nearest_face_f64(V3::from_f32(p))
             .map(|(face, c)| FaceHit {
@@ -245,17 +269,32 @@ impl<'a> Vdg<'a> {
         if best.1 > 0.0 {
             return Some(best);
         }
-        // Best-first over cells; keys are non-negative f64 bit patterns,
-        // which order like the floats themselves.
+        // Best-first over tree nodes by an upper bound on the clearance of
+        // any face listed below them: the smaller of minus the distance to
+        // the node's cell (a face's volume box is covered by the cells
+        // listing it) and `r_max − dist(p, triangle box)`. Both shrink
+        // from parent to child, so once the best clearance found reaches
+        // the largest bound left, no unvisited face can beat it.
         let root = self.root_cell();
         let mut cells = vec![root];
         let mut heap = BinaryHeap::new();
-        heap.push((Reverse(root.distance(p).to_bits()), 0u32, 0usize));
-        while let Some((Reverse(bits), n, ci)) = heap.pop() {
-            if best.1 >= -f64::from_bits(bits) {
+        if let Some(k) = self.node_key(0, &root, p) {
+            heap.push(Candidate {
+                key: k,
+                node: 0,
+                cell: 0,
+            });
+        }
+        while let Some(Candidate {
+            key,
+            node: n,
+            cell: ci,
+        }) = heap.pop()
+        {
+            if best.1 >= key {
                 break;
             }
-            let cell = cells[ci];
+            let cell = cells[ci as usize];
             let node = self.nodes[n as usize];
             if node.kind == TreeNode::LEAF {
                 for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
@@ -269,13 +308,42 @@ impl<'a> Vdg<'a> {
                 let (mut lo, mut hi) = (cell, cell);
                 lo.max[ax] = node.split;
                 hi.min[ax] = node.split;
-                heap.push((Reverse(lo.distance(p).to_bits()), node.a, cells.len()));
-                cells.push(lo);
-                heap.push((Reverse(hi.distance(p).to_bits()), node.b, cells.len()));
-                cells.push(hi);
+                for (child, c) in [(node.a, lo), (node.b, hi)] {
+                    if let Some(k) = self.node_key(child, &c, p) {
+                        heap.push(Candidate {
+                            key: k,
+                            node: child,
+                            cell: cells.len() as u32,
+                        });
+                        cells.push(c);
+                    }
+                }
             }
         }
+        if best.0 == u32::MAX {
+            // Unreachable for validated files (every face is in a leaf and
+            // the bounds are checked); kept so a query can never index out
+            // of range.
+            best = (0..self.faces.len() as u32)
+                .map(|f| (f, self.fc(f, p)))
+                .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+        }
         Some(best)
+    }
+
+    /// Upper bound on the clearance at `p` of faces listed under `node`
+    /// (`None` for a node without faces).
+    #[inline]
+    fn node_key(&self, node: u32, cell: &Aabb, p: V3) -> Option<f64> {
+        let b = self.node_bounds[node as usize];
+        if b.r_max < 0.0 {
+            return None;
+        }
+        let tri = Aabb {
+            min: b.tri_min,
+            max: b.tri_max,
+        };
+        Some((-cell.distance(p)).min(f64::from(b.r_max) - tri.distance(p)))
     }
 
     /// Tracks a moving point (thesis 3.3/5.2, the continuity trick): tests
