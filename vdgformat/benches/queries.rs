@@ -166,6 +166,10 @@ fn main() {
         times,
         "(60–260 units off the volume)",
     );
+    let times = inside.iter().map(|&p| time(|| g.contains(p)).0).collect();
+    report("contains (inside)", times, "");
+    let times = outside.iter().map(|&p| time(|| g.contains(p)).0).collect();
+    report("contains (outside)", times, "");
 
     // Tracking a random walk of 2-unit steps.
     let mut times = Vec::new();
