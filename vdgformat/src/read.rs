@@ -519,6 +519,9 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             });
         }
     }
+    if info.reserved0 != 0 || info.reserved1 != 0 || info.reserved2 != 0 || info.reserved3 != 0 {
+        return Err(BadHeader("reserved info fields are not zero"));
+    }
     if (0..3).any(|i| info.volume_min[i] > info.volume_max[i]) {
         return Err(BadHeader("volume bounds min > max"));
     }
