@@ -1,0 +1,287 @@
+//! Median time per query on a ~200k-face synthetic graph, or on a real
+//! `.vdg` when `VDG_BENCH_FILE` is set. `VDG_BENCH_BB` overrides the leaf
+//! size (`-bb`) of the synthetic graph (default 256).
+//!
+//! `cargo bench -p vdgformat --bench queries`
+//!
+//! Each query is timed on its own (Instant overhead ≈ 20–40 ns, negligible
+//! next to the µs-scale queries); the cheap single-face evaluation is timed
+//! in batches. Medians and p90 are printed, because this machine is noisy.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use vdgformat::{Vdg, VdgBuilder, VdgFile};
+
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn f(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn sym(&mut self, r: f32) -> f32 {
+        (self.f() * 2.0 - 1.0) * r
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+/// 320 × 320 cells of 8 units (204 800 faces) on a wavy surface with
+/// clearance between 8 and 24 — the density of an unreduced graph.
+fn synthetic(bb: f32) -> Vec<u8> {
+    let (n, cell) = (320usize, 8.0f32);
+    let mut b = VdgBuilder::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            let (x, y) = (i as f32 * cell, j as f32 * cell);
+            let z = 96.0 * (x / 300.0).sin() * (y / 220.0).cos();
+            let c = 16.0 + 8.0 * (x / 90.0).cos() * (y / 130.0).sin();
+            b.add_vertex([x, y, z], c);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            b.add_face([id(i, j), id(i + 1, j), id(i, j + 1)]);
+            b.add_face([id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    b.set_leaf_size(bb);
+    b.to_bytes().expect("valid synthetic graph")
+}
+
+/// A point inside the volume: a vertex plus an offset within its clearance.
+fn point_near_vertex(g: &Vdg<'_>, rng: &mut Rng) -> [f32; 3] {
+    let v = g.vertices()[rng.below(g.vertex_count())];
+    let r = v.clearance * 0.5;
+    [
+        v.pos[0] + rng.sym(r),
+        v.pos[1] + rng.sym(r),
+        v.pos[2] + rng.sym(r),
+    ]
+}
+
+fn report(name: &str, mut times_ns: Vec<f64>, extra: &str) {
+    times_ns.sort_by(f64::total_cmp);
+    let med = times_ns[times_ns.len() / 2];
+    let p90 = times_ns[times_ns.len() * 9 / 10];
+    println!(
+        "{name:<28} n={:<6} median {:>10.2} µs   p90 {:>10.2} µs  {extra}",
+        times_ns.len(),
+        med / 1e3,
+        p90 / 1e3
+    );
+}
+
+fn time<T>(f: impl FnOnce() -> T) -> (f64, T) {
+    let t = Instant::now();
+    let out = black_box(f());
+    (t.elapsed().as_nanos() as f64, out)
+}
+
+fn main() {
+    let t0 = Instant::now();
+    let file = match std::env::var_os("VDG_BENCH_FILE") {
+        Some(path) => {
+            println!("graph: {}", path.to_string_lossy());
+            VdgFile::open(&path).expect("VDG_BENCH_FILE must be a valid .vdg")
+        }
+        None => {
+            let bb: f32 = std::env::var("VDG_BENCH_BB")
+                .ok()
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(256.0);
+            println!("graph: synthetic 320×320 wavy grid, -bb {bb}");
+            let bytes = synthetic(bb);
+            println!("built in {:.2} s", t0.elapsed().as_secs_f64());
+            let t = Instant::now();
+            let f = VdgFile::from_bytes(&bytes).expect("valid");
+            println!(
+                "open (copy + validate {} bytes): {:.2} ms",
+                bytes.len(),
+                t.elapsed().as_secs_f64() * 1e3
+            );
+            f
+        }
+    };
+    let g = file.graph();
+    let info = g.info();
+    println!(
+        "vertices {}  faces {}  tree nodes {}  bytes {}",
+        g.vertex_count(),
+        g.face_count(),
+        info.tree_node_count,
+        file.as_bytes().len()
+    );
+    let mut rng = Rng(42);
+    let n = 2000;
+
+    // Single face evaluation, batched.
+    let pts: Vec<[f32; 3]> = (0..4096).map(|_| point_near_vertex(&g, &mut rng)).collect();
+    let faces: Vec<u32> = (0..4096)
+        .map(|_| rng.below(g.face_count()) as u32)
+        .collect();
+    let mut batch = Vec::new();
+    for _ in 0..50 {
+        let (t, _) = time(|| {
+            let mut acc = 0.0;
+            for (p, f) in pts.iter().zip(&faces) {
+                acc += g.face_clearance(*f, *p);
+            }
+            acc
+        });
+        batch.push(t / pts.len() as f64);
+    }
+    report("face_clearance (1 face)", batch, "");
+
+    let inside: Vec<[f32; 3]> = (0..n).map(|_| point_near_vertex(&g, &mut rng)).collect();
+    let times = inside.iter().map(|&p| time(|| g.clearance(p)).0).collect();
+    report("clearance (inside)", times, "");
+    let times = inside
+        .iter()
+        .map(|&p| time(|| g.nearest_face(p)).0)
+        .collect();
+    report("nearest_face (inside)", times, "");
+    let outside: Vec<[f32; 3]> = (0..n)
+        .map(|_| {
+            let mut p = point_near_vertex(&g, &mut rng);
+            p[2] += 60.0 + rng.f() * 200.0;
+            p
+        })
+        .collect();
+    let times = outside
+        .iter()
+        .map(|&p| time(|| g.nearest_face(p)).0)
+        .collect();
+    report(
+        "nearest_face (outside)",
+        times,
+        "(60–260 units off the volume)",
+    );
+    let times = inside.iter().map(|&p| time(|| g.contains(p)).0).collect();
+    report("contains (inside)", times, "");
+    let times = outside.iter().map(|&p| time(|| g.contains(p)).0).collect();
+    report("contains (outside)", times, "");
+
+    // Tracking a random walk of 2-unit steps.
+    let mut times = Vec::new();
+    let mut fallbacks = 0;
+    for _ in 0..20 {
+        let mut p = point_near_vertex(&g, &mut rng);
+        let mut hit = g.nearest_face(p).expect("faces");
+        for _ in 0..100 {
+            let q = [
+                p[0] + rng.sym(2.0),
+                p[1] + rng.sym(2.0),
+                p[2] + rng.sym(2.0),
+            ];
+            if g.clearance(q) <= 0.0 {
+                fallbacks += 1;
+                continue;
+            }
+            p = q;
+            let (t, h) = time(|| g.track(hit.face, p));
+            hit = h.expect("faces");
+            times.push(t);
+        }
+    }
+    report(
+        "track (2-unit steps)",
+        times,
+        &format!("({fallbacks} steps left the volume, skipped)"),
+    );
+
+    // Visibility between nearby points (distance up to ~250 units).
+    let mut times = Vec::new();
+    let mut yes = 0;
+    for _ in 0..n {
+        let s = point_near_vertex(&g, &mut rng);
+        let e = [
+            s[0] + rng.sym(180.0),
+            s[1] + rng.sym(180.0),
+            s[2] + rng.sym(40.0),
+        ];
+        let (t, v) = time(|| g.visible(s, e));
+        yes += usize::from(v);
+        times.push(t);
+    }
+    report(
+        "visible (≤ 250 units)",
+        times,
+        &format!("({yes}/{n} visible)"),
+    );
+
+    // VDistance between points ~500 units apart.
+    let mut times = Vec::new();
+    let mut lens = Vec::new();
+    let mut pairs = Vec::new();
+    for _ in 0..n / 4 {
+        let p = point_near_vertex(&g, &mut rng);
+        let mut q = point_near_vertex(&g, &mut rng);
+        for _ in 0..50 {
+            let d = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
+            if (300.0..700.0).contains(&d) {
+                break;
+            }
+            q = point_near_vertex(&g, &mut rng);
+        }
+        let (t, d) = time(|| g.vdistance(p, q));
+        if let Some(d) = d {
+            lens.push(d);
+        }
+        times.push(t);
+        pairs.push((p, q));
+    }
+    lens.sort_by(f32::total_cmp);
+    let med_len = lens.get(lens.len() / 2).copied().unwrap_or(0.0);
+    report(
+        "vdistance (A*)",
+        times,
+        &format!("(median path length {med_len:.0} units)"),
+    );
+
+    let mut finder = vdgformat::query::PathFinder::new();
+    let times = pairs
+        .iter()
+        .map(|&(p, q)| time(|| finder.path(&g, p, q).map(|x| x.length)).0)
+        .collect();
+    report(
+        "vdistance (PathFinder)",
+        times,
+        "(same pairs, reused scratch)",
+    );
+    let vpairs: Vec<(u32, u32)> = pairs
+        .iter()
+        .map(|&(p, q)| {
+            let f = |x| g.faces()[g.nearest_face(x).expect("faces").face as usize][0];
+            (f(p), f(q))
+        })
+        .collect();
+    let times = vpairs
+        .iter()
+        .map(|&(a, b)| time(|| g.vertex_path(a, b).map(|x| x.length)).0)
+        .collect();
+    report("vertex_path (A* only)", times, "(hash-map state)");
+    let times = vpairs
+        .iter()
+        .map(|&(a, b)| time(|| finder.vertex_path(&g, a, b).map(|x| x.length)).0)
+        .collect();
+    report("vertex_path (PathFinder)", times, "(stamped arrays)");
+
+    // Reachable around points inside the volume.
+    let mut times = Vec::new();
+    for &p in inside.iter().take(n / 2) {
+        if let Some(h) = g.nearest_face(p) {
+            times.push(time(|| g.reachable(p, h.face)).0);
+        }
+    }
+    report("reachable", times, "");
+}

@@ -1,0 +1,433 @@
+//! Runtime queries on a validated [`Vdg`] (SPEC §5, thesis 3.7–3.9, 5.1, 5.3).
+//!
+//! Everything here reads the mapped sections in place. The open-time
+//! validation guarantees every index is in range, so queries do no checks
+//! of their own beyond Rust's slice bounds checks (which then never fire).
+//! Geometry is evaluated in f64 on the stored f32 values.
+
+mod path;
+mod visible;
+
+pub use path::{PathFinder, VdgPath};
+
+use std::collections::BinaryHeap;
+
+use crate::geom::{Aabb, Ball, V3, face_clearance};
+use crate::layout::{Info, TreeNode, Vertex};
+use crate::read::Vdg;
+
+/// Best-first search entry, ordered by `key` (largest first).
+struct Candidate {
+    key: f64,
+    node: u32,
+    cell: u32,
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, o: &Self) -> bool {
+        self.cmp(o) == std::cmp::Ordering::Equal
+    }
+}
+impl Eq for Candidate {}
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Candidate {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.key.total_cmp(&o.key).then(o.node.cmp(&self.node))
+    }
+}
+
+/// A face and the clearance of the query point for it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceHit {
+    /// Face index.
+    pub face: u32,
+    /// Clearance of the query point for this face (> 0 inside its volume).
+    pub clearance: f32,
+}
+
+/// Basic accessors.
+impl<'a> Vdg<'a> {
+    /// Global counts, bounds and build parameters.
+    pub fn info(&self) -> &'a Info {
+        self.info
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// All vertices (position and clearance).
+    pub fn vertices(&self) -> &'a [Vertex] {
+        self.vertices
+    }
+
+    /// All faces (three vertex indices each).
+    pub fn faces(&self) -> &'a [[u32; 3]] {
+        self.faces
+    }
+
+    /// Faces using vertex `v`, ascending. Panics if `v` is out of range.
+    pub fn vertex_faces(&self, v: u32) -> &'a [u32] {
+        let v = v as usize;
+        &self.vf[self.vf_offsets[v] as usize..self.vf_offsets[v + 1] as usize]
+    }
+
+    /// Vertices sharing a face with `v`, ascending. Panics if `v` is out of range.
+    pub fn vertex_neighbours(&self, v: u32) -> &'a [u32] {
+        let v = v as usize;
+        &self.vn[self.vn_offsets[v] as usize..self.vn_offsets[v + 1] as usize]
+    }
+
+    /// XXH64 of the source map (0 when the producer did not record it).
+    pub fn source_hash(&self) -> u64 {
+        self.info.source_hash
+    }
+
+    /// Metadata entries (`key`, `value`) in key order.
+    pub fn metadata(&self) -> impl Iterator<Item = (&'a str, &'a str)> + 'a {
+        self.metadata.lines().filter_map(|l| l.split_once('='))
+    }
+
+    /// The value of one metadata key, e.g. `"source.name"` or `"tool.version"`.
+    pub fn metadata_value(&self, key: &str) -> Option<&'a str> {
+        self.metadata().find(|(k, _)| *k == key).map(|(_, v)| v)
+    }
+
+    #[inline]
+    pub(crate) fn ball(&self, v: u32) -> Ball {
+        let v = self.vertices[v as usize];
+        Ball {
+            c: V3::from_f32(v.pos),
+            r: f64::from(v.clearance),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn pos(&self, v: u32) -> V3 {
+        V3::from_f32(self.vertices[v as usize].pos)
+    }
+
+    /// Clearance of `p` for face `f`, in f64.
+    #[inline]
+    pub(crate) fn fc(&self, f: u32, p: V3) -> f64 {
+        let [a, b, c] = self.faces[f as usize];
+        face_clearance(self.ball(a), self.ball(b), self.ball(c), p)
+    }
+
+    /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
+    /// some value `≤ floor`. A face's volume lies in the box of its three
+    /// vertex balls, and for `p` outside that box the clearance is at most
+    /// minus the distance to it — a test ~10× cheaper than the exact
+    /// evaluation that culls most candidates of a leaf.
+    #[inline]
+    pub(crate) fn fc_above(&self, f: u32, p: V3, floor: f64) -> f64 {
+        let [a, b, c] = self.faces[f as usize];
+        let (a, b, c) = (
+            self.vertices[a as usize],
+            self.vertices[b as usize],
+            self.vertices[c as usize],
+        );
+        let mut d2 = 0.0;
+        for (i, qi) in [p.0, p.1, p.2].into_iter().enumerate() {
+            let lo = (a.pos[i] - a.clearance)
+                .min(b.pos[i] - b.clearance)
+                .min(c.pos[i] - c.clearance);
+            let hi = (a.pos[i] + a.clearance)
+                .max(b.pos[i] + b.clearance)
+                .max(c.pos[i] + c.clearance);
+            // f32 rounding of the bounds: widen by a relative epsilon so
+            // the box test never culls a face it should not.
+            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
+            let e = (f64::from(lo) - slack - qi).max(qi - f64::from(hi) - slack);
+            if e > 0.0 {
+                d2 += e * e;
+            }
+        }
+        let bound = -d2.sqrt();
+        if bound <= floor && d2 > 0.0 {
+            return bound;
+        }
+        self.fc(f, p)
+    }
+
+    /// Calls `visit` for `f` and every face sharing a vertex with it
+    /// (thesis: Neighbours(f)); faces sharing an edge are visited more than
+    /// once, which is cheaper than deduplicating.
+    #[inline]
+    pub(crate) fn for_face_and_neighbours(&self, f: u32, mut visit: impl FnMut(u32)) {
+        visit(f);
+        for &v in &self.faces[f as usize] {
+            for &g in self.vertex_faces(v) {
+                if g != f {
+                    visit(g);
+                }
+            }
+        }
+    }
+
+    fn root_cell(&self) -> Aabb {
+        Aabb {
+            min: self.info.volume_min,
+            max: self.info.volume_max,
+        }
+    }
+
+    /// Faces of the tree leaf whose cell contains `p` — a superset of the
+    /// faces whose volume contains `p`. Empty outside the root cell.
+    pub(crate) fn leaf_faces_at(&self, p: V3) -> &'a [u32] {
+        let c = [p.0, p.1, p.2];
+        let root = self.root_cell();
+        if (0..3).any(|i| c[i] < f64::from(root.min[i]) || c[i] > f64::from(root.max[i])) {
+            return &[];
+        }
+        let mut n = 0usize;
+        loop {
+            let node = self.nodes[n];
+            if node.kind == TreeNode::LEAF {
+                return &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize];
+            }
+            n = if c[node.kind as usize] < f64::from(node.split) {
+                node.a as usize
+            } else {
+                node.b as usize
+            };
+        }
+    }
+}
+
+/// Clearance queries (thesis 3.7) and face lookup.
+impl<'a> Vdg<'a> {
+    /// Clearance of `p` for face `face`: `max_{q ∈ face} r(q) − |p − q|`
+    /// with the vertex clearances linearly interpolated over the triangle.
+    /// Positive exactly inside the face volume (the union of the balls
+    /// `B(q, r(q))`); computed in closed form. Panics if `face` is out of range.
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// # b.add_face(v);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// // 4 units above a triangle of constant clearance 10: 10 − 4.
+    /// assert!((g.face_clearance(0, [20.0, 20.0, 4.0]) - 6.0).abs() < 1e-5);
+    /// ```
+    pub fn face_clearance(&self, face: u32, p: [f32; 3]) -> f32 {
+        self.fc(face, V3::from_f32(p)) as f32
+    }
+
+    /// Clearance of `p`: the maximum of [`Self::face_clearance`] over all
+    /// faces (thesis 3.7), found through the BBox tree. `-∞` for an empty graph.
+    pub fn clearance(&self, p: [f32; 3]) -> f32 {
+        self.nearest_face(p)
+            .map_or(f32::NEG_INFINITY, |h| h.clearance)
+    }
+
+    /// The face maximising the clearance of `p`, from scratch via the tree
+    /// (thesis 5.2: the face of a new camera). Exact for points outside
+    /// Volume(VDG) too (then the clearance is negative). `None` only for a
+    /// graph without faces.
+    ///
+    /// Inside the volume one leaf suffices: every face whose volume holds
+    /// `p` is listed in `p`'s leaf. Outside, tree nodes are visited in order
+    /// of an upper bound on their faces' clearance (from the cell and the
+    /// stored triangle box and largest clearance below the node) until the
+    /// best face found beats every remaining bound. Far outside the volume
+    /// this evaluates many faces; for a yes/no membership test use
+    /// [`Self::contains`].
+    pub fn nearest_face(&self, p: [f32; 3]) -> Option<FaceHit> {
+        self.nearest_face_f64(V3::from_f32(p))
+            .map(|(face, c)| FaceHit {
+                face,
+                clearance: c as f32,
+            })
+    }
+
+    pub(crate) fn nearest_face_f64(&self, p: V3) -> Option<(u32, f64)> {
+        if self.faces.is_empty() {
+            return None;
+        }
+        // Faces with clearance ≤ floor may come back as bounds, so only
+        // values above the floor are taken (those are exact).
+        let mut best = (u32::MAX, f64::NEG_INFINITY);
+        for &f in self.leaf_faces_at(p) {
+            let floor = best.1.max(0.0);
+            let c = self.fc_above(f, p, floor);
+            if c > floor {
+                best = (f, c);
+            }
+        }
+        if best.1 > 0.0 {
+            return Some(best);
+        }
+        // Best-first over tree nodes by an upper bound on the clearance of
+        // any face listed below them: the smaller of minus the distance to
+        // the node's cell (a face's volume box is covered by the cells
+        // listing it) and `r_max − dist(p, triangle box)`. Both shrink
+        // from parent to child, so once the best clearance found reaches
+        // the largest bound left, no unvisited face can beat it.
+        let root = self.root_cell();
+        let mut cells = vec![root];
+        let mut heap = BinaryHeap::new();
+        if let Some(k) = self.node_key(0, &root, p) {
+            heap.push(Candidate {
+                key: k,
+                node: 0,
+                cell: 0,
+            });
+        }
+        while let Some(Candidate {
+            key,
+            node: n,
+            cell: ci,
+        }) = heap.pop()
+        {
+            if best.1 >= key {
+                break;
+            }
+            let cell = cells[ci as usize];
+            let node = self.nodes[n as usize];
+            if node.kind == TreeNode::LEAF {
+                for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
+                    let c = self.fc_above(f, p, best.1);
+                    if c > best.1 {
+                        best = (f, c);
+                    }
+                }
+            } else {
+                let ax = node.kind as usize;
+                let (mut lo, mut hi) = (cell, cell);
+                lo.max[ax] = node.split;
+                hi.min[ax] = node.split;
+                for (child, c) in [(node.a, lo), (node.b, hi)] {
+                    if let Some(k) = self.node_key(child, &c, p) {
+                        heap.push(Candidate {
+                            key: k,
+                            node: child,
+                            cell: cells.len() as u32,
+                        });
+                        cells.push(c);
+                    }
+                }
+            }
+        }
+        if best.0 == u32::MAX {
+            // Unreachable for validated files (every face is in a leaf and
+            // the bounds are checked); kept so a query can never index out
+            // of range.
+            best = (0..self.faces.len() as u32)
+                .map(|f| (f, self.fc(f, p)))
+                .fold((0, f64::NEG_INFINITY), |a, b| if b.1 > a.1 { b } else { a });
+        }
+        Some(best)
+    }
+
+    /// Upper bound on the clearance at `p` of faces listed under `node`
+    /// (`None` for a node without faces).
+    #[inline]
+    fn node_key(&self, node: u32, cell: &Aabb, p: V3) -> Option<f64> {
+        let b = self.node_bounds[node as usize];
+        if b.r_max < 0.0 {
+            return None;
+        }
+        let tri = Aabb {
+            min: b.tri_min,
+            max: b.tri_max,
+        };
+        Some((-cell.distance(p)).min(f64::from(b.r_max) - tri.distance(p)))
+    }
+
+    /// Tracks a moving point (thesis 3.3/5.2, the continuity trick): tests
+    /// `hint` and the faces sharing a vertex with it, climbing to the best
+    /// neighbour while that improves the clearance. If the best face found
+    /// does not contain `p` (the point jumped or left the volume) — or the
+    /// hint is not a face — it falls back to [`Self::nearest_face`].
+    ///
+    /// For small moves this finds the same face as the tree search at a
+    /// fraction of the cost; it is a local search, so after a large jump
+    /// inside the volume it may return a face of lower (still positive)
+    /// clearance than the global maximum.
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// # b.add_face(v);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// let mut hit = g.nearest_face([5.0, 5.0, 0.0]).unwrap();
+    /// for step in 0..10 {
+    ///     hit = g.track(hit.face, [5.0 + step as f32, 5.0, 1.0]).unwrap();
+    /// }
+    /// assert_eq!(hit.face, 0);
+    /// ```
+    pub fn track(&self, hint: u32, p: [f32; 3]) -> Option<FaceHit> {
+        let q = V3::from_f32(p);
+        if (hint as usize) < self.faces.len() {
+            let mut cur = (hint, self.fc(hint, q));
+            for _ in 0..32 {
+                let mut best = cur;
+                self.for_face_and_neighbours(cur.0, |f| {
+                    let c = self.fc(f, q);
+                    if c > best.1 {
+                        best = (f, c);
+                    }
+                });
+                if best.0 == cur.0 {
+                    break;
+                }
+                cur = best;
+            }
+            if cur.1 > 0.0 {
+                return Some(FaceHit {
+                    face: cur.0,
+                    clearance: cur.1 as f32,
+                });
+            }
+        }
+        self.nearest_face(p)
+    }
+
+    /// Whether `p` lies in Volume(VDG) (some face clearance > 0). Always one
+    /// tree leaf, however far `p` is from the volume — use this rather than
+    /// `clearance(p) > 0` for membership tests of arbitrary points (the
+    /// exact clearance of a point far outside needs a wider search).
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// # b.add_face(v);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// assert!(g.contains([20.0, 20.0, 9.0]));
+    /// assert!(!g.contains([20.0, 20.0, 11.0]));
+    /// ```
+    pub fn contains(&self, p: [f32; 3]) -> bool {
+        let q = V3::from_f32(p);
+        self.leaf_faces_at(q)
+            .iter()
+            .any(|&f| self.fc_above(f, q, 0.0) > 0.0)
+    }
+
+    /// Every face whose volume contains `p` (clearance > 0), ascending.
+    pub fn faces_containing(&self, p: [f32; 3]) -> Vec<u32> {
+        let q = V3::from_f32(p);
+        let mut out: Vec<u32> = self
+            .leaf_faces_at(q)
+            .iter()
+            .copied()
+            .filter(|&f| self.fc_above(f, q, 0.0) > 0.0)
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
+    }
+}
