@@ -14,3 +14,4 @@ pub mod pipeline;
 pub mod progress;
 pub mod sample;
 pub mod util;
+pub mod voronoi;

@@ -2,10 +2,12 @@
 //! time, up to the stage the user asked for.
 
 use crate::bsp::{Bsp, BspError};
+use crate::delaunay::Triangulation;
 use crate::log::{Log, secs};
 use crate::oracle::{Oracle, OracleOptions};
 use crate::progress::Progress;
 use crate::sample::{self, SampleOptions, Samples};
+use crate::voronoi::{self, Graph, VoronoiOptions, VoronoiStats};
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -79,6 +81,13 @@ pub struct Stats {
     /// Seconds per stage, in order.
     pub seconds: Vec<(&'static str, f64)>,
     pub samples_file: Option<PathBuf>,
+    /// Delaunay and Voronoi counts (thesis table 7.1), once those stages ran.
+    pub tetrahedra: Option<usize>,
+    pub duplicate_samples: usize,
+    pub voronoi: Option<VoronoiStats>,
+    /// The written graph: vertices, faces, bytes.
+    pub vdg: Option<(usize, usize, usize)>,
+    pub output: Option<PathBuf>,
 }
 
 /// Why a compile failed.
@@ -92,6 +101,11 @@ pub enum CompileError {
         path: PathBuf,
         error: std::io::Error,
     },
+    Delaunay(crate::delaunay::DelaunayError),
+    Vdg {
+        path: PathBuf,
+        error: String,
+    },
     NotBuilt(Stage),
 }
 
@@ -102,11 +116,14 @@ impl fmt::Display for CompileError {
             CompileError::Write { path, error } => {
                 write!(f, "cannot write {}: {error}", path.display())
             }
+            CompileError::Delaunay(e) => write!(f, "Delaunay stage: {e}"),
+            CompileError::Vdg { path, error } => {
+                write!(f, "cannot write {}: {error}", path.display())
+            }
             CompileError::NotBuilt(stage) => write!(
                 f,
-                "the {} stage is not built yet in this version; run with --stop-after {}",
+                "the {} stage is not built yet in this version; -rl 1.0 writes the unreduced graph, --stop-after voronoi stops before writing",
                 stage.name(),
-                Stage::Samples.name()
             ),
         }
     }
@@ -201,12 +218,7 @@ pub fn compile(
         stats.samples_file = Some(path);
     }
 
-    let result = if options.stop_after > Stage::Samples {
-        Err(CompileError::NotBuilt(Stage::Delaunay))
-    } else {
-        log.info("Stopped after sampling (--stop-after samples).");
-        Ok(())
-    };
+    let result = later_stages(map, options, &samples, &oracle, log, progress, &mut stats);
     stats
         .seconds
         .push(("total", t_total.elapsed().as_secs_f64()));
@@ -214,6 +226,135 @@ pub fn compile(
         log.info(format!("Total {}", secs(t_total.elapsed().as_secs_f64())));
         stats
     })
+}
+
+/// Delaunay, Voronoi, (reduction) and writing, as far as `--stop-after` asks.
+fn later_stages(
+    map: &Path,
+    options: &CompileOptions,
+    samples: &Samples,
+    oracle: &Oracle,
+    log: &Log,
+    progress: &dyn Progress,
+    stats: &mut Stats,
+) -> Result<(), CompileError> {
+    if options.stop_after == Stage::Samples {
+        log.info("Stopped after sampling (--stop-after samples).");
+        return Ok(());
+    }
+    let t = Instant::now();
+    log.info(format!(
+        "Tetrahedralizing {} sample points ...",
+        samples.points.len()
+    ));
+    let tri = Triangulation::new(&samples.points).map_err(CompileError::Delaunay)?;
+    stats.tetrahedra = Some(tri.num_finite_cells());
+    stats.duplicate_samples = tri.duplicates().len();
+    stats.seconds.push(("delaunay", t.elapsed().as_secs_f64()));
+    log.info(format!(
+        "Delaunay: {} tetrahedra ({} with the hull) [{}]",
+        tri.num_finite_cells(),
+        tri.num_cells(),
+        secs(t.elapsed().as_secs_f64())
+    ));
+    if options.stop_after == Stage::Delaunay {
+        log.info("Stopped after the Delaunay stage (--stop-after delaunay).");
+        return Ok(());
+    }
+
+    let t = Instant::now();
+    log.info("Building voronoi graph ...");
+    progress.start("Voronoi", 1);
+    let voronoi_options = VoronoiOptions {
+        spacing: samples.spacing,
+        min_clearance: options.min_clearance,
+    };
+    let (graph, vs) = voronoi::extract(
+        &tri,
+        &|p| oracle.is_free(p),
+        &|a, b| oracle.segment_free(a, b),
+        &voronoi_options,
+    );
+    progress.advance(1);
+    progress.finish();
+    drop(tri);
+    log.info(format!(
+        "Voronoi vertices {}, inner vertices {}.",
+        vs.voronoi_vertices, vs.inner_vertices
+    ));
+    log.info(format!(
+        "Voronoi faces {}, inner faces {}, triangulated {}",
+        vs.voronoi_faces, vs.inner_faces, vs.triangulated
+    ));
+    log.info(format!(
+        "Clearance correction sqrt(C^2 - m^2) at m = {:.2}, minimum clearance {}: removed {} vertices",
+        samples.spacing, options.min_clearance, vs.removed_low_clearance
+    ));
+    log.info(format!(
+        "Nodes {}, Faces {} [{}]",
+        vs.vertices,
+        vs.faces,
+        secs(t.elapsed().as_secs_f64())
+    ));
+    stats.seconds.push(("voronoi", t.elapsed().as_secs_f64()));
+    stats.voronoi = Some(vs);
+    if options.stop_after == Stage::Voronoi {
+        log.info("Stopped after the Voronoi stage (--stop-after voronoi).");
+        return Ok(());
+    }
+    if options.reduction_limit < 1.0 {
+        return Err(CompileError::NotBuilt(Stage::Reduce));
+    }
+    log.info("Reduction limit 1.0: the graph is written unreduced.");
+
+    let t = Instant::now();
+    let bytes = write_vdg(map, options, &graph)?;
+    stats.seconds.push(("write", t.elapsed().as_secs_f64()));
+    log.info(format!(
+        "Writing {} ...Wrote file, size {} [{}]",
+        options.output.display(),
+        bytes,
+        secs(t.elapsed().as_secs_f64())
+    ));
+    stats.vdg = Some((graph.vertices.len(), graph.faces.len(), bytes));
+    stats.output = Some(options.output.clone());
+    Ok(())
+}
+
+/// Writes the graph with its build parameters and the source map's name and hash.
+fn write_vdg(map: &Path, options: &CompileOptions, graph: &Graph) -> Result<usize, CompileError> {
+    let vdg_err = |error: String| CompileError::Vdg {
+        path: options.output.clone(),
+        error,
+    };
+    let source =
+        std::fs::read(map).map_err(|e| vdg_err(format!("cannot read the map again: {e}")))?;
+    let mut b = vdgformat::VdgBuilder::new();
+    for (p, &c) in graph.vertices.iter().zip(&graph.clearance) {
+        b.add_vertex(p.map(|x| x as f32), c as f32);
+    }
+    for f in &graph.faces {
+        b.add_face(*f);
+    }
+    let name = map
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    b.set_source(&name, vdgformat::xxh64(&source, 0))
+        .set_tool("bsp2vdg", env!("CARGO_PKG_VERSION"))
+        .set_leaf_size(options.tree_leaf_size as f32)
+        .set_metadata("sd", &options.sampling.spacing.to_string())
+        .set_metadata("ms", &options.sampling.max_samples.to_string())
+        .set_metadata("rl", &options.reduction_limit.to_string())
+        .set_metadata("md", &options.min_clearance.to_string())
+        .set_metadata("bb", &options.tree_leaf_size.to_string())
+        .set_metadata("subset", &options.sampling.subset.to_string())
+        .set_metadata("liquids_solid", &options.liquids_are_solid.to_string())
+        .set_metadata("entities", &options.entity_classes.join(","));
+    let bytes = b.to_bytes().map_err(|e| vdg_err(e.to_string()))?;
+    let len = bytes.len();
+    write_atomic(&options.output, |w| w.write_all(&bytes))?;
+    Ok(len)
 }
 
 fn log_samples(log: &Log, s: &Samples) {

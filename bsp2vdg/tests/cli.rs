@@ -211,3 +211,48 @@ fn batch_mode_compiles_several_maps_with_a_summary() {
     );
     assert!(stdout.lines().any(|l| l.ends_with(" ok")), "{stdout}");
 }
+
+#[test]
+fn unreduced_graph_is_written_identically_for_any_thread_count() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("vdg");
+    let mut files = Vec::new();
+    for t in ["1", "2"] {
+        let out = dir.join(format!("t{t}.vdg"));
+        let o = bsp2vdg(&[
+            "-rl",
+            "1.0",
+            "--json",
+            "-threads",
+            t,
+            "-o",
+            out.to_str().unwrap(),
+            map.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        for key in [
+            "tetrahedra",
+            "inner_vertices",
+            "inner_faces",
+            "vertices",
+            "bytes",
+        ] {
+            assert!(v[key].as_u64().is_some_and(|n| n > 0), "{key} in {v}");
+        }
+        let file = vdgformat::VdgFile::open(&out).expect("the written .vdg opens");
+        let g = file.graph();
+        assert_eq!(g.vertices().len() as u64, v["vertices"].as_u64().unwrap());
+        files.push(std::fs::read(&out).unwrap());
+    }
+    assert!(
+        files[0] == files[1],
+        "the .vdg differs between 1 and 2 threads"
+    );
+    // No temporary files are left beside the output.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
+}

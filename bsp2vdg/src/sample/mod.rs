@@ -314,7 +314,14 @@ pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64, budget: usize) -> (Vec<
     let mut tris = 0;
     for i in 1..polygon.len().saturating_sub(1) {
         let (a, b, c) = (polygon[0], polygon[i], polygon[i + 1]);
-        tris += subdivide::subdivide(a, b, c, radius, &mut points, budget + polygon.len());
+        tris += subdivide::subdivide(
+            a,
+            b,
+            c,
+            radius,
+            &mut points,
+            budget.saturating_add(polygon.len()),
+        );
     }
     (points, tris)
 }

@@ -1,0 +1,233 @@
+//! From the Delaunay tetrahedralization of the wall samples to the Voronoi Distance
+//! Graph (thesis 3.6, 3.8, 6.1.3).
+//!
+//! Every finite tetrahedron gives a Voronoi vertex: its circumcentre, whose empty
+//! circumsphere makes the circumradius the distance to the nearest sample. Every
+//! Delaunay edge between two samples gives a Voronoi face: the cycle of circumcentres of
+//! the tetrahedra around it. Only faces lying wholly in free space are kept (all their
+//! vertices free and every segment between consecutive vertices free); they are convex
+//! planar polygons and are cut into well-shaped triangles by a 2D Delaunay triangulation
+//! in their plane. The samples are m apart, so a wall may come up to m closer to a
+//! vertex between its samples: clearance becomes `sqrt(C² − m²)`, and vertices with
+//! `C ≤ m` or less than the minimum clearance are removed with their faces.
+//!
+//! The free-space tests come in as closures, so this stage can be tested against
+//! analytic worlds as well as run against a map's BSP.
+
+mod polygon;
+
+use crate::delaunay::Triangulation;
+use crate::sample::grid::PointGrid;
+use rayon::prelude::*;
+
+/// Parameters of the extraction.
+#[derive(Debug, Clone, Copy)]
+pub struct VoronoiOptions {
+    /// The sample spacing m used for the clearance correction.
+    pub spacing: f64,
+    /// Vertices whose corrected clearance is below this are removed (`-md`).
+    pub min_clearance: f64,
+}
+
+/// The extracted graph: triangles over vertices with clearance.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Graph {
+    pub vertices: Vec<[f64; 3]>,
+    /// Corrected clearance of each vertex.
+    pub clearance: Vec<f64>,
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// The counts of thesis table 7.1 and its log.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct VoronoiStats {
+    pub tetrahedra: usize,
+    /// Voronoi vertices (finite tetrahedra).
+    pub voronoi_vertices: usize,
+    /// Voronoi vertices in free space.
+    pub inner_vertices: usize,
+    /// Voronoi faces (Delaunay edges not on the hull).
+    pub voronoi_faces: usize,
+    /// Voronoi faces wholly in free space.
+    pub inner_faces: usize,
+    /// Triangles from the inner faces.
+    pub triangulated: usize,
+    /// Vertices removed by the clearance correction (`C ≤ m`) or by `-md`.
+    pub removed_low_clearance: usize,
+    /// Final vertex and face counts.
+    pub vertices: usize,
+    pub faces: usize,
+}
+
+/// Extracts the Voronoi Distance Graph of a triangulation of wall samples.
+///
+/// `is_free(p)` says whether a point is in free space, `segment_free(a, b)` whether a
+/// whole segment is.
+pub fn extract(
+    tri: &Triangulation,
+    is_free: &(dyn Fn([f64; 3]) -> bool + Sync),
+    segment_free: &(dyn Fn([f64; 3], [f64; 3]) -> bool + Sync),
+    options: &VoronoiOptions,
+) -> (Graph, VoronoiStats) {
+    let mut stats = VoronoiStats {
+        tetrahedra: tri.num_cells(),
+        voronoi_vertices: tri.num_finite_cells(),
+        ..Default::default()
+    };
+    let spheres = tri.circumspheres();
+    let inner: Vec<bool> = spheres
+        .par_iter()
+        .map(|(c, r)| r.is_finite() && c.iter().all(|x| x.is_finite()) && is_free(*c))
+        .collect();
+    stats.inner_vertices = inner.iter().filter(|&&b| b).count();
+    let facet_free = free_facets(tri, &spheres, &inner, segment_free);
+
+    // Keep the rings that lie wholly in free space.
+    let mut kept: Vec<Vec<u32>> = Vec::new();
+    tri.for_each_edge_ring(|ring| {
+        if ring.touches_infinity {
+            return;
+        }
+        stats.voronoi_faces += 1;
+        let cells = ring.cells;
+        let all_free = cells.iter().all(|&t| inner[t as usize])
+            && (0..cells.len()).all(|k| {
+                let (t, u) = (cells[k], cells[(k + 1) % cells.len()]);
+                (0..4).any(|i| tri.neighbor(t, i).0 == u && facet_free[t as usize] & (1 << i) != 0)
+            });
+        if all_free {
+            kept.push(cells.to_vec());
+        }
+    });
+    stats.inner_faces = kept.len();
+
+    // One graph vertex per distinct circumcentre: cospherical samples (grids on walls)
+    // give many tetrahedra with the same circumsphere.
+    let (vertex_of_cell, positions, radii) = merge_vertices(&kept, &spheres);
+    let triangles: Vec<[u32; 3]> = kept
+        .par_iter()
+        .flat_map_iter(|cells| {
+            let mut ids: Vec<u32> = cells.iter().map(|&t| vertex_of_cell[t as usize]).collect();
+            ids.dedup();
+            while ids.len() > 1 && ids.first() == ids.last() {
+                ids.pop();
+            }
+            polygon::triangulate(&ids, &positions)
+        })
+        .collect();
+    stats.triangulated = triangles.len();
+
+    let graph = correct_and_compact(&positions, &radii, &triangles, options, &mut stats);
+    (graph, stats)
+}
+
+/// For every cell, a bit per facet: the Voronoi edge through that facet (between the
+/// two cells' circumcentres) lies in free space. Each segment is tested once.
+fn free_facets(
+    tri: &Triangulation,
+    spheres: &[([f64; 3], f64)],
+    inner: &[bool],
+    segment_free: &(dyn Fn([f64; 3], [f64; 3]) -> bool + Sync),
+) -> Vec<u8> {
+    let finite = spheres.len() as u32;
+    let mut bits: Vec<u8> = (0..tri.num_cells() as u32)
+        .into_par_iter()
+        .map(|t| {
+            let mut b = 0u8;
+            if t < finite && inner[t as usize] {
+                for i in 0..4 {
+                    let (u, _) = tri.neighbor(t, i);
+                    if t < u
+                        && u < finite
+                        && inner[u as usize]
+                        && segment_free(spheres[t as usize].0, spheres[u as usize].0)
+                    {
+                        b |= 1 << i;
+                    }
+                }
+            }
+            b
+        })
+        .collect();
+    for t in 0..finite {
+        for i in 0..4 {
+            if bits[t as usize] & (1 << i) != 0 {
+                let (u, j) = tri.neighbor(t, i);
+                bits[u as usize] |= 1 << j;
+            }
+        }
+    }
+    bits
+}
+
+/// Maps every cell used by a kept face to a graph vertex, merging circumcentres that
+/// coincide (within 1e-6 units) in order of first use.
+fn merge_vertices(
+    kept: &[Vec<u32>],
+    spheres: &[([f64; 3], f64)],
+) -> (Vec<u32>, Vec<[f64; 3]>, Vec<f64>) {
+    const UNUSED: u32 = u32::MAX;
+    let mut vertex_of_cell = vec![UNUSED; spheres.len()];
+    let mut grid = PointGrid::new(1e-3);
+    let mut radii = Vec::new();
+    for cells in kept {
+        for &t in cells {
+            if vertex_of_cell[t as usize] != UNUSED {
+                continue;
+            }
+            let (c, r) = spheres[t as usize];
+            let id = match grid.nearest_within(c, 1e-6) {
+                Some((id, _)) => id,
+                None => {
+                    radii.push(r);
+                    grid.insert(c)
+                }
+            };
+            vertex_of_cell[t as usize] = id;
+        }
+    }
+    (vertex_of_cell, grid.points().to_vec(), radii)
+}
+
+/// Applies `C' = sqrt(C² − m²)`, removes vertices below m or the minimum clearance
+/// with their faces, and renumbers the vertices still used in order of first use.
+fn correct_and_compact(
+    positions: &[[f64; 3]],
+    radii: &[f64],
+    triangles: &[[u32; 3]],
+    options: &VoronoiOptions,
+    stats: &mut VoronoiStats,
+) -> Graph {
+    let m2 = options.spacing * options.spacing;
+    let corrected: Vec<Option<f64>> = radii
+        .iter()
+        .map(|&r| {
+            let c = (r * r - m2).sqrt();
+            (r > options.spacing && c >= options.min_clearance).then_some(c)
+        })
+        .collect();
+    stats.removed_low_clearance = corrected.iter().filter(|c| c.is_none()).count();
+    let mut new_id = vec![u32::MAX; positions.len()];
+    let mut graph = Graph::default();
+    for tri in triangles {
+        if tri.iter().any(|&v| corrected[v as usize].is_none()) {
+            continue;
+        }
+        let mut face = [0u32; 3];
+        for (k, &v) in tri.iter().enumerate() {
+            if new_id[v as usize] == u32::MAX {
+                new_id[v as usize] = graph.vertices.len() as u32;
+                graph.vertices.push(positions[v as usize]);
+                graph.clearance.push(corrected[v as usize].unwrap_or(0.0));
+            }
+            face[k] = new_id[v as usize];
+        }
+        graph.faces.push(face);
+    }
+    stats.vertices = graph.vertices.len();
+    stats.faces = graph.faces.len();
+    graph
+}
+
+#[cfg(test)]
+mod tests;
