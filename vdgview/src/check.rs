@@ -1,0 +1,1 @@
+//! `vdgview check MAP.bsp FILE.vdg`: quality of a graph against the map (SPEC §8).
