@@ -15,3 +15,4 @@ pub mod progress;
 pub mod sample;
 pub mod util;
 pub mod voronoi;
+pub mod walls;

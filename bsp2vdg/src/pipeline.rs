@@ -7,7 +7,31 @@ use crate::log::{Log, secs};
 use crate::oracle::{Oracle, OracleOptions};
 use crate::progress::Progress;
 use crate::sample::{self, SampleOptions, Samples};
-use crate::voronoi::{self, Graph, VoronoiOptions, VoronoiStats};
+use crate::voronoi::{self, FreeSpace, Graph, VoronoiOptions, VoronoiStats};
+use crate::walls::Walls;
+
+/// A map's free space: the BSP oracle for points and segments, its obstacle faces for
+/// exact wall distances.
+struct MapSpace<'a> {
+    oracle: &'a Oracle,
+    walls: Walls,
+}
+
+impl FreeSpace for MapSpace<'_> {
+    fn is_free(&self, p: [f64; 3]) -> bool {
+        self.oracle.is_free(p)
+    }
+    fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        self.oracle.segment_free(a, b)
+    }
+    fn wall_distance(&self, p: [f64; 3]) -> f64 {
+        self.walls.distance(p)
+    }
+    fn wall_distance_within(&self, p: [f64; 3], radius: f64) -> Option<f64> {
+        self.walls.distance_within(p, radius)
+    }
+}
+
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -218,7 +242,12 @@ pub fn compile(
         stats.samples_file = Some(path);
     }
 
-    let result = later_stages(map, options, &samples, &oracle, log, progress, &mut stats);
+    let walls = Walls::from_faces(&faces);
+    let space = MapSpace {
+        oracle: &oracle,
+        walls,
+    };
+    let result = later_stages(map, options, &samples, &space, log, progress, &mut stats);
     stats
         .seconds
         .push(("total", t_total.elapsed().as_secs_f64()));
@@ -233,7 +262,7 @@ fn later_stages(
     map: &Path,
     options: &CompileOptions,
     samples: &Samples,
-    oracle: &Oracle,
+    space: &MapSpace,
     log: &Log,
     progress: &dyn Progress,
     stats: &mut Stats,
@@ -269,12 +298,7 @@ fn later_stages(
         spacing: samples.spacing,
         min_clearance: options.min_clearance,
     };
-    let (graph, vs) = voronoi::extract(
-        &tri,
-        &|p| oracle.is_free(p),
-        &|a, b| oracle.segment_free(a, b),
-        &voronoi_options,
-    );
+    let (graph, vs) = voronoi::extract(&tri, space, &voronoi_options);
     progress.advance(1);
     progress.finish();
     drop(tri);
@@ -287,8 +311,8 @@ fn later_stages(
         vs.voronoi_faces, vs.inner_faces, vs.triangulated
     ));
     log.info(format!(
-        "Clearance correction sqrt(C^2 - m^2) at m = {:.2}, minimum clearance {}: removed {} vertices",
-        samples.spacing, options.min_clearance, vs.removed_low_clearance
+        "Exact wall distance as clearance; removed {} vertices with C <= m = {:.2} or clearance below {}",
+        vs.removed_low_clearance, samples.spacing, options.min_clearance
     ));
     log.info(format!(
         "Nodes {}, Faces {} [{}]",
@@ -306,6 +330,21 @@ fn later_stages(
         return Err(CompileError::NotBuilt(Stage::Reduce));
     }
     log.info("Reduction limit 1.0: the graph is written unreduced.");
+
+    // The volume must not leave free space between vertices (thesis fig. 3.9): bound
+    // each face's interpolation error against the exact walls and lower its vertices.
+    let t = Instant::now();
+    let (graph, guard) = voronoi::guard_interpolation(graph, space, options.min_clearance);
+    log.info(format!(
+        "Interpolation guard: lowered {} vertices by up to {:.3} units, removed {}; nodes {}, faces {} [{}]",
+        guard.lowered,
+        guard.max_lowering,
+        guard.removed,
+        graph.vertices.len(),
+        graph.faces.len(),
+        secs(t.elapsed().as_secs_f64())
+    ));
+    stats.seconds.push(("guard", t.elapsed().as_secs_f64()));
 
     let t = Instant::now();
     let bytes = write_vdg(map, options, &graph)?;

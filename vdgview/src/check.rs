@@ -1,1 +1,332 @@
-//! `vdgview check MAP.bsp FILE.vdg`: quality of a graph against the map (SPEC §8).
+//! `vdgview check MAP.bsp FILE.vdg`: the quality of a graph measured against its map's
+//! own BSP (SPEC §8).
+//!
+//! - **leak**: random points of Volume(VDG) (a face by volume, a point of its triangle,
+//!   a point of the ball of interpolated clearance there) that the BSP calls blocked.
+//!   Must be 0: a camera placed inside the volume must never be inside a wall.
+//! - **coverage**: random free points whose true clearance (exact distance to the
+//!   nearest obstacle face) is at least 32 units, and the share of them inside the volume.
+//! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
+//!   random segments between free points; a false positive (seeing through a wall) must
+//!   never happen.
+//!
+//! Every random choice comes from a seeded generator per chunk of work, so the figures
+//! are the same for any thread count.
+
+use bsp2vdg::bsp::Bsp;
+use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp2vdg::util::SplitMix64;
+use bsp2vdg::walls::Walls;
+use rayon::prelude::*;
+use vdgformat::Vdg;
+
+/// What to measure and how much.
+#[derive(Debug, Clone)]
+pub struct CheckOptions {
+    /// Random points for leak and for coverage each; a tenth as many segments.
+    pub samples: usize,
+    /// The clearance from which free points must be covered.
+    pub coverage_clearance: f64,
+    pub seed: u64,
+    pub liquids_are_solid: bool,
+}
+
+impl Default for CheckOptions {
+    fn default() -> Self {
+        CheckOptions {
+            samples: 1_000_000,
+            coverage_clearance: 32.0,
+            seed: 1,
+            liquids_are_solid: false,
+        }
+    }
+}
+
+/// The measured figures.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CheckReport {
+    pub vertices: usize,
+    pub faces: usize,
+    pub bytes: usize,
+    pub leak_points: usize,
+    pub leaked: usize,
+    pub coverage_points: usize,
+    pub covered: usize,
+    pub segments: usize,
+    pub free_segments: usize,
+    pub visible: usize,
+    pub false_positives: usize,
+    pub false_negatives: usize,
+    /// Free segments whose ends are both inside the volume, and how many of them were
+    /// not seen (the misses `Visible` can be blamed for).
+    pub free_segments_inside: usize,
+    pub false_negatives_inside: usize,
+    pub seconds: f64,
+}
+
+impl CheckReport {
+    pub fn leak(&self) -> f64 {
+        ratio(self.leaked, self.leak_points)
+    }
+    pub fn coverage(&self) -> f64 {
+        ratio(self.covered, self.coverage_points)
+    }
+    /// False positives among the blocked segments.
+    pub fn visible_fp(&self) -> f64 {
+        ratio(self.false_positives, self.segments - self.free_segments)
+    }
+    /// Misses among the free segments.
+    pub fn visible_fn(&self) -> f64 {
+        ratio(self.false_negatives, self.free_segments)
+    }
+    pub fn visible_fn_inside(&self) -> f64 {
+        ratio(self.false_negatives_inside, self.free_segments_inside)
+    }
+    /// Whether the graph passes: nothing leaks, nothing is seen through walls.
+    pub fn passed(&self) -> bool {
+        self.leaked == 0 && self.false_positives == 0
+    }
+
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "leak": self.leak(),
+            "coverage": self.coverage(),
+            "visible_fp": self.visible_fp(),
+            "visible_fn": self.visible_fn(),
+            "visible_fn_inside": self.visible_fn_inside(),
+            "vertices": self.vertices,
+            "faces": self.faces,
+            "bytes": self.bytes,
+            "leak_points": self.leak_points,
+            "leaked": self.leaked,
+            "coverage_points": self.coverage_points,
+            "covered": self.covered,
+            "segments": self.segments,
+            "free_segments": self.free_segments,
+            "visible": self.visible,
+            "false_positives": self.false_positives,
+            "false_negatives": self.false_negatives,
+            "free_segments_inside": self.free_segments_inside,
+            "false_negatives_inside": self.false_negatives_inside,
+            "seconds": self.seconds,
+            "passed": self.passed(),
+        })
+    }
+}
+
+fn ratio(a: usize, b: usize) -> f64 {
+    if b == 0 { 0.0 } else { a as f64 / b as f64 }
+}
+
+const CHUNK: usize = 4096;
+
+/// Measures `vdg` (a file of `bytes` bytes) against `bsp`.
+pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> CheckReport {
+    let t = std::time::Instant::now();
+    let oracle = Oracle::new(
+        bsp,
+        &OracleOptions {
+            liquids_are_solid: options.liquids_are_solid,
+            ..Default::default()
+        },
+    );
+    let walls = Walls::of_map(bsp, &[]);
+    let mut r = CheckReport {
+        vertices: vdg.vertices().len(),
+        faces: vdg.faces().len(),
+        bytes,
+        ..Default::default()
+    };
+    let (leak_points, leaked) = measure_leak(vdg, &oracle, options);
+    (r.leak_points, r.leaked) = (leak_points, leaked);
+    let (points, covered) = measure_coverage(bsp, vdg, &oracle, &walls, options);
+    (r.coverage_points, r.covered) = (points, covered);
+    measure_visibility(bsp, vdg, &oracle, options, &mut r);
+    r.seconds = t.elapsed().as_secs_f64();
+    r
+}
+
+/// Rounds to the f32 grid the graph's queries see, so both sides judge the same point.
+fn as_f32(p: [f64; 3]) -> [f32; 3] {
+    p.map(|c| c as f32)
+}
+
+fn widen(p: [f32; 3]) -> [f64; 3] {
+    p.map(f64::from)
+}
+
+/// Random points of the volume, in chunks with their own seeds; returns (points, leaked).
+fn measure_leak(vdg: &Vdg<'_>, oracle: &Oracle, options: &CheckOptions) -> (usize, usize) {
+    let faces = vdg.faces();
+    let verts = vdg.vertices();
+    if faces.is_empty() || options.samples == 0 {
+        return (0, 0);
+    }
+    // Weight faces by a rough volume: area times mean radius², plus a mean-radius ball.
+    let mut cumulative = Vec::with_capacity(faces.len());
+    let mut total = 0.0f64;
+    for f in faces {
+        let [a, b, c] = f.map(|i| verts[i as usize]);
+        let area = tri_area(widen(a.pos), widen(b.pos), widen(c.pos));
+        let r = (a.clearance + b.clearance + c.clearance) as f64 / 3.0;
+        total += area * r * r + r * r * r;
+        cumulative.push(total);
+    }
+    let chunks = options.samples.div_ceil(CHUNK);
+    let leaked: usize = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = SplitMix64::new(options.seed ^ (0x1ea << 32) ^ c as u64);
+            let n = CHUNK.min(options.samples - c * CHUNK);
+            (0..n)
+                .filter(|_| {
+                    let x = rng.next_f64() * total;
+                    let k = cumulative.partition_point(|&w| w <= x).min(faces.len() - 1);
+                    let [a, b, c] = faces[k].map(|i| verts[i as usize]);
+                    let (mut u, mut v) = (rng.next_f64(), rng.next_f64());
+                    if u + v > 1.0 {
+                        (u, v) = (1.0 - u, 1.0 - v);
+                    }
+                    let w = 1.0 - u - v;
+                    let q = [0, 1, 2]
+                        .map(|i| w * a.pos[i] as f64 + u * b.pos[i] as f64 + v * c.pos[i] as f64);
+                    let r =
+                        w * a.clearance as f64 + u * b.clearance as f64 + v * c.clearance as f64;
+                    let d = random_in_ball(&mut rng);
+                    let p = [0, 1, 2].map(|i| q[i] + r * d[i]);
+                    !oracle.is_free(widen(as_f32(p)))
+                })
+                .count()
+        })
+        .sum();
+    (options.samples, leaked)
+}
+
+/// Random free points of the map with true clearance ≥ the threshold; returns
+/// (such points, those inside the volume).
+fn measure_coverage(
+    bsp: &Bsp,
+    vdg: &Vdg<'_>,
+    oracle: &Oracle,
+    walls: &Walls,
+    options: &CheckOptions,
+) -> (usize, usize) {
+    let (lo, hi) = free_bounds(bsp);
+    let chunks = options.samples.div_ceil(CHUNK);
+    let results: Vec<(usize, usize)> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = SplitMix64::new(options.seed ^ (0xc0 << 40) ^ c as u64);
+            let n = CHUNK.min(options.samples - c * CHUNK);
+            let (mut points, mut covered) = (0, 0);
+            let mut tries = 0;
+            // Draw until n points have the clearance (bounded, for maps with no such room).
+            while points < n && tries < 200 * n {
+                tries += 1;
+                let p = widen(as_f32([0, 1, 2].map(|i| rng.range(lo[i], hi[i]))));
+                if !oracle.is_free(p)
+                    || walls
+                        .distance_within(p, options.coverage_clearance)
+                        .is_some()
+                {
+                    continue;
+                }
+                points += 1;
+                covered += vdg.contains(as_f32(p)) as usize;
+            }
+            (points, covered)
+        })
+        .collect();
+    results.iter().fold((0, 0), |s, r| (s.0 + r.0, s.1 + r.1))
+}
+
+fn measure_visibility(
+    bsp: &Bsp,
+    vdg: &Vdg<'_>,
+    oracle: &Oracle,
+    options: &CheckOptions,
+    r: &mut CheckReport,
+) {
+    let (lo, hi) = free_bounds(bsp);
+    let n = (options.samples / 10).max(1);
+    let chunks = n.div_ceil(CHUNK);
+    let parts: Vec<[usize; 7]> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = SplitMix64::new(options.seed ^ (0x5e9 << 36) ^ c as u64);
+            let count = CHUNK.min(n - c * CHUNK);
+            let mut s = [0usize; 7];
+            let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
+                let p = match near {
+                    // Half the segments are short (up to 512 units), where sight matters.
+                    Some(a) => [0, 1, 2].map(|i| a[i] + rng.range(-512.0, 512.0)),
+                    None => [0, 1, 2].map(|i| rng.range(lo[i], hi[i])),
+                };
+                let p = widen(as_f32(p));
+                if oracle.is_free(p) {
+                    return p;
+                }
+            };
+            for k in 0..count {
+                let a = free_point(&mut rng, None);
+                let b = free_point(&mut rng, (k % 2 == 0).then_some(a));
+                let truth = oracle.segment_free(a, b);
+                let seen = vdg.visible(as_f32(a), as_f32(b));
+                s[0] += 1;
+                s[1] += truth as usize;
+                s[2] += seen as usize;
+                s[3] += (seen && !truth) as usize;
+                s[4] += (!seen && truth) as usize;
+                if truth && vdg.contains(as_f32(a)) && vdg.contains(as_f32(b)) {
+                    s[5] += 1;
+                    s[6] += !seen as usize;
+                }
+            }
+            s
+        })
+        .collect();
+    let s = parts.iter().fold([0usize; 7], |mut acc, p| {
+        for i in 0..7 {
+            acc[i] += p[i];
+        }
+        acc
+    });
+    r.segments = s[0];
+    r.free_segments = s[1];
+    r.visible = s[2];
+    r.false_positives = s[3];
+    r.false_negatives = s[4];
+    r.free_segments_inside = s[5];
+    r.false_negatives_inside = s[6];
+}
+
+/// The bounds of the world model, where free points are drawn.
+fn free_bounds(bsp: &Bsp) -> ([f64; 3], [f64; 3]) {
+    let w = bsp.world();
+    (w.mins.map(f64::from), w.maxs.map(f64::from))
+}
+
+fn tri_area(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let n = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
+}
+
+/// Uniform in the unit ball (rejection from the cube).
+fn random_in_ball(rng: &mut SplitMix64) -> [f64; 3] {
+    loop {
+        let d = [
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+            rng.range(-1.0, 1.0),
+        ];
+        if d[0] * d[0] + d[1] * d[1] + d[2] * d[2] <= 1.0 {
+            return d;
+        }
+    }
+}

@@ -7,18 +7,42 @@
 //! the tetrahedra around it. Only faces lying wholly in free space are kept (all their
 //! vertices free and every segment between consecutive vertices free); they are convex
 //! planar polygons and are cut into well-shaped triangles by a 2D Delaunay triangulation
-//! in their plane. The samples are m apart, so a wall may come up to m closer to a
-//! vertex between its samples: clearance becomes `sqrt(C² − m²)`, and vertices with
-//! `C ≤ m` or less than the minimum clearance are removed with their faces.
+//! in their plane.
 //!
-//! The free-space tests come in as closures, so this stage can be tested against
+//! Clearance: the circumradius C is the distance to the nearest *sample*; the wall may
+//! come closer between samples. The thesis corrects this with `sqrt(C² − m²)`, which
+//! holds only where the nearest wall point is interior to a face sampled at m — not near
+//! convex edges, nor at sky faces sampled at 2m (measured: up to 30 units too large on
+//! the demo map). We know the walls exactly, so each vertex gets its exact distance to
+//! the nearest obstacle face instead (never more than C). Vertices with `C ≤ m` (spurious
+//! vertices between neighbouring samples) or with less than the minimum clearance are
+//! removed with their faces.
+//!
+//! Free space comes in through [`FreeSpace`], so this stage can be tested against
 //! analytic worlds as well as run against a map's BSP.
 
+mod guard;
+pub use guard::{GuardStats, guard_interpolation};
 mod polygon;
 
 use crate::delaunay::Triangulation;
 use crate::sample::grid::PointGrid;
 use rayon::prelude::*;
+
+/// The questions the extraction asks about free space.
+pub trait FreeSpace: Sync {
+    /// Whether `p` is in free space.
+    fn is_free(&self, p: [f64; 3]) -> bool;
+    /// Whether the whole segment `a`–`b` is in free space.
+    fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool;
+    /// The exact distance from a free point to the nearest obstacle.
+    fn wall_distance(&self, p: [f64; 3]) -> f64;
+    /// The exact distance to the nearest obstacle if it is at most `radius` (cheaper
+    /// than [`wall_distance`](Self::wall_distance) when only near walls matter).
+    fn wall_distance_within(&self, p: [f64; 3], radius: f64) -> Option<f64> {
+        Some(self.wall_distance(p)).filter(|&d| d <= radius)
+    }
+}
 
 /// Parameters of the extraction.
 #[derive(Debug, Clone, Copy)]
@@ -60,13 +84,9 @@ pub struct VoronoiStats {
 }
 
 /// Extracts the Voronoi Distance Graph of a triangulation of wall samples.
-///
-/// `is_free(p)` says whether a point is in free space, `segment_free(a, b)` whether a
-/// whole segment is.
 pub fn extract(
     tri: &Triangulation,
-    is_free: &(dyn Fn([f64; 3]) -> bool + Sync),
-    segment_free: &(dyn Fn([f64; 3], [f64; 3]) -> bool + Sync),
+    space: &dyn FreeSpace,
     options: &VoronoiOptions,
 ) -> (Graph, VoronoiStats) {
     let mut stats = VoronoiStats {
@@ -77,10 +97,10 @@ pub fn extract(
     let spheres = tri.circumspheres();
     let inner: Vec<bool> = spheres
         .par_iter()
-        .map(|(c, r)| r.is_finite() && c.iter().all(|x| x.is_finite()) && is_free(*c))
+        .map(|(c, r)| r.is_finite() && c.iter().all(|x| x.is_finite()) && space.is_free(*c))
         .collect();
     stats.inner_vertices = inner.iter().filter(|&&b| b).count();
-    let facet_free = free_facets(tri, &spheres, &inner, segment_free);
+    let facet_free = free_facets(tri, &spheres, &inner, space);
 
     // Keep the rings that lie wholly in free space.
     let mut kept: Vec<Vec<u32>> = Vec::new();
@@ -117,7 +137,7 @@ pub fn extract(
         .collect();
     stats.triangulated = triangles.len();
 
-    let graph = correct_and_compact(&positions, &radii, &triangles, options, &mut stats);
+    let graph = correct_and_compact(&positions, &radii, &triangles, space, options, &mut stats);
     (graph, stats)
 }
 
@@ -127,7 +147,7 @@ fn free_facets(
     tri: &Triangulation,
     spheres: &[([f64; 3], f64)],
     inner: &[bool],
-    segment_free: &(dyn Fn([f64; 3], [f64; 3]) -> bool + Sync),
+    space: &dyn FreeSpace,
 ) -> Vec<u8> {
     let finite = spheres.len() as u32;
     let mut bits: Vec<u8> = (0..tri.num_cells() as u32)
@@ -140,7 +160,7 @@ fn free_facets(
                     if t < u
                         && u < finite
                         && inner[u as usize]
-                        && segment_free(spheres[t as usize].0, spheres[u as usize].0)
+                        && space.segment_free(spheres[t as usize].0, spheres[u as usize].0)
                     {
                         b |= 1 << i;
                     }
@@ -189,21 +209,27 @@ fn merge_vertices(
     (vertex_of_cell, grid.points().to_vec(), radii)
 }
 
-/// Applies `C' = sqrt(C² − m²)`, removes vertices below m or the minimum clearance
-/// with their faces, and renumbers the vertices still used in order of first use.
+/// Gives every vertex its exact wall distance, removes vertices with `C ≤ m` or below
+/// the minimum clearance with their faces, and renumbers the vertices still used in
+/// order of first use.
 fn correct_and_compact(
     positions: &[[f64; 3]],
     radii: &[f64],
     triangles: &[[u32; 3]],
+    space: &dyn FreeSpace,
     options: &VoronoiOptions,
     stats: &mut VoronoiStats,
 ) -> Graph {
-    let m2 = options.spacing * options.spacing;
-    let corrected: Vec<Option<f64>> = radii
-        .iter()
-        .map(|&r| {
-            let c = (r * r - m2).sqrt();
-            (r > options.spacing && c >= options.min_clearance).then_some(c)
+    let corrected: Vec<Option<f64>> = positions
+        .par_iter()
+        .zip(radii)
+        .map(|(&p, &r)| {
+            if r <= options.spacing {
+                return None;
+            }
+            // Samples lie on the walls, so the exact distance never exceeds C.
+            let c = space.wall_distance_within(p, r).unwrap_or(r);
+            (c >= options.min_clearance).then_some(c)
         })
         .collect();
     stats.removed_low_clearance = corrected.iter().filter(|c| c.is_none()).count();

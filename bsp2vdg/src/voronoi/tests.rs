@@ -23,8 +23,51 @@ fn box_samples(size: [f64; 3], m: f64) -> Vec<[f64; 3]> {
     grid.points().to_vec()
 }
 
-fn inside(size: [f64; 3]) -> impl Fn([f64; 3]) -> bool + Sync {
-    move |p: [f64; 3]| (0..3).all(|i| p[i] > 0.0 && p[i] < size[i])
+/// The inside of the box [0,a]×[0,b]×[0,c].
+struct BoxRoom([f64; 3]);
+
+impl FreeSpace for BoxRoom {
+    fn is_free(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|i| p[i] > 0.0 && p[i] < self.0[i])
+    }
+    // The box is convex: a segment is inside when both ends are.
+    fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+        self.is_free(a) && self.is_free(b)
+    }
+    fn wall_distance(&self, p: [f64; 3]) -> f64 {
+        wall_distance(self.0, p)
+    }
+}
+
+/// Nothing is free.
+struct Solid;
+
+impl FreeSpace for Solid {
+    fn is_free(&self, _: [f64; 3]) -> bool {
+        false
+    }
+    fn segment_free(&self, _: [f64; 3], _: [f64; 3]) -> bool {
+        false
+    }
+    fn wall_distance(&self, _: [f64; 3]) -> f64 {
+        0.0
+    }
+}
+
+/// Everything but a ball of radius 40 at the origin: a convex obstacle, where
+/// interpolated clearance overshoots the true distance.
+struct Pillar;
+
+impl FreeSpace for Pillar {
+    fn is_free(&self, p: [f64; 3]) -> bool {
+        self.wall_distance(p) > 0.0
+    }
+    fn segment_free(&self, _: [f64; 3], _: [f64; 3]) -> bool {
+        true
+    }
+    fn wall_distance(&self, p: [f64; 3]) -> f64 {
+        (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt() - 40.0
+    }
 }
 
 fn wall_distance(size: [f64; 3], p: [f64; 3]) -> f64 {
@@ -35,13 +78,9 @@ fn wall_distance(size: [f64; 3], p: [f64; 3]) -> f64 {
 
 fn box_graph(size: [f64; 3], m: f64) -> (Graph, VoronoiStats) {
     let tri = Triangulation::new(&box_samples(size, m)).unwrap();
-    let free = inside(size);
-    // The box is convex: a segment is inside when both ends are.
-    let seg = |a: [f64; 3], b: [f64; 3]| free(a) && free(b);
     extract(
         &tri,
-        &free,
-        &seg,
+        &BoxRoom(size),
         &VoronoiOptions {
             spacing: m,
             min_clearance: 0.0,
@@ -58,15 +97,18 @@ fn box_room_graph_lies_inside_with_conservative_clearance() {
         stats.inner_vertices > 0 && stats.inner_faces > 0,
         "{stats:?}"
     );
-    // Vertices close to the walls (C ≤ m) are removed by the clearance correction.
+    // Vertices close to the walls (C ≤ m) are removed.
     assert!(stats.removed_low_clearance > 0, "{stats:?}");
     assert!(g.faces.len() > 100, "{stats:?}");
     let mut worst_gap = 0.0f64;
     for (p, &c) in g.vertices.iter().zip(&g.clearance) {
         let d = wall_distance(size, *p);
         assert!(d > 0.0, "vertex {p:?} outside the room");
-        // The correction makes clearance a lower bound of the true wall distance.
-        assert!(c <= d + 1e-6, "clearance {c} > true distance {d} at {p:?}");
+        // Clearance is the exact wall distance.
+        assert!(
+            (c - d).abs() < 1e-9,
+            "clearance {c} != true distance {d} at {p:?}"
+        );
         worst_gap = worst_gap.max(d - c);
     }
     // ... and not a wildly pessimistic one.
@@ -101,12 +143,10 @@ fn medial_axis_of_a_slab_is_its_mid_plane() {
 fn minimum_clearance_removes_vertices_and_extraction_is_deterministic() {
     let size = [384.0, 256.0, 192.0];
     let tri = Triangulation::new(&box_samples(size, 24.0)).unwrap();
-    let free = inside(size);
-    let seg = |a: [f64; 3], b: [f64; 3]| free(a) && free(b);
+    let room = BoxRoom(size);
     let loose = extract(
         &tri,
-        &free,
-        &seg,
+        &room,
         &VoronoiOptions {
             spacing: 24.0,
             min_clearance: 0.0,
@@ -114,8 +154,7 @@ fn minimum_clearance_removes_vertices_and_extraction_is_deterministic() {
     );
     let strict = extract(
         &tri,
-        &free,
-        &seg,
+        &room,
         &VoronoiOptions {
             spacing: 24.0,
             min_clearance: 60.0,
@@ -125,8 +164,7 @@ fn minimum_clearance_removes_vertices_and_extraction_is_deterministic() {
     assert!(strict.0.clearance.iter().all(|&c| c >= 60.0));
     let again = extract(
         &tri,
-        &free,
-        &seg,
+        &room,
         &VoronoiOptions {
             spacing: 24.0,
             min_clearance: 0.0,
@@ -141,8 +179,7 @@ fn nothing_is_kept_when_nothing_is_free() {
     let tri = Triangulation::new(&box_samples(size, 32.0)).unwrap();
     let (g, s) = extract(
         &tri,
-        &|_| false,
-        &|_, _| false,
+        &Solid,
         &VoronoiOptions {
             spacing: 32.0,
             min_clearance: 0.0,
@@ -182,4 +219,46 @@ fn convex_polygons_triangulate_completely() {
         .sum();
     let exact = 0.5 * 12.0 * 100.0 * (std::f64::consts::TAU / 12.0).sin();
     assert!((area - exact).abs() < 1e-9);
+}
+
+#[test]
+fn guard_keeps_interpolated_balls_off_a_convex_obstacle() {
+    // Three vertices around a ball obstacle, with exact clearance: linear interpolation
+    // between them overshoots the true distance in the middle of the face.
+    let vertices = vec![[60.0, -30.0, 0.0], [60.0, 30.0, 0.0], [45.0, 0.0, 40.0]];
+    let clearance: Vec<f64> = vertices.iter().map(|&p| Pillar.wall_distance(p)).collect();
+    let graph = Graph {
+        vertices,
+        clearance,
+        faces: vec![[0, 1, 2]],
+    };
+    let overshoot = |g: &Graph| {
+        let mut worst = f64::NEG_INFINITY;
+        for i in 0..=40 {
+            for j in 0..=(40 - i) {
+                let b = [i as f64 / 40.0, j as f64 / 40.0, (40 - i - j) as f64 / 40.0];
+                let q = [0, 1, 2].map(|a| (0..3).map(|k| b[k] * g.vertices[k][a]).sum::<f64>());
+                let r: f64 = (0..3).map(|k| b[k] * g.clearance[k]).sum();
+                worst = worst.max(r - Pillar.wall_distance(q));
+            }
+        }
+        worst
+    };
+    let before = overshoot(&graph);
+    assert!(
+        before > 0.1,
+        "the test case must overshoot before the guard"
+    );
+    let (guarded, stats) = guard_interpolation(graph, &Pillar, 0.0);
+    assert_eq!(guarded.faces.len(), 1);
+    assert!(
+        overshoot(&guarded) <= 0.0,
+        "still overshoots by {}",
+        overshoot(&guarded)
+    );
+    // The lowering is the true overshoot plus a small curvature margin, no more.
+    assert!(
+        stats.lowered == 3 && stats.max_lowering < before + 4.0,
+        "{stats:?}, overshoot {before}"
+    );
 }

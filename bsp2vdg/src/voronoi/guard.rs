@@ -1,0 +1,128 @@
+//! The interpolation guard: a face's volume is the union of balls whose radius is
+//! interpolated linearly between its vertices' clearances (thesis 3.7). Near a convex
+//! obstacle (a pillar's edge, a corner jutting into a room) the true wall distance is
+//! convex along the face, so the interpolated radius exceeds it between exact vertices
+//! and the volume pokes through the wall (thesis fig. 3.9).
+//!
+//! We bound that excess per face and lower the face's vertices by it. Each face is
+//! evaluated on a barycentric grid of spacing h ≤ 8 units. The wall distance is the
+//! minimum of distances to convex faces, each convex with curvature at most 1/d, so the
+//! excess `r − d` can exceed its largest grid value by at most `h² / (2 d)` inside a
+//! grid cell: lowering by the grid maximum plus that margin makes every ball of the
+//! face lie in free space. The cost is local and small (the margin is about a unit for
+//! 8-unit cells at 30 units of clearance), not a global shrink.
+
+use super::{FreeSpace, Graph};
+use rayon::prelude::*;
+
+/// Largest grid spacing on a face.
+const CELL: f64 = 8.0;
+/// Most grid divisions per face edge (faces are rarely longer than 64 units).
+const MAX_DIVISIONS: usize = 16;
+
+/// What the guard did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct GuardStats {
+    /// Vertices whose clearance was lowered, and by how much at most.
+    pub lowered: usize,
+    pub max_lowering: f64,
+    /// Vertices removed because they fell below the minimum clearance.
+    pub removed: usize,
+}
+
+/// Lowers vertex clearances so that no face's volume leaves free space; vertices that
+/// fall below `min_clearance` are removed with their faces. Run it on the graph that
+/// is written: any later change of clearances would void the guarantee.
+pub fn guard_interpolation(
+    graph: Graph,
+    space: &dyn FreeSpace,
+    min_clearance: f64,
+) -> (Graph, GuardStats) {
+    let mut stats = GuardStats::default();
+    let lowering: Vec<f64> = graph
+        .faces
+        .par_iter()
+        .map(|f| {
+            face_excess(
+                f.map(|v| graph.vertices[v as usize]),
+                f.map(|v| graph.clearance[v as usize]),
+                space,
+            )
+        })
+        .collect();
+    let mut lower = vec![0.0f64; graph.vertices.len()];
+    for (f, &l) in graph.faces.iter().zip(&lowering) {
+        for &v in f {
+            lower[v as usize] = lower[v as usize].max(l);
+        }
+    }
+    stats.lowered = lower.iter().filter(|&&l| l > 0.0).count();
+    stats.max_lowering = lower.iter().fold(0.0f64, |a, &b| a.max(b));
+    let clearance: Vec<f64> = graph
+        .clearance
+        .iter()
+        .zip(&lower)
+        .map(|(c, l)| c - l)
+        .collect();
+    let keep: Vec<bool> = clearance
+        .iter()
+        .map(|&c| c >= min_clearance && c > 0.0)
+        .collect();
+    stats.removed = keep.iter().filter(|&&k| !k).count();
+
+    // Drop faces with a removed vertex and renumber in order of first use.
+    let mut new_id = vec![u32::MAX; graph.vertices.len()];
+    let mut out = Graph::default();
+    for f in &graph.faces {
+        if f.iter().any(|&v| !keep[v as usize]) {
+            continue;
+        }
+        let face = f.map(|v| {
+            if new_id[v as usize] == u32::MAX {
+                new_id[v as usize] = out.vertices.len() as u32;
+                out.vertices.push(graph.vertices[v as usize]);
+                out.clearance.push(clearance[v as usize]);
+            }
+            new_id[v as usize]
+        });
+        out.faces.push(face);
+    }
+    (out, stats)
+}
+
+/// An upper bound of `max over the triangle of (r(q) − d(q))`, at least 0.
+fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> f64 {
+    let edge = |i: usize, j: usize| {
+        let d = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    };
+    let longest = edge(0, 1).max(edge(1, 2)).max(edge(2, 0));
+    let n = ((longest / CELL).ceil() as usize).clamp(1, MAX_DIVISIONS);
+    let h = longest / n as f64;
+    let mut max_excess = 0.0f64;
+    let mut min_distance = c[0].min(c[1]).min(c[2]);
+    for i in 0..=n {
+        for j in 0..=(n - i) {
+            let k = n - i - j;
+            // The corners have exact clearance: excess 0 there.
+            if i == n || j == n || k == n {
+                continue;
+            }
+            let b = [
+                i as f64 / n as f64,
+                j as f64 / n as f64,
+                k as f64 / n as f64,
+            ];
+            let q = [0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]);
+            let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+            // Only walls closer than r matter; farther ones bound d from below.
+            let d = space.wall_distance_within(q, r + 1.0).unwrap_or(r + 1.0);
+            min_distance = min_distance.min(d);
+            max_excess = max_excess.max(r - d);
+        }
+    }
+    // Curvature margin inside one grid cell: the wall distance there is at least the
+    // smallest grid value less the cell size.
+    let d_low = (min_distance - h).max(1.0);
+    max_excess + h * h / (2.0 * d_low)
+}
