@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Quality of the compiled graphs against each map's own BSP (SPEC §8): compiles every
+# generated map and every GoldSrc map in ../shared/testmaps (nonfree too, when present),
+# then runs `vdgview check` with N points (default 10^6) and N/10 segments.
+# Prints one row per map: counts, sizes, seconds per stage, leak, coverage, visible fp/fn.
+#   scripts/quality-report.sh [N] [extra bsp2vdg options, e.g. -rl 1.0]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+n=${1:-1000000}; shift || true
+opts=("$@"); [ ${#opts[@]} -eq 0 ] && opts=(-rl 1.0)
+cargo build --release -q -p bsp2vdg -p vdgview
+out=$(mktemp -d)
+maps=(testdata/maps/*.bsp)
+shopt -s nullglob
+maps+=(../shared/testmaps/goldsrc/*.bsp ../shared/testmaps/goldsrc/nonfree/*.bsp)
+printf '%-32s %7s %8s %8s %8s %9s %7s %7s %7s %9s %8s %9s %9s %9s\n' map samples tets inner_v inner_f vertices faces bytes secs leak coverage vis_fp vis_fn fn_inside
+for m in "${maps[@]}"; do
+  name=$(basename "$m" .bsp)
+  if ! ./target/release/bsp2vdg -quiet --json "${opts[@]}" -o "$out/$name.vdg" "$m" > "$out/$name.json" 2> "$out/$name.err"; then
+    printf '%-32s compile failed: %s\n' "$name" "$(tail -n1 "$out/$name.err")"; continue
+  fi
+  ./target/release/vdgview check --json --samples "$n" "$m" "$out/$name.vdg" > "$out/$name.check.json" || true
+  python3 - "$name" "$out/$name.json" "$out/$name.check.json" <<'PY'
+import json, sys
+name, c, k = sys.argv[1], json.load(open(sys.argv[2])), json.load(open(sys.argv[3]))
+print(f"{name[:32]:<32} {c['samples']:>7} {c['tetrahedra']:>8} {c['inner_vertices']:>8} {c['inner_faces']:>8} {c['vertices']:>9} {c['vdg_faces']:>7} {c['bytes']:>7} {c['seconds']['total']:>7.1f} {k['leak']:>9.6f} {k['coverage']:>8.4f} {k['visible_fp']:>9.6f} {k['visible_fn']:>9.4f} {k['visible_fn_inside']:>9.4f}")
+PY
+done
+rm -rf "$out"
