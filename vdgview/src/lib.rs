@@ -2,4 +2,10 @@
 //! against its map's own BSP (`check`), and (issue 7) inspects, queries, renders and
 //! flies through it. One module per subcommand.
 
+pub mod camera;
 pub mod check;
+pub mod info;
+pub mod query;
+pub mod raster;
+pub mod render;
+pub mod scene;

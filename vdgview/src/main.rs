@@ -1,17 +1,73 @@
 //! `vdgview <command> ...`: one subcommand per module of the library.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use vdgview::render::{Mode, RenderRequest, Style, View};
+use vdgview::{camera, info, query, render, scene};
 
 #[derive(Parser, Debug)]
-#[command(name = "vdgview", version, about = "Inspect, check, query and render Voronoi Distance Graphs")]
+#[command(
+    name = "vdgview",
+    version,
+    about = "Inspect, check, query and render Voronoi Distance Graphs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
 #[derive(Subcommand, Debug)]
-enum Command {}
+enum Command {
+    /// Counts, bounds, clearance histogram, build options and source map of a .vdg.
+    Info {
+        #[arg(value_name = "FILE.vdg")]
+        graph: PathBuf,
+    },
+    /// Runtime queries: `clearance X Y Z`, `visible X1 Y1 Z1 X2 Y2 Z2`, `path X1 Y1 Z1 X2 Y2 Z2`.
+    Query {
+        #[arg(value_name = "FILE.vdg")]
+        graph: PathBuf,
+        /// clearance, visible or path.
+        #[arg(value_name = "QUERY")]
+        kind: String,
+        /// The point(s): 3 numbers for clearance, 6 for visible and path.
+        #[arg(value_name = "COORD", allow_negative_numbers = true, num_args = 0..)]
+        coords: Vec<String>,
+    },
+    /// Headless, deterministic PNG render of a graph inside its map (no GPU needed).
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args, Debug)]
+struct RenderArgs {
+    #[arg(value_name = "MAP.bsp")]
+    map: PathBuf,
+    /// The graph (leave out to draw the map alone).
+    #[arg(value_name = "FILE.vdg")]
+    graph: Option<PathBuf>,
+    /// Output PNG.
+    #[arg(short, long, value_name = "OUT.png")]
+    output: PathBuf,
+    /// 1 wireframe, 2 reduction cost, 3 faces coloured by clearance (blue large, red small), 0 map only.
+    #[arg(long, default_value_t = 3)]
+    mode: u32,
+    /// Sample points to draw as black dots (a `bsp2vdg -savesamples` file).
+    #[arg(long, value_name = "FILE")]
+    samples: Option<PathBuf>,
+    /// Camera as X,Y,Z:TX,TY,TZ[:FOV] (position, target, vertical fov in degrees); default: framed automatically.
+    #[arg(long, value_name = "POS:TARGET:FOV", conflicts_with = "top")]
+    camera: Option<String>,
+    /// Top-down orthographic overview.
+    #[arg(long)]
+    top: bool,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "1024x768")]
+    size: String,
+    /// Supersampling factor (1 = off) for smoother edges.
+    #[arg(long, default_value_t = 2)]
+    supersample: usize,
+}
 
 fn main() {
     let cli = Cli::parse();
@@ -22,5 +78,89 @@ fn main() {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    match cli.command {}
+    match cli.command {
+        Command::Info { graph } => {
+            let file = scene::open_graph(&graph)?;
+            print!("{}", info::summary(&file.graph()));
+            Ok(())
+        }
+        Command::Query {
+            graph,
+            kind,
+            coords,
+        } => {
+            let q = query::Query::parse(&kind, &coords)?;
+            let file = scene::open_graph(&graph)?;
+            print!("{}", q.run(&file.graph()));
+            Ok(())
+        }
+        Command::Render(args) => run_render(args),
+    }
+}
+
+fn run_render(args: RenderArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    let mode = Mode::from_number(args.mode)
+        .with_context(|| format!("--mode {}: expected 0, 1, 2 or 3", args.mode))?;
+    if !(1..=4).contains(&args.supersample) {
+        anyhow::bail!("--supersample {}: expected 1..4", args.supersample);
+    }
+    let view = match (&args.camera, args.top) {
+        (Some(c), _) => View::Camera(camera::parse_camera(c).map_err(anyhow::Error::msg)?),
+        (None, true) => View::Top,
+        (None, false) => View::Auto,
+    };
+    let bsp = scene::open_map(&args.map)?;
+    let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if mode == Mode::ReductionCost && file.is_some() {
+        anyhow::bail!(render::NO_REDUCTION_COST);
+    }
+    let samples = args
+        .samples
+        .as_deref()
+        .map(scene::read_samples)
+        .transpose()?
+        .unwrap_or_default();
+    let graph = file.as_ref().map(|f| f.graph());
+    let scene = scene::Scene::new(&bsp, graph.as_ref(), samples)?;
+    let req = RenderRequest {
+        width,
+        height,
+        supersample: args.supersample,
+        view,
+        style: Style {
+            mode,
+            samples: true,
+            ..Style::default()
+        },
+    };
+    let start = std::time::Instant::now();
+    let pixels = render::render(&scene, &req)?;
+    let png = render::encode_png(&pixels, width, height)?;
+    render::write_atomic(&args.output, &png)?;
+    eprintln!(
+        "vdgview: wrote {} ({width}x{height}, {} wall triangles, {} graph faces, rendered in {:.0} ms)",
+        args.output.display(),
+        scene.walls.len(),
+        scene.graph.as_ref().map_or(0, |g| g.faces.len()),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+/// Parses `WIDTHxHEIGHT`.
+fn parse_size(s: &str) -> Result<(usize, usize)> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--size {s:?}: expected WIDTHxHEIGHT, e.g. 1024x768"))?;
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&v| (16..=8192).contains(&v))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => anyhow::bail!("--size {s:?}: width and height must be 16..8192"),
+    }
 }
