@@ -4,8 +4,11 @@
 
 pub mod camera;
 pub mod check;
+pub mod hud;
 pub mod info;
 pub mod query;
 pub mod raster;
 pub mod render;
 pub mod scene;
+pub mod view;
+pub mod viewer;

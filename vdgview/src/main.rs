@@ -35,6 +35,8 @@ enum Command {
         #[arg(value_name = "COORD", allow_negative_numbers = true, num_args = 0..)]
         coords: Vec<String>,
     },
+    /// Interactive fly-through (software rendered; runs under Xvfb, no GPU).
+    View(ViewArgs),
     /// Headless, deterministic PNG render of a graph inside its map (no GPU needed).
     Render(RenderArgs),
 }
@@ -69,6 +71,27 @@ struct RenderArgs {
     supersample: usize,
 }
 
+#[derive(clap::Args, Debug)]
+struct ViewArgs {
+    #[arg(value_name = "MAP.bsp")]
+    map: PathBuf,
+    #[arg(value_name = "FILE.vdg")]
+    graph: Option<PathBuf>,
+    /// Sample points to draw as black dots (a `bsp2vdg -savesamples` file).
+    #[arg(long, value_name = "FILE")]
+    samples: Option<PathBuf>,
+    /// Window size WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x600")]
+    size: String,
+    /// Console commands to run before the first frame, `;`-separated
+    /// (e.g. "gopos 0 0 64; setang 90 -10; mode 1").
+    #[arg(long, value_name = "COMMANDS")]
+    exec: Option<String>,
+    /// Close after this many frames and print the median frame time.
+    #[arg(long)]
+    frames: Option<u64>,
+}
+
 fn main() {
     let cli = Cli::parse();
     if let Err(e) = run(cli) {
@@ -95,6 +118,7 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Render(args) => run_render(args),
+        Command::View(args) => run_view(args),
     }
 }
 
@@ -146,6 +170,48 @@ fn run_render(args: RenderArgs) -> Result<()> {
         start.elapsed().as_secs_f64() * 1e3
     );
     Ok(())
+}
+
+fn run_view(args: ViewArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    let bsp = scene::open_map(&args.map)?;
+    let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    let samples = args
+        .samples
+        .as_deref()
+        .map(scene::read_samples)
+        .transpose()?
+        .unwrap_or_default();
+    let scene = {
+        let graph = file.as_ref().map(|f| f.graph());
+        scene::Scene::new(&bsp, graph.as_ref(), samples)?
+    };
+    let spawn = bsp
+        .entities
+        .iter()
+        .filter(|e| e.classname().starts_with("info_player"))
+        .find_map(|e| e.origin())
+        .map(glam::Vec3::from);
+    let viewer = vdgview::viewer::Viewer::new(scene, file, spawn);
+    let exec = args
+        .exec
+        .as_deref()
+        .map(|s| {
+            s.split(';')
+                .map(|c| c.trim().to_string())
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .unwrap_or_default();
+    vdgview::view::run(
+        viewer,
+        &vdgview::view::ViewOptions {
+            width,
+            height,
+            exec,
+            frames: args.frames,
+        },
+    )
 }
 
 /// Parses `WIDTHxHEIGHT`.

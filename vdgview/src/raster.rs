@@ -213,25 +213,64 @@ impl Framebuffer {
             return;
         }
         let inv_area = 1.0 / area;
+        // Each barycentric weight is linear along a row: w_i(x) = k_i·x + m_i(y).
+        // Solving w_i ≥ 0 for x gives the row's span, so long thin triangles cost
+        // their area, not their bounding box. The span is widened by a pixel and
+        // every pixel is still tested exactly, so the result does not depend on
+        // the span arithmetic.
+        let edges = [(v[1].p, v[2].p), (v[2].p, v[0].p), (v[0].p, v[1].p)];
+        let k = edges.map(|(a, b)| -(b.y - a.y) * inv_area);
         for y in y0..=y1 as usize {
             let py = y as f32 + 0.5;
-            for x in x0..=x1 as usize {
-                let p = Vec2::new(x as f32 + 0.5, py);
-                // Scaled by 1/area so all three are ≥ 0 inside whatever the winding.
-                let w0 = shared_edge(v[1].p, v[2].p, p) * inv_area;
-                let w1 = shared_edge(v[2].p, v[0].p, p) * inv_area;
-                let w2 = shared_edge(v[0].p, v[1].p, p) * inv_area;
-                if w0 < 0.0 || w1 < 0.0 || w2 < 0.0 {
+            let m = edges.map(|(a, b)| ((b.x - a.x) * (py - a.y) + (b.y - a.y) * a.x) * inv_area);
+            // The span where all weights are ≥ 0, in pixel-centre coordinates.
+            let (mut lo, mut hi) = (f32::NEG_INFINITY, f32::INFINITY);
+            for i in 0..3 {
+                if k[i] > 0.0 {
+                    lo = lo.max(-m[i] / k[i]);
+                } else if k[i] < 0.0 {
+                    hi = hi.min(-m[i] / k[i]);
+                } else if m[i] < 0.0 {
+                    hi = f32::NEG_INFINITY;
+                }
+            }
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                continue;
+            }
+            // Pixels well inside the span are inside; the two at each end are
+            // decided by the exact shared-edge test, so neighbours never leave
+            // a crack between them.
+            let first = (lo - 0.5).ceil();
+            let last = (hi - 0.5).floor();
+            let xa = (first - 1.0).max(x0 as f32) as usize;
+            let xb = (last + 1.0).min(x1 as f32);
+            if xb < xa as f32 {
+                continue;
+            }
+            for x in xa..=xb as usize {
+                let fx = x as f32;
+                let px = fx + 0.5;
+                if fx <= first + 1.0 || fx >= last - 1.0 {
+                    let p = Vec2::new(px, py);
+                    if shared_edge(v[1].p, v[2].p, p) * inv_area < 0.0
+                        || shared_edge(v[2].p, v[0].p, p) * inv_area < 0.0
+                        || shared_edge(v[0].p, v[1].p, p) * inv_area < 0.0
+                    {
+                        continue;
+                    }
+                }
+                let w = [0, 1, 2].map(|i| (k[i] * px + m[i]).max(0.0));
+                let sum = w[0] + w[1] + w[2];
+                if sum <= 0.0 {
                     continue;
                 }
-                let sum = w0 + w1 + w2;
-                let (w0, w1, w2) = (w0 / sum, w1 / sum, w2 / sum);
-                let key = w0 * v[0].key + w1 * v[1].key + w2 * v[2].key;
+                let w = w.map(|wi| wi / sum);
+                let key = w[0] * v[0].key + w[1] * v[1].key + w[2] * v[2].key;
                 let depth = self.view.depth_of_key(key);
                 let i = y * self.width + x;
                 if depth < self.depth[i] {
                     self.depth[i] = depth;
-                    let c = v[0].color * w0 + v[1].color * w1 + v[2].color * w2;
+                    let c = v[0].color * w[0] + v[1].color * w[1] + v[2].color * w[2];
                     self.color[i] = pack(to_rgb(c));
                 }
             }
@@ -355,7 +394,8 @@ fn edge(a: Vec2, b: Vec2, p: Vec2) -> f32 {
 }
 
 fn to_rgb(c: Vec3) -> Rgb {
-    [c.x, c.y, c.z].map(|v| v.round().clamp(0.0, 255.0) as u8)
+    // Not `round()`: that is a libm call per channel per pixel.
+    [c.x, c.y, c.z].map(|v| (v.clamp(0.0, 255.0) + 0.5) as u8)
 }
 
 #[cfg(test)]
