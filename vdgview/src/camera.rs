@@ -91,18 +91,38 @@ impl Camera {
         aspect: f32,
     ) -> Camera {
         let (yaw, pitch) = (225.0f32, -45.0f32);
-        let center = bounds.center();
+        let points: Vec<Vec3> = points.into_iter().collect();
         let mut cam = Camera {
-            pos: center,
+            pos: bounds.center(),
             yaw,
             pitch,
             projection: Projection::Perspective { fov_deg },
         };
         let b = cam.basis();
+        // Aim at the middle of the points' extent across the view (a box's
+        // centre leaves empty corners of an irregular level off-centre).
+        let across = |p: &Vec3| {
+            let d = *p - bounds.center();
+            (d.dot(b.right), d.dot(b.up))
+        };
+        let (mut xr, mut yr) = (
+            (f32::INFINITY, f32::NEG_INFINITY),
+            (f32::INFINITY, f32::NEG_INFINITY),
+        );
+        for p in &points {
+            let (x, y) = across(p);
+            xr = (xr.0.min(x), xr.1.max(x));
+            yr = (yr.0.min(y), yr.1.max(y));
+        }
+        let center = if xr.0 <= xr.1 {
+            bounds.center() + b.right * ((xr.0 + xr.1) * 0.5) + b.up * ((yr.0 + yr.1) * 0.5)
+        } else {
+            bounds.center()
+        };
         let tan_y = (fov_deg.to_radians() * 0.5).tan() * 0.95;
         let tan_x = tan_y * aspect;
         let mut dist = 1.0f32;
-        for p in points {
+        for &p in &points {
             let d = p - center;
             let (x, y, z) = (d.dot(b.right), d.dot(b.up), d.dot(b.forward));
             // The point fits when |x| <= tan_x * (dist + z), likewise for y.
