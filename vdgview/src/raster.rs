@@ -326,15 +326,19 @@ impl Framebuffer {
     /// Writes a `size`-pixel square at `p` where it passes the depth test.
     fn splat(&mut self, p: Vec2, depth: f32, packed: u32, size: usize, bias: f32) {
         let r = size as f32 * 0.5;
-        let x0 = (p.x - r).round();
-        let y0 = (p.y - r).round();
-        for dy in 0..size {
-            for dx in 0..size {
-                let (x, y) = (x0 + dx as f32, y0 + dy as f32);
-                if x < 0.0 || y < 0.0 || x >= self.width as f32 || y >= self.height as f32 {
-                    continue;
-                }
-                let i = y as usize * self.width + x as usize;
+        // floor() without a libm call: shift into positive range and truncate.
+        const SHIFT: f32 = 65536.0;
+        let (fx, fy) = (p.x - r + 0.5, p.y - r + 0.5);
+        if !(fx > -SHIFT && fy > -SHIFT && fx < SHIFT && fy < SHIFT) {
+            return;
+        }
+        let x0 = (fx + SHIFT) as i64 - SHIFT as i64;
+        let y0 = (fy + SHIFT) as i64 - SHIFT as i64;
+        let (w, h) = (self.width as i64, self.height as i64);
+        for y in y0.max(0)..(y0 + size as i64).min(h) {
+            let row = y as usize * self.width;
+            for x in x0.max(0)..(x0 + size as i64).min(w) {
+                let i = row + x as usize;
                 if depth - bias <= self.depth[i] {
                     self.color[i] = packed;
                     self.depth[i] = self.depth[i].min(depth);

@@ -65,6 +65,8 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
     let mut last_mouse: Option<(f32, f32)> = None;
     let mut last = Instant::now();
     let mut frames = 0u64;
+    let cpu_start = process_cpu_seconds();
+    let wall_start = Instant::now();
     while window.is_open() && !viewer.quit {
         let now = Instant::now();
         let dt = (now - last).as_secs_f32().min(0.1);
@@ -119,14 +121,36 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
         }
     }
     if let Some(t) = viewer.median_frame() {
+        let wall = wall_start.elapsed().as_secs_f64();
+        let cpu = match (cpu_start, process_cpu_seconds()) {
+            (Some(a), Some(b)) if frames > 0 => {
+                format!(
+                    ", process CPU {:.1} ms/frame",
+                    (b - a) * 1e3 / frames as f64
+                )
+            }
+            _ => String::new(),
+        };
         println!(
-            "vdgview: {frames} frames, median draw time {:.2} ms ({}x{})",
-            t.as_secs_f64() * 1e3,
+            "vdgview: {frames} frames in {wall:.1} s ({}x{}): median draw {:.1} ms{cpu}",
             opts.width,
-            opts.height
+            opts.height,
+            t.as_secs_f64() * 1e3,
         );
     }
     Ok(())
+}
+
+/// User + system CPU time of this process from `/proc/self/stat` (Linux), so
+/// the frame cost can be told apart from waiting on a busy machine.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are the
+    // 14th and 15th fields overall, in clock ticks (100 per second on Linux).
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
 }
 
 /// Edits the console line; true when it closes (Enter runs it, Esc drops it).
