@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # Proves the interactive viewer runs without a GPU: starts a virtual X server
 # (Xvfb), runs `vdgview view` on a generated map and its graph, grabs the
-# screen with xwd and writes a PNG. Installs what it needs (fresh CI machines).
+# viewer's window with xwd and writes a PNG. Installs what it needs (fresh CI
+# machines): the viewer itself needs only libX11/libXcursor at run time (dlopen),
+# no GPU and no OpenGL — it shows vdgview's own software framebuffer.
 #
 # usage: scripts/vdgview-screenshot.sh [MAP.bsp] [OUT.png] [VIEW COMMANDS]
 #   defaults: testdata/maps/complex.bsp, target/vdgview-screenshot.png,
-#             a view into the map's largest room in clearance mode.
+#             a view into a room, wireframe mode, a marked point and its path;
+#             then xdotool types a console command (Tab, "clearance", Enter)
+#             and presses K, so keyboard input is proven too.
 # Prints the viewer's median frame time (software rendering, 960x600).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,11 +21,11 @@ DISPLAY_NUM=${VDGVIEW_DISPLAY:-:97}
 SIZE=960x600
 
 need() { command -v "$1" >/dev/null 2>&1; }
-if ! need Xvfb || ! need xwd || [ ! -x /usr/bin/convert ]; then
-    echo "installing xvfb, x11-apps (xwd), imagemagick ..." >&2
+if ! need Xvfb || ! need xwd || ! need xdpyinfo || ! need xdotool || [ ! -x /usr/bin/convert ]; then
+    echo "installing xvfb, x11-apps (xwd), x11-utils (xdpyinfo), xdotool, imagemagick ..." >&2
     SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq xvfb x11-apps imagemagick >/dev/null
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq xvfb x11-apps x11-utils xdotool imagemagick >/dev/null
 fi
 
 cargo build --release -q -p bsp2vdg -p vdgview
@@ -49,11 +53,22 @@ DISPLAY=$DISPLAY_NUM xdpyinfo >/dev/null 2>&1 || { echo "Xvfb did not start" >&2
 # The viewer runs 60 frames (several seconds of software rendering), long
 # enough for the grab below; it prints its median frame time when it closes.
 DISPLAY=$DISPLAY_NUM ./target/release/vdgview view "$MAP" "$GRAPH" \
-    --samples "${GRAPH%.vdg}.samples.txt" --size $SIZE --exec "$EXEC; stats" --frames 60 \
+    --samples "${GRAPH%.vdg}.samples.txt" --size $SIZE --exec "$EXEC; stats" --frames 100 \
     >"$WORK/view.log" 2>&1 &
 VIEW_PID=$!
-sleep 4
+sleep 2
 kill -0 "$VIEW_PID" 2>/dev/null || { echo "the viewer exited early:" >&2; cat "$WORK/view.log" >&2; exit 1; }
+# Keyboard: open the console, run `clearance` (reports the crosshair point), close
+# it, then K hides the samples. Each key is held across a few frames.
+WID=$(DISPLAY=$DISPLAY_NUM xdotool search --name '^vdgview$' | head -1)
+DISPLAY=$DISPLAY_NUM xdotool windowfocus --sync "$WID" 2>/dev/null || true
+for k in Tab c l e a r a n c e Return k; do
+    DISPLAY=$DISPLAY_NUM xdotool keydown --window "$WID" "$k"
+    sleep 0.25
+    DISPLAY=$DISPLAY_NUM xdotool keyup --window "$WID" "$k"
+    sleep 0.1
+done
+sleep 1
 mkdir -p "$(dirname "$OUT")"
 # Grab the viewer's window (Xvfb runs no window manager, so it sits wherever X put it).
 DISPLAY=$DISPLAY_NUM xwd -name vdgview -silent >"$WORK/screen.xwd"
