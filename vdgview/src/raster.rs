@@ -294,9 +294,25 @@ impl Framebuffer {
             self.view.project(ca, Vec3::ZERO),
             self.view.project(cb, Vec3::ZERO),
         );
-        let d = sb.p - sa.p;
+        // Clip the projected segment to the image (plus the line's width), so a
+        // line reaching far off-screen costs only its visible pixels.
+        let margin = thickness as f32 + 1.0;
+        let Some((t0, t1)) = clip_to_rect(
+            sa.p,
+            sb.p,
+            Vec2::splat(-margin),
+            Vec2::new(self.width as f32 + margin, self.height as f32 + margin),
+        ) else {
+            return;
+        };
+        let (pa, pb) = (sa.p.lerp(sb.p, t0), sa.p.lerp(sb.p, t1));
+        let (ka, kb) = (
+            sa.key + (sb.key - sa.key) * t0,
+            sa.key + (sb.key - sa.key) * t1,
+        );
+        let d = pb - pa;
         let steps = d.x.abs().max(d.y.abs()).ceil();
-        if !steps.is_finite() || steps > 1e5 {
+        if !steps.is_finite() {
             return;
         }
         let steps = steps as usize + 1;
@@ -307,8 +323,8 @@ impl Framebuffer {
             } else {
                 s as f32 / (steps - 1) as f32
             };
-            let p = sa.p + d * t;
-            let depth = self.view.depth_of_key(sa.key + (sb.key - sa.key) * t);
+            let p = pa + d * t;
+            let depth = self.view.depth_of_key(ka + (kb - ka) * t);
             self.splat(p, depth, packed, thickness, bias);
         }
     }
@@ -379,6 +395,32 @@ impl Framebuffer {
         }
         out
     }
+}
+
+/// Liang–Barsky: the parameter range of segment a→b inside the box [lo, hi].
+fn clip_to_rect(a: Vec2, b: Vec2, lo: Vec2, hi: Vec2) -> Option<(f32, f32)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for (p, q) in [
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then_some((t0, t1))
 }
 
 /// [`edge`] evaluated with the edge's endpoints in a canonical order, so the two
@@ -476,6 +518,30 @@ mod tests {
         assert_eq!(
             fb.color.iter().filter(|&&c| c == pack([0, 255, 0])).count(),
             9
+        );
+    }
+
+    #[test]
+    fn lines_far_off_screen_are_clipped_not_dropped() {
+        let mut fb = Framebuffer::new(64, 64, &camera(), [0, 0, 0]);
+        // Crosses the whole view and reaches ~1e6 pixels beyond it on both sides.
+        fb.line(
+            Vec3::new(0.0, -1e6, 0.0),
+            Vec3::new(0.0, 1e6, 0.0),
+            [255, 0, 0],
+            1,
+            0.0,
+        );
+        let red = fb.color.iter().filter(|&&c| c == pack([255, 0, 0])).count();
+        assert!((60..=70).contains(&red), "{red}");
+        assert_eq!(
+            clip_to_rect(
+                Vec2::new(-10.0, 5.0),
+                Vec2::new(-5.0, 5.0),
+                Vec2::ZERO,
+                Vec2::splat(10.0)
+            ),
+            None
         );
     }
 
