@@ -180,12 +180,14 @@ pub fn read_samples(path: &Path) -> Result<Vec<Vec3>> {
 
 /// Opens a map with a one-line error naming the file.
 pub fn open_map(path: &Path) -> Result<Bsp> {
-    Bsp::open(path).with_context(|| format!("cannot read map {}", path.display()))
+    // The error's own Display already names its cause; no source chain.
+    Bsp::open(path).map_err(|e| anyhow::anyhow!("cannot read map {}: {e}", path.display()))
 }
 
 /// Opens a graph with a one-line error naming the file.
 pub fn open_graph(path: &Path) -> Result<vdgformat::VdgFile> {
-    vdgformat::VdgFile::open(path).with_context(|| format!("cannot read graph {}", path.display()))
+    vdgformat::VdgFile::open(path)
+        .map_err(|e| anyhow::anyhow!("cannot read graph {}: {e}", path.display()))
 }
 
 #[cfg(test)]

@@ -89,7 +89,10 @@ impl Viewer {
             quit: false,
             screenshot: None,
         };
-        v.say("vdgview: press Tab for the console, type help for commands");
+        // On screen only: printing it before the window exists would be noise
+        // when the window cannot open.
+        v.messages
+            .push("vdgview: press Tab for the console, type help for commands".into());
         v
     }
 
