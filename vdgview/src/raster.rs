@@ -164,6 +164,17 @@ impl Framebuffer {
     /// A z-buffered triangle with colours (0..=255 floats) interpolated per vertex.
     pub fn triangle(&mut self, pts: [Vec3; 3], colors: [Vec3; 3]) {
         let cam = pts.map(|p| self.view.camera_space(p));
+        self.triangle_in_camera_space(cam, colors);
+    }
+
+    /// World → camera space (x right, y up, z forward), for callers that
+    /// transform shared vertices once per frame.
+    pub fn camera_space(&self, p: Vec3) -> Vec3 {
+        self.view.camera_space(p)
+    }
+
+    /// [`Self::triangle`] with vertices already in camera space.
+    pub fn triangle_in_camera_space(&mut self, cam: [Vec3; 3], colors: [Vec3; 3]) {
         let near = self.view.near();
         let inside = cam.map(|c| c.z >= near);
         if inside.iter().all(|&i| i) {
@@ -280,7 +291,19 @@ impl Framebuffer {
     /// A depth-tested line, `thickness` pixels wide. `bias` (world units) lets a
     /// line lying on a surface show through it.
     pub fn line(&mut self, a: Vec3, b: Vec3, color: Rgb, thickness: usize, bias: f32) {
-        let (mut ca, mut cb) = (self.view.camera_space(a), self.view.camera_space(b));
+        let (ca, cb) = (self.view.camera_space(a), self.view.camera_space(b));
+        self.line_in_camera_space(ca, cb, color, thickness, bias);
+    }
+
+    /// [`Self::line`] with endpoints already in camera space.
+    pub fn line_in_camera_space(
+        &mut self,
+        mut ca: Vec3,
+        mut cb: Vec3,
+        color: Rgb,
+        thickness: usize,
+        bias: f32,
+    ) {
         let near = self.view.near();
         if ca.z < near && cb.z < near {
             return;

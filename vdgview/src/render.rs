@@ -99,21 +99,21 @@ pub fn draw_scene(fb: &mut Framebuffer, scene: &Scene, style: &Style) -> Result<
             Mode::Hidden => {}
             Mode::ReductionCost => bail!(NO_REDUCTION_COST),
             Mode::Clearance => {
+                // Shared vertices are transformed once per frame, not per face.
+                let cam: Vec<Vec3> = g.positions.iter().map(|&p| fb.camera_space(p)).collect();
                 for f in &g.faces {
                     let idx = f.map(|v| v as usize);
-                    let pts = idx.map(|i| g.positions[i]);
-                    let colors = idx.map(|i| ramp(g.clearance_t(g.clearances[i])));
-                    fb.triangle(pts, colors);
+                    fb.triangle_in_camera_space(idx.map(|i| cam[i]), idx.map(|i| g.colours[i]));
                 }
             }
             Mode::Wireframe => {
+                let cam: Vec<Vec3> = g.positions.iter().map(|&p| fb.camera_space(p)).collect();
                 for &[a, b] in &g.edges {
                     let (a, b) = (a as usize, b as usize);
-                    let t = g.clearance_t((g.clearances[a] + g.clearances[b]) * 0.5);
-                    let c = ramp(t);
-                    fb.line(
-                        g.positions[a],
-                        g.positions[b],
+                    let c = (g.colours[a] + g.colours[b]) * 0.5;
+                    fb.line_in_camera_space(
+                        cam[a],
+                        cam[b],
                         [c.x, c.y, c.z].map(|v| v as u8),
                         style.pixel,
                         0.0,

@@ -29,6 +29,8 @@ pub struct GraphMesh {
     pub edges: Vec<[u32; 2]>,
     /// The clearance mapped to red (2nd percentile) and to blue (98th).
     pub colour_range: (f32, f32),
+    /// Each vertex's clearance colour (0..=255 floats), computed once.
+    pub colours: Vec<Vec3>,
 }
 
 /// Everything drawable.
@@ -120,13 +122,20 @@ impl GraphMesh {
         edges.sort_unstable();
         edges.dedup();
         let colour_range = percentile_range(&clearances);
-        GraphMesh {
+        let mut mesh = GraphMesh {
             positions,
             clearances,
             faces,
             edges,
             colour_range,
-        }
+            colours: Vec::new(),
+        };
+        mesh.colours = mesh
+            .clearances
+            .iter()
+            .map(|&c| crate::render::ramp(mesh.clearance_t(c)))
+            .collect();
+        mesh
     }
 
     /// 0 for small clearance (red) … 1 for large (blue).
