@@ -50,28 +50,29 @@ for _ in $(seq 50); do
 done
 DISPLAY=$DISPLAY_NUM xdpyinfo >/dev/null 2>&1 || { echo "Xvfb did not start" >&2; cat "$WORK/xvfb.log" >&2; exit 1; }
 
-# The viewer runs 60 frames (several seconds of software rendering), long
-# enough for the grab below; it prints its median frame time when it closes.
+# The viewer runs for 15 s, long enough for the keys and the grab below; it
+# prints its median frame time when it closes.
 DISPLAY=$DISPLAY_NUM ./target/release/vdgview view "$MAP" "$GRAPH" \
-    --samples "${GRAPH%.vdg}.samples.txt" --size $SIZE --exec "$EXEC; stats" --frames 100 \
+    --samples "${GRAPH%.vdg}.samples.txt" --size $SIZE --exec "$EXEC; stats" --seconds 15 \
     >"$WORK/view.log" 2>&1 &
 VIEW_PID=$!
 sleep 2
 kill -0 "$VIEW_PID" 2>/dev/null || { echo "the viewer exited early:" >&2; cat "$WORK/view.log" >&2; exit 1; }
 # Keyboard: open the console, run `clearance` (reports the crosshair point), close
 # it, then K hides the samples. Each key is held across a few frames.
-WID=$(DISPLAY=$DISPLAY_NUM xdotool search --name '^vdgview$' | head -1)
-DISPLAY=$DISPLAY_NUM xdotool windowfocus --sync "$WID" 2>/dev/null || true
+# Keys go through XTEST to the focused window (Xvfb runs no window manager,
+# so the script focuses it itself).
+export DISPLAY=$DISPLAY_NUM
+WID=$(xdotool search --sync --name '^vdgview$' | tail -1)
+xdotool windowfocus --sync "$WID" || echo "warning: could not focus the viewer" >&2
 for k in Tab c l e a r a n c e Return k; do
-    DISPLAY=$DISPLAY_NUM xdotool keydown --window "$WID" "$k"
-    sleep 0.25
-    DISPLAY=$DISPLAY_NUM xdotool keyup --window "$WID" "$k"
-    sleep 0.1
+    xdotool keydown "$k" && sleep 0.25 && xdotool keyup "$k" && sleep 0.1 ||
+        echo "warning: xdotool could not press $k" >&2
 done
 sleep 1
 mkdir -p "$(dirname "$OUT")"
 # Grab the viewer's window (Xvfb runs no window manager, so it sits wherever X put it).
-DISPLAY=$DISPLAY_NUM xwd -name vdgview -silent >"$WORK/screen.xwd"
+xwd -name vdgview -silent >"$WORK/screen.xwd"
 /usr/bin/convert "$WORK/screen.xwd" "$OUT"
 wait "$VIEW_PID"
 VIEW_PID=""

@@ -90,6 +90,9 @@ struct ViewArgs {
     /// Close after this many frames and print the median frame time.
     #[arg(long)]
     frames: Option<u64>,
+    /// Close after this many seconds and print the median frame time.
+    #[arg(long)]
+    seconds: Option<f64>,
 }
 
 fn main() {
@@ -210,6 +213,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
             height,
             exec,
             frames: args.frames,
+            seconds: args.seconds,
         },
     )
 }

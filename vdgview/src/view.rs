@@ -22,6 +22,8 @@ pub struct ViewOptions {
     pub exec: Vec<String>,
     /// Close after this many frames (for scripted screenshots and timing).
     pub frames: Option<u64>,
+    /// Close after this many seconds.
+    pub seconds: Option<f64>,
 }
 
 /// Units per second; Shift multiplies by 4.
@@ -116,7 +118,11 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             .update_with_buffer(&fb.color, fb.width, fb.height)
             .context("cannot show the frame")?;
         frames += 1;
-        if opts.frames.is_some_and(|n| frames >= n) {
+        if opts.frames.is_some_and(|n| frames >= n)
+            || opts
+                .seconds
+                .is_some_and(|s| wall_start.elapsed().as_secs_f64() >= s)
+        {
             break;
         }
     }
