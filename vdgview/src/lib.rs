@@ -1,5 +1,34 @@
 //! vdgview: the tool a level designer opens after a compile. It measures a `.vdg`
 //! against its map's own BSP (`check`), and (issue 7) inspects, queries, renders and
 //! flies through it. One module per subcommand.
+//!
+//! Issue 7's part: `info` and `query` (thin layers over `vdgformat`'s runtime
+//! queries), `render` (a headless, deterministic PNG from our own software
+//! rasterizer: [`raster`] draws, [`render`] decides what, [`camera`] frames,
+//! [`scene`] loads map walls, graph and samples) and `view` (the same
+//! framebuffer in a minifb window: [`viewer`] is the window-independent state
+//! and console, [`view`] the event loop, [`hud`] the text).
+//!
+//! ```
+//! use vdgview::camera::Camera;
+//! use vdgview::raster::Framebuffer;
+//! use glam::Vec3;
+//!
+//! // One red triangle in front of a camera at the origin looking along +x.
+//! let cam = Camera::look_at(Vec3::ZERO, Vec3::X, 90.0);
+//! let mut fb = Framebuffer::new(32, 32, &cam, [0, 0, 0]);
+//! let tri = [Vec3::new(50.0, -40.0, -40.0), Vec3::new(50.0, 40.0, -40.0), Vec3::new(50.0, 0.0, 40.0)];
+//! fb.triangle(tri, [Vec3::new(255.0, 0.0, 0.0); 3]);
+//! assert_eq!(fb.color[16 * 32 + 16], 0xff0000);
+//! ```
 
+pub mod camera;
 pub mod check;
+pub mod hud;
+pub mod info;
+pub mod query;
+pub mod raster;
+pub mod render;
+pub mod scene;
+pub mod view;
+pub mod viewer;

@@ -4,6 +4,8 @@ use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use vdgview::check::{CheckOptions, check};
+use vdgview::render::{Mode, RenderRequest, Style, View};
+use vdgview::{camera, info, query, render, scene};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -38,12 +40,87 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Counts, bounds, clearance histogram, build options and source map of a .vdg.
+    Info {
+        #[arg(value_name = "FILE.vdg")]
+        graph: PathBuf,
+    },
+    /// Runtime queries: `clearance X Y Z`, `visible X1 Y1 Z1 X2 Y2 Z2`, `path X1 Y1 Z1 X2 Y2 Z2`.
+    Query {
+        #[arg(value_name = "FILE.vdg")]
+        graph: PathBuf,
+        /// clearance, visible or path.
+        #[arg(value_name = "QUERY")]
+        kind: String,
+        /// The point(s): 3 numbers for clearance, 6 for visible and path.
+        #[arg(value_name = "COORD", allow_negative_numbers = true, num_args = 0..)]
+        coords: Vec<String>,
+    },
+    /// Interactive fly-through (software rendered; runs under Xvfb, no GPU).
+    View(ViewArgs),
+    /// Headless, deterministic PNG render of a graph inside its map (no GPU needed).
+    Render(RenderArgs),
+}
+
+#[derive(clap::Args, Debug)]
+struct RenderArgs {
+    #[arg(value_name = "MAP.bsp")]
+    map: PathBuf,
+    /// The graph (leave out to draw the map alone).
+    #[arg(value_name = "FILE.vdg")]
+    graph: Option<PathBuf>,
+    /// Output PNG.
+    #[arg(short, long, value_name = "OUT.png")]
+    output: PathBuf,
+    /// 1 wireframe, 2 reduction cost, 3 faces coloured by clearance (blue large, red small), 0 map only.
+    #[arg(long, default_value_t = 3)]
+    mode: u32,
+    /// Sample points to draw as black dots (a `bsp2vdg -savesamples` file).
+    #[arg(long, value_name = "FILE")]
+    samples: Option<PathBuf>,
+    /// Camera as X,Y,Z:TX,TY,TZ[:FOV] (position, target, vertical fov in degrees); default: framed automatically.
+    #[arg(long, value_name = "POS:TARGET:FOV", conflicts_with = "top")]
+    camera: Option<String>,
+    /// Top-down orthographic overview.
+    #[arg(long)]
+    top: bool,
+    /// Image size WIDTHxHEIGHT.
+    #[arg(long, default_value = "1024x768")]
+    size: String,
+    /// Supersampling factor (1 = off) for smoother edges.
+    #[arg(long, default_value_t = 2)]
+    supersample: usize,
+}
+
+#[derive(clap::Args, Debug)]
+struct ViewArgs {
+    #[arg(value_name = "MAP.bsp")]
+    map: PathBuf,
+    #[arg(value_name = "FILE.vdg")]
+    graph: Option<PathBuf>,
+    /// Sample points to draw as black dots (a `bsp2vdg -savesamples` file).
+    #[arg(long, value_name = "FILE")]
+    samples: Option<PathBuf>,
+    /// Window size WIDTHxHEIGHT.
+    #[arg(long, default_value = "960x600")]
+    size: String,
+    /// Console commands to run before the first frame, `;`-separated
+    /// (e.g. "gopos 0 0 64; setang 90 -10; mode 1").
+    #[arg(long, value_name = "COMMANDS")]
+    exec: Option<String>,
+    /// Close after this many frames and print the median frame time.
+    #[arg(long)]
+    frames: Option<u64>,
+    /// Close after this many seconds and print the median frame time.
+    #[arg(long)]
+    seconds: Option<f64>,
 }
 
 fn main() {
     let cli = Cli::parse();
     match run(cli) {
         Ok(true) => {}
+        // A negative verdict (e.g. a failed check) after its report was printed.
         Ok(false) => std::process::exit(1),
         Err(e) => {
             eprintln!("vdgview: error: {e:#}");
@@ -52,7 +129,7 @@ fn main() {
     }
 }
 
-/// Returns whether the command's verdict was positive.
+/// Returns the command's verdict: false when a check failed.
 fn run(cli: Cli) -> Result<bool> {
     match cli.command {
         Command::Check {
@@ -62,60 +139,196 @@ fn run(cli: Cli) -> Result<bool> {
             seed,
             liquids_solid,
             json,
-        } => {
-            if samples == 0 {
-                bail!("--samples must be at least 1");
-            }
-            let bsp = bsp2vdg::bsp::Bsp::open(&map).with_context(|| map.display().to_string())?;
-            let file = vdgformat::VdgFile::open(&vdg).with_context(|| vdg.display().to_string())?;
-            let bytes = std::fs::metadata(&vdg)
-                .map(|m| m.len() as usize)
-                .unwrap_or(0);
-            let options = CheckOptions {
-                samples,
-                seed,
-                liquids_are_solid: liquids_solid,
-                ..Default::default()
-            };
-            let r = check(&bsp, &file.graph(), bytes, &options);
-            if json {
-                println!("{}", r.to_json());
-            } else {
-                println!("check {} against {}", vdg.display(), map.display());
-                println!(
-                    "  graph      {} vertices, {} faces, {} bytes",
-                    r.vertices, r.faces, r.bytes
-                );
-                println!(
-                    "  leak       {:.6}  ({} of {} volume points in walls)",
-                    r.leak(),
-                    r.leaked,
-                    r.leak_points
-                );
-                println!(
-                    "  coverage   {:.4}  ({} of {} free points with clearance >= {} inside)",
-                    r.coverage(),
-                    r.covered,
-                    r.coverage_points,
-                    options.coverage_clearance
-                );
-                println!(
-                    "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside)",
-                    r.visible_fp(),
-                    r.false_positives,
-                    r.segments - r.free_segments,
-                    r.visible_fn(),
-                    r.false_negatives,
-                    r.free_segments,
-                    r.visible_fn_inside()
-                );
-                println!(
-                    "  {} in {:.1} s",
-                    if r.passed() { "PASSED" } else { "FAILED" },
-                    r.seconds
-                );
-            }
-            Ok(r.passed())
+        } => run_check(&map, &vdg, samples, seed, liquids_solid, json),
+        Command::Info { graph } => {
+            let file = scene::open_graph(&graph)?;
+            print!("{}", info::summary(&file.graph()));
+            Ok(true)
         }
+        Command::Query {
+            graph,
+            kind,
+            coords,
+        } => {
+            let q = query::Query::parse(&kind, &coords)?;
+            let file = scene::open_graph(&graph)?;
+            print!("{}", q.run(&file.graph()));
+            Ok(true)
+        }
+        Command::Render(args) => run_render(args).map(|()| true),
+        Command::View(args) => run_view(args).map(|()| true),
+    }
+}
+
+fn run_check(
+    map: &std::path::Path,
+    vdg: &std::path::Path,
+    samples: usize,
+    seed: u64,
+    liquids_solid: bool,
+    json: bool,
+) -> Result<bool> {
+    if samples == 0 {
+        bail!("--samples must be at least 1");
+    }
+    let bsp = scene::open_map(map)?;
+    let file = scene::open_graph(vdg)?;
+    let bytes = std::fs::metadata(vdg)
+        .map(|m| m.len() as usize)
+        .unwrap_or(0);
+    let options = CheckOptions {
+        samples,
+        seed,
+        liquids_are_solid: liquids_solid,
+        ..Default::default()
+    };
+    let r = check(&bsp, &file.graph(), bytes, &options);
+    if json {
+        println!("{}", r.to_json());
+    } else {
+        println!("check {} against {}", vdg.display(), map.display());
+        println!(
+            "  graph      {} vertices, {} faces, {} bytes",
+            r.vertices, r.faces, r.bytes
+        );
+        println!(
+            "  leak       {:.6}  ({} of {} volume points in walls)",
+            r.leak(),
+            r.leaked,
+            r.leak_points
+        );
+        println!(
+            "  coverage   {:.4}  ({} of {} free points with clearance >= {} inside)",
+            r.coverage(),
+            r.covered,
+            r.coverage_points,
+            options.coverage_clearance
+        );
+        println!(
+            "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside)",
+            r.visible_fp(),
+            r.false_positives,
+            r.segments - r.free_segments,
+            r.visible_fn(),
+            r.false_negatives,
+            r.free_segments,
+            r.visible_fn_inside()
+        );
+        println!(
+            "  {} in {:.1} s",
+            if r.passed() { "PASSED" } else { "FAILED" },
+            r.seconds
+        );
+    }
+    Ok(r.passed())
+}
+
+fn run_render(args: RenderArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    let mode = Mode::from_number(args.mode)
+        .with_context(|| format!("--mode {}: expected 0, 1, 2 or 3", args.mode))?;
+    if !(1..=4).contains(&args.supersample) {
+        anyhow::bail!("--supersample {}: expected 1..4", args.supersample);
+    }
+    let view = match (&args.camera, args.top) {
+        (Some(c), _) => View::Camera(camera::parse_camera(c).map_err(anyhow::Error::msg)?),
+        (None, true) => View::Top,
+        (None, false) => View::Auto,
+    };
+    let bsp = scene::open_map(&args.map)?;
+    let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if mode == Mode::ReductionCost && file.is_some() {
+        anyhow::bail!(render::NO_REDUCTION_COST);
+    }
+    let samples = args
+        .samples
+        .as_deref()
+        .map(scene::read_samples)
+        .transpose()?
+        .unwrap_or_default();
+    let graph = file.as_ref().map(|f| f.graph());
+    let scene = scene::Scene::new(&bsp, graph.as_ref(), samples)?;
+    let req = RenderRequest {
+        width,
+        height,
+        supersample: args.supersample,
+        view,
+        style: Style {
+            mode,
+            samples: true,
+            ..Style::default()
+        },
+    };
+    let start = std::time::Instant::now();
+    let pixels = render::render(&scene, &req)?;
+    let png = render::encode_png(&pixels, width, height)?;
+    render::write_atomic(&args.output, &png)?;
+    eprintln!(
+        "vdgview: wrote {} ({width}x{height}, {} wall triangles, {} graph faces, rendered in {:.0} ms)",
+        args.output.display(),
+        scene.walls.len(),
+        scene.graph.as_ref().map_or(0, |g| g.faces.len()),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(())
+}
+
+fn run_view(args: ViewArgs) -> Result<()> {
+    let (width, height) = parse_size(&args.size)?;
+    let bsp = scene::open_map(&args.map)?;
+    let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    let samples = args
+        .samples
+        .as_deref()
+        .map(scene::read_samples)
+        .transpose()?
+        .unwrap_or_default();
+    let scene = {
+        let graph = file.as_ref().map(|f| f.graph());
+        scene::Scene::new(&bsp, graph.as_ref(), samples)?
+    };
+    let spawn = bsp
+        .entities
+        .iter()
+        .filter(|e| e.classname().starts_with("info_player"))
+        .find_map(|e| e.origin())
+        .map(glam::Vec3::from);
+    let viewer = vdgview::viewer::Viewer::new(scene, file, spawn);
+    let exec = args
+        .exec
+        .as_deref()
+        .map(|s| {
+            s.split(';')
+                .map(|c| c.trim().to_string())
+                .filter(|c| !c.is_empty())
+                .collect()
+        })
+        .unwrap_or_default();
+    vdgview::view::run(
+        viewer,
+        &vdgview::view::ViewOptions {
+            width,
+            height,
+            exec,
+            frames: args.frames,
+            seconds: args.seconds,
+        },
+    )
+}
+
+/// Parses `WIDTHxHEIGHT`.
+fn parse_size(s: &str) -> Result<(usize, usize)> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--size {s:?}: expected WIDTHxHEIGHT, e.g. 1024x768"))?;
+    let parse = |t: &str| {
+        t.trim()
+            .parse::<usize>()
+            .ok()
+            .filter(|&v| (16..=8192).contains(&v))
+    };
+    match (parse(w), parse(h)) {
+        (Some(w), Some(h)) => Ok((w, h)),
+        _ => anyhow::bail!("--size {s:?}: width and height must be 16..8192"),
     }
 }

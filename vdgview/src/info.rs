@@ -1,0 +1,136 @@
+//! `vdgview info`: the thesis' `stats` for a `.vdg` file — counts, bounds, a
+//! clearance histogram, and the build options and source map recorded in the
+//! metadata.
+
+use std::fmt::Write;
+use vdgformat::Vdg;
+
+/// Number of histogram bins.
+const BINS: usize = 10;
+
+/// A human-readable summary of a graph.
+pub fn summary(g: &Vdg<'_>) -> String {
+    let info = g.info();
+    let mut s = String::new();
+    let _ = writeln!(s, "vertices       {}", info.vertex_count);
+    let _ = writeln!(s, "faces          {}", info.face_count);
+    let edges: usize = (0..g.vertex_count() as u32)
+        .map(|v| g.vertex_neighbours(v).len())
+        .sum::<usize>()
+        / 2;
+    let _ = writeln!(s, "edges          {edges}");
+    let _ = writeln!(
+        s,
+        "tree nodes     {} (leaf size {})",
+        info.tree_node_count, info.leaf_size
+    );
+    let _ = writeln!(
+        s,
+        "vertex bounds  {} .. {}",
+        fmt3(info.vertex_min),
+        fmt3(info.vertex_max)
+    );
+    let _ = writeln!(
+        s,
+        "volume bounds  {} .. {}",
+        fmt3(info.volume_min),
+        fmt3(info.volume_max)
+    );
+    let _ = writeln!(s, "source hash    {:016x}", info.source_hash);
+    let c: Vec<f32> = g.vertices().iter().map(|v| v.clearance).collect();
+    if !c.is_empty() {
+        let mut sorted = c.clone();
+        sorted.sort_unstable_by(f32::total_cmp);
+        let mean = c.iter().map(|&x| f64::from(x)).sum::<f64>() / c.len() as f64;
+        let _ = writeln!(
+            s,
+            "clearance      min {:.2}  median {:.2}  mean {:.2}  max {:.2}",
+            sorted[0],
+            sorted[sorted.len() / 2],
+            mean,
+            sorted[sorted.len() - 1]
+        );
+        let _ = writeln!(s, "clearance histogram (vertices):");
+        s.push_str(&histogram(&sorted));
+    }
+    let _ = writeln!(s, "metadata:");
+    let mut any = false;
+    for (k, v) in g.metadata() {
+        any = true;
+        let _ = writeln!(s, "  {k} = {v}");
+    }
+    if !any {
+        let _ = writeln!(s, "  (none)");
+    }
+    s
+}
+
+/// A text histogram of sorted values in [`BINS`] equal-width bins.
+fn histogram(sorted: &[f32]) -> String {
+    let (lo, hi) = (sorted[0], sorted[sorted.len() - 1]);
+    let width = if hi > lo {
+        (hi - lo) / BINS as f32
+    } else {
+        1.0
+    };
+    let mut counts = [0usize; BINS];
+    for &x in sorted {
+        let b = (((x - lo) / width) as usize).min(BINS - 1);
+        counts[b] += 1;
+    }
+    let peak = counts.iter().copied().max().unwrap_or(1).max(1);
+    let mut s = String::new();
+    for (i, &n) in counts.iter().enumerate() {
+        let a = lo + width * i as f32;
+        let bar = "#".repeat((n * 40).div_ceil(peak));
+        let _ = writeln!(s, "  {:>9.2} .. {:>9.2} {:>9} {bar}", a, a + width, n);
+    }
+    s
+}
+
+fn fmt3(v: [f32; 3]) -> String {
+    format!("({:.1}, {:.1}, {:.1})", v[0], v[1], v[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vdgformat::{VdgBuilder, VdgFile};
+
+    #[test]
+    fn summary_counts_and_bins() {
+        let mut b = VdgBuilder::new();
+        let v: Vec<u32> = [
+            [0.0, 0.0, 1.0],
+            [100.0, 0.0, 5.0],
+            [0.0, 100.0, 9.0],
+            [100.0, 100.0, 9.0],
+        ]
+        .iter()
+        .map(|&[x, y, c]| b.add_vertex([x, y, 0.0], c))
+        .collect();
+        b.add_face([v[0], v[1], v[2]]);
+        b.add_face([v[1], v[3], v[2]]);
+        b.set_metadata("source.name", "m.bsp");
+        let file = VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+        let s = summary(&file.graph());
+        assert!(s.contains("vertices       4"), "{s}");
+        assert!(s.contains("faces          2"), "{s}");
+        assert!(s.contains("edges          5"), "{s}");
+        assert!(s.contains("min 1.00"), "{s}");
+        assert!(s.contains("max 9.00"), "{s}");
+        // 4 vertices over the bins.
+        let total: usize = s
+            .lines()
+            .filter(|l| l.contains(" .. ") && !l.contains('('))
+            .map(|l| {
+                l.split_whitespace()
+                    .nth(3)
+                    .unwrap()
+                    .parse::<usize>()
+                    .unwrap()
+            })
+            .sum();
+        assert_eq!(total, 4, "{s}");
+    }
+}
