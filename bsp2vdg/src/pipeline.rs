@@ -126,6 +126,8 @@ pub enum CompileError {
         error: std::io::Error,
     },
     Delaunay(crate::delaunay::DelaunayError),
+    /// Too few samples: the map has (almost) no walls around free space.
+    NoFreeSpace(usize),
     Vdg {
         path: PathBuf,
         error: String,
@@ -141,6 +143,10 @@ impl fmt::Display for CompileError {
                 write!(f, "cannot write {}: {error}", path.display())
             }
             CompileError::Delaunay(e) => write!(f, "Delaunay stage: {e}"),
+            CompileError::NoFreeSpace(n) => write!(
+                f,
+                "the map has no walls around free space to build a graph from ({n} samples; is it sealed, with no empty leaves?)"
+            ),
             CompileError::Vdg { path, error } => {
                 write!(f, "cannot write {}: {error}", path.display())
             }
@@ -270,6 +276,9 @@ fn later_stages(
     if options.stop_after == Stage::Samples {
         log.info("Stopped after sampling (--stop-after samples).");
         return Ok(());
+    }
+    if samples.points.len() < 4 {
+        return Err(CompileError::NoFreeSpace(samples.points.len()));
     }
     let t = Instant::now();
     log.info(format!(
