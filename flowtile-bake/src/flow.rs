@@ -251,7 +251,9 @@ impl Network {
     #[inline]
     fn residual_out(&self, v: u32, e: usize) -> Option<u32> {
         let a = &self.arcs[e];
-        if a.tail == v && a.x < a.hi {
+        if a.tail == a.head {
+            None // a self-loop never helps a path
+        } else if a.tail == v && a.x < a.hi {
             Some(a.head)
         } else if a.head == v && a.x > a.lo {
             Some(a.tail)
@@ -265,7 +267,9 @@ impl Network {
     #[inline]
     fn residual_in(&self, v: u32, e: usize) -> Option<u32> {
         let a = &self.arcs[e];
-        if a.head == v && a.x < a.hi {
+        if a.tail == a.head {
+            None
+        } else if a.head == v && a.x < a.hi {
             Some(a.tail)
         } else if a.tail == v && a.x > a.lo {
             Some(a.head)
@@ -344,6 +348,9 @@ impl Network {
         if src == dst {
             return limit;
         }
+        if let Some(got) = self.augment_short(src, dst, skip, limit) {
+            return got;
+        }
         self.next_stamp();
         let stamp = self.search.stamp;
         let s = &mut self.search;
@@ -387,6 +394,63 @@ impl Network {
             v = if a.tail == v { a.head } else { a.tail };
         }
         cap
+    }
+
+    /// Tries paths of at most three arcs first: in scan-line tiling almost
+    /// every cycle closes around one grid vertex, and finding it this way
+    /// needs no queue and no marks.
+    fn augment_short(&mut self, src: u32, dst: u32, skip: usize, limit: i32) -> Option<i32> {
+        let arcs_of = |v: u32| self.start[v as usize] as usize..self.start[v as usize + 1] as usize;
+        let mut best: Option<([(u32, usize); 3], usize, i32)> = None;
+        'outer: for k1 in arcs_of(src) {
+            let e1 = self.adj[k1] as usize;
+            if e1 == skip {
+                continue;
+            }
+            let Some(n1) = self.residual_out(src, e1) else {
+                continue;
+            };
+            let c1 = self.cap_from(src, e1);
+            if n1 == dst {
+                best = Some(([(src, e1), (0, 0), (0, 0)], 1, c1));
+                break;
+            }
+            for k2 in arcs_of(n1) {
+                let e2 = self.adj[k2] as usize;
+                if e2 == skip || e2 == e1 {
+                    continue;
+                }
+                let Some(n2) = self.residual_out(n1, e2) else {
+                    continue;
+                };
+                if n2 == src {
+                    continue;
+                }
+                let c2 = c1.min(self.cap_from(n1, e2));
+                if n2 == dst {
+                    best = Some(([(src, e1), (n1, e2), (0, 0)], 2, c2));
+                    break 'outer;
+                }
+                for k3 in arcs_of(n2) {
+                    let e3 = self.adj[k3] as usize;
+                    if e3 == skip || e3 == e2 || e3 == e1 {
+                        continue;
+                    }
+                    if self.residual_out(n2, e3) == Some(dst) {
+                        let c3 = c2.min(self.cap_from(n2, e3));
+                        best = Some(([(src, e1), (n1, e2), (n2, e3)], 3, c3));
+                        break 'outer;
+                    }
+                }
+            }
+        }
+        let (path, len, cap) = best?;
+        let amount = cap.min(limit);
+        debug_assert!(amount > 0);
+        for &(from, e) in &path[..len] {
+            self.push(from, e, amount);
+        }
+        Some(amount)
     }
 
     /// Expands one forward node; returns a node seen by both searches.

@@ -186,6 +186,9 @@ impl fmt::Display for TilingError {
 
 impl std::error::Error for TilingError {}
 
+/// Capacity of the arcs that join the outside ring: more than any border can carry.
+const UNBOUNDED: i32 = 1 << 28;
+
 /// Largest grid side.
 pub const MAX_SIDE: u32 = 8192;
 /// Largest number of slots.
@@ -306,10 +309,26 @@ impl Tiling {
                 cond.blocked.len()
             )));
         };
-        let outside = slots as u32;
-        let mut net = Network::new(slots + 1);
+        // The outside is one node in the flow problem. Storing it as a ring of
+        // "ports", one per border edge, joined by unbounded arcs is equivalent
+        // but keeps every search local: a path that leaves through the border
+        // walks along the ring instead of fanning out to every border slot.
+        let (w, h) = (width as i64, height as i64);
+        let ring = 2 * (width + height) as usize;
+        let port = |x: i64, y: i64| -> u32 {
+            let k = if y < 0 {
+                x
+            } else if x >= w {
+                w + y
+            } else if y >= h {
+                w + h + (w - 1 - x)
+            } else {
+                2 * w + h + (h - 1 - y)
+            };
+            (slots as i64 + k) as u32
+        };
+        let mut net = Network::new(slots + ring);
         let slot_node = |x: i64, y: i64| -> u32 {
-            let (w, h) = (width as i64, height as i64);
             let xw = if cond.border_x == Border::Periodic {
                 x.rem_euclid(w)
             } else {
@@ -321,21 +340,27 @@ impl Tiling {
                 y
             };
             if xw < 0 || yw < 0 || xw >= w || yw >= h {
-                outside
+                port(xw, yw)
             } else {
                 (yw * w + xw) as u32
             }
         };
-        let is_blocked = |node: u32| node != outside && blocked[node as usize];
+        let outside = |node: u32| node as usize >= slots;
+        let is_blocked = |node: u32| !outside(node) && blocked[node as usize];
         let (mx, my) = (set.mx, set.my);
         let bounds = |tail: u32, head: u32, border: Border, r: crate::tileset::FluxRange| {
-            let at_border = tail == outside || head == outside;
+            let at_border = outside(tail) || outside(head);
             if is_blocked(tail) || is_blocked(head) || (at_border && border == Border::Zero) {
                 (0, 0)
             } else {
                 (r.min, r.max)
             }
         };
+        for k in 0..ring {
+            let a = (slots + k) as u32;
+            let b = (slots + (k + 1) % ring) as u32;
+            net.add_arc(a, b, -UNBOUNDED, UNBOUNDED);
+        }
         // Vertical edges: with periodic x the edge at x = W is the one at x = 0.
         let vx_count = if cond.border_x == Border::Periodic {
             width
@@ -393,7 +418,7 @@ impl Tiling {
             let a = tiling.net.arc(arc);
             let touches_block = [a.tail, a.head]
                 .iter()
-                .any(|&n| n != outside && tiling.blocked[n as usize]);
+                .any(|&n| (n as usize) < slots && tiling.blocked[n as usize]);
             if touches_block && m != 0 {
                 return Err(TilingError::Conflict(format!(
                     "{edge:?} borders a blocked slot and cannot carry flux {m}"
@@ -763,17 +788,169 @@ impl Tiling {
                 if self.is_blocked(x, y) || self.tile(x, y).is_some() {
                     continue;
                 }
-                let sel = self.select(x, y)?;
-                if sel.is_empty() {
+                self.place_random(x, y, rng)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Places a tile drawn uniformly from the selection of `(x, y)`.
+    ///
+    /// When at most two of the slot's edges are free (always so in scan-line
+    /// order) the feasible values of the first free edge form an interval
+    /// `F` and the second follows by conservation. Rather than computing `F`
+    /// exactly (two full max-flow queries, then moving the flux back to the
+    /// chosen value) we draw from a candidate interval `C ⊇ F` given by the
+    /// edges' own bounds and try to move the flux there; a failed move proves
+    /// where `F` ends, so `C` shrinks to it and we draw again. Conditioned on
+    /// acceptance the draw is uniform over `F`, and the expected work is one
+    /// short move instead of three long ones.
+    pub fn place_random(&mut self, x: u32, y: u32, rng: &mut Rng) -> Result<TileKey, TilingError> {
+        self.check_slot(x, y)?;
+        let arcs = self.slot_arcs(x, y);
+        let distinct = (0..4).all(|i| (0..i).all(|j| arcs[i] != arcs[j]));
+        let free: Vec<usize> = (0..4)
+            .filter(|&k| {
+                let a = self.net.arc(arcs[k]);
+                a.lo < a.hi
+            })
+            .collect();
+        if !distinct {
+            let sel = self.select(x, y)?;
+            if sel.is_empty() {
+                return Err(TilingError::Infeasible(format!(
+                    "no tile fits slot ({x}, {y})"
+                )));
+            }
+            let key = sel.key(rng.below(sel.len()));
+            self.place(x, y, key)?;
+            return Ok(key);
+        }
+        if free.len() > 2 {
+            return self.place_random_tuple(x, y, arcs, rng);
+        }
+        // Conservation l + b - r - t = 0 with signs per side.
+        const SIGN: [i32; 4] = [1, 1, -1, -1];
+        let mut values = arcs.map(|a| self.net.arc(a).x);
+        if free.len() == 2 {
+            let (k, f) = (free[0], free[1]);
+            let (ek, ef) = (self.net.arc(arcs[k]), self.net.arc(arcs[f]));
+            let rest: i32 = (0..4)
+                .filter(|&i| i != k && i != f)
+                .map(|i| SIGN[i] * values[i])
+                .sum();
+            // value of side f given value v of side k
+            let partner = |v: i32| -(rest + SIGN[k] * v) * SIGN[f];
+            let mut lo = ek.lo;
+            let mut hi = ek.hi;
+            while lo <= hi && !(ef.lo..=ef.hi).contains(&partner(lo)) {
+                lo += 1;
+            }
+            while hi >= lo && !(ef.lo..=ef.hi).contains(&partner(hi)) {
+                hi -= 1;
+            }
+            let e = arcs[k];
+            loop {
+                if lo > hi {
                     return Err(TilingError::Infeasible(format!(
                         "no tile fits slot ({x}, {y})"
                     )));
                 }
-                let key = sel.key(rng.below(sel.len()));
-                self.place(x, y, key)?;
+                let v = lo + rng.below((hi - lo + 1) as u64) as i32;
+                let cur = self.net.arc(e).x;
+                if v > cur {
+                    let reached = self.net.raise(e, v);
+                    if reached < v {
+                        hi = reached;
+                        continue;
+                    }
+                } else if v < cur {
+                    let reached = self.net.lower(e, v);
+                    if reached > v {
+                        lo = reached;
+                        continue;
+                    }
+                }
+                values[k] = v;
+                values[f] = partner(v);
+                break;
             }
         }
-        Ok(())
+        for (&a, &v) in arcs.iter().zip(&values) {
+            if !self.net.fix(a, v) {
+                return Err(TilingError::Infeasible(format!(
+                    "internal: flux {v} became infeasible at ({x}, {y})"
+                )));
+            }
+        }
+        Ok(self.commit_slot(x, y, values, rng))
+    }
+
+    /// Rejection sampling over whole flux tuples for slots with three or four
+    /// free edges (the first row and column of a free-bordered grid): draw a
+    /// tuple allowed by the edges' own bounds, keep it if fixing it stays
+    /// feasible, otherwise drop it and draw again. Uniform over the
+    /// selection, and usually one feasibility test instead of one per tuple.
+    fn place_random_tuple(
+        &mut self,
+        x: u32,
+        y: u32,
+        arcs: [ArcId; 4],
+        rng: &mut Rng,
+    ) -> Result<TileKey, TilingError> {
+        let b = arcs.map(|a| {
+            let a = self.net.arc(a);
+            (a.lo, a.hi)
+        });
+        let mut candidates = Vec::new();
+        for l in b[0].0..=b[0].1 {
+            for bo in b[1].0..=b[1].1 {
+                for r in b[2].0..=b[2].1 {
+                    let t = l + bo - r;
+                    if (b[3].0..=b[3].1).contains(&t) {
+                        candidates.push([l, bo, r, t]);
+                    }
+                }
+            }
+        }
+        while !candidates.is_empty() {
+            let i = rng.below(candidates.len() as u64) as usize;
+            let values = candidates[i];
+            let mark = self.net.checkpoint();
+            if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
+                self.net.commit();
+                return Ok(self.commit_slot(x, y, values, rng));
+            }
+            self.net.rollback(mark);
+            candidates.swap_remove(i);
+        }
+        Err(TilingError::Infeasible(format!(
+            "no tile fits slot ({x}, {y})"
+        )))
+    }
+
+    /// Records a slot whose fluxes are already fixed in the network, drawing
+    /// its free corners uniformly.
+    fn commit_slot(&mut self, x: u32, y: u32, values: [i32; 4], rng: &mut Rng) -> TileKey {
+        let c = self.set.corners.len() as u64;
+        let verts = self.slot_vertices(x, y);
+        let corners = verts.map(|v| match self.corner_fixed[v] {
+            Some(i) => i,
+            None => rng.below(c) as u16,
+        });
+        let [left, bottom, right, top] = values;
+        let key = TileKey {
+            left,
+            bottom,
+            right,
+            top,
+            corners,
+        };
+        for (k, &v) in verts.iter().enumerate() {
+            self.corner_fixed[v] = Some(key.corners[k]);
+        }
+        self.slots[(y * self.width + x) as usize] = Some(key);
+        key
     }
 
     /// Current bounds of a grid edge's flux (after placements and conditions).

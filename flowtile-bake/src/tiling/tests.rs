@@ -131,7 +131,17 @@ fn check_against_brute_force(t: &mut Tiling, rng: &mut Rng) -> usize {
             let got: HashSet<[i32; 4]> = sel.fluxes.iter().copied().collect();
             assert_eq!(got.len(), sel.fluxes.len(), "duplicate tuples");
             let want = &reference[(y * t.width + x) as usize];
-            assert_eq!(&got, want, "slot ({x}, {y})");
+            assert_eq!(
+                &got,
+                want,
+                "slot ({x}, {y}) {}x{} {:?} {:?}",
+                t.width,
+                t.height,
+                t.borders(),
+                (0..t.net.arc_count())
+                    .map(|a| t.net.arc(a))
+                    .collect::<Vec<_>>()
+            );
             assert!(t.net.is_feasible());
             compared += 1;
         }
