@@ -9,8 +9,10 @@
 //! [`runtime`] (velocity lookup, flow coordinates, blending of key tilings)
 //! → [`render`] (PNG pictures).
 
+pub mod bake;
 pub mod fill;
 pub mod flow;
 pub mod rng;
+pub mod runtime;
 pub mod tileset;
 pub mod tiling;
