@@ -12,7 +12,9 @@
 pub mod bake;
 pub mod fill;
 pub mod flow;
+pub mod render;
 pub mod rng;
 pub mod runtime;
+pub mod spec;
 pub mod tileset;
 pub mod tiling;
