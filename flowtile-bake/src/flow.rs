@@ -92,6 +92,9 @@ pub struct Infeasible {
 
 const NONE: u32 = u32::MAX;
 
+/// Up to three (from node, arc) steps, the number used, and the bottleneck.
+type ShortPath = ([(u32, usize); 3], usize, i32);
+
 impl Network {
     /// An empty network on `nodes` nodes.
     pub fn new(nodes: usize) -> Network {
@@ -225,12 +228,12 @@ impl Network {
             }
             for k in self.start[v as usize]..self.start[v as usize + 1] {
                 let e = self.adj[k as usize];
-                if let Some(w) = self.residual_out(v, e as usize) {
-                    if self.search.fwd_mark[w as usize] != stamp {
-                        self.search.fwd_mark[w as usize] = stamp;
-                        self.search.fwd_via[w as usize] = e;
-                        self.search.fwd_queue.push_back(w);
-                    }
+                if let Some(w) = self.residual_out(v, e as usize)
+                    && self.search.fwd_mark[w as usize] != stamp
+                {
+                    self.search.fwd_mark[w as usize] = stamp;
+                    self.search.fwd_via[w as usize] = e;
+                    self.search.fwd_queue.push_back(w);
                 }
             }
         }
@@ -401,7 +404,7 @@ impl Network {
     /// needs no queue and no marks.
     fn augment_short(&mut self, src: u32, dst: u32, skip: usize, limit: i32) -> Option<i32> {
         let arcs_of = |v: u32| self.start[v as usize] as usize..self.start[v as usize + 1] as usize;
-        let mut best: Option<([(u32, usize); 3], usize, i32)> = None;
+        let mut best: Option<ShortPath> = None;
         'outer: for k1 in arcs_of(src) {
             let e1 = self.adj[k1] as usize;
             if e1 == skip {
@@ -461,15 +464,15 @@ impl Network {
             if e == skip {
                 continue;
             }
-            if let Some(w) = self.residual_out(v, e) {
-                if self.search.fwd_mark[w as usize] != stamp {
-                    self.search.fwd_mark[w as usize] = stamp;
-                    self.search.fwd_via[w as usize] = e as u32;
-                    if self.search.bwd_mark[w as usize] == stamp {
-                        return Some(w);
-                    }
-                    self.search.fwd_queue.push_back(w);
+            if let Some(w) = self.residual_out(v, e)
+                && self.search.fwd_mark[w as usize] != stamp
+            {
+                self.search.fwd_mark[w as usize] = stamp;
+                self.search.fwd_via[w as usize] = e as u32;
+                if self.search.bwd_mark[w as usize] == stamp {
+                    return Some(w);
                 }
+                self.search.fwd_queue.push_back(w);
             }
         }
         None
@@ -483,15 +486,15 @@ impl Network {
             if e == skip {
                 continue;
             }
-            if let Some(w) = self.residual_in(v, e) {
-                if self.search.bwd_mark[w as usize] != stamp {
-                    self.search.bwd_mark[w as usize] = stamp;
-                    self.search.bwd_via[w as usize] = e as u32;
-                    if self.search.fwd_mark[w as usize] == stamp {
-                        return Some(w);
-                    }
-                    self.search.bwd_queue.push_back(w);
+            if let Some(w) = self.residual_in(v, e)
+                && self.search.bwd_mark[w as usize] != stamp
+            {
+                self.search.bwd_mark[w as usize] = stamp;
+                self.search.bwd_via[w as usize] = e as u32;
+                if self.search.fwd_mark[w as usize] == stamp {
+                    return Some(w);
                 }
+                self.search.bwd_queue.push_back(w);
             }
         }
         None

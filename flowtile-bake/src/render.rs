@@ -141,6 +141,7 @@ impl Canvas {
             let mut enc = png::Encoder::new(&mut out, self.width, self.height);
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
+            enc.set_compression(png::Compression::High);
             let mut w = enc
                 .write_header()
                 .map_err(|e| RenderError::Write(e.to_string()))?;

@@ -424,12 +424,12 @@ impl Tiling {
                     "{edge:?} borders a blocked slot and cannot carry flux {m}"
                 )));
             }
-            if let Some(old) = fixed[arc] {
-                if old != m {
-                    return Err(TilingError::Conflict(format!(
-                        "{edge:?} fixed to both {old} and {m}"
-                    )));
-                }
+            if let Some(old) = fixed[arc]
+                && old != m
+            {
+                return Err(TilingError::Conflict(format!(
+                    "{edge:?} fixed to both {old} and {m}"
+                )));
             }
             let range = match edge {
                 Edge::Vertical { .. } => mx,
@@ -724,10 +724,10 @@ impl Tiling {
         }
         let verts = self.slot_vertices(x, y);
         for (k, &v) in verts.iter().enumerate() {
-            if let Some(c) = self.corner_fixed[v] {
-                if c != key.corners[k] {
-                    return Err(TilingError::TileNotAllowed(x, y, key));
-                }
+            if let Some(c) = self.corner_fixed[v]
+                && c != key.corners[k]
+            {
+                return Err(TilingError::TileNotAllowed(x, y, key));
             }
         }
         // Same vertex twice (periodic 1-wide grids) must get the same corner.
