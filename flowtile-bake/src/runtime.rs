@@ -224,9 +224,11 @@ struct MappedTriangle {
     max: [f64; 2],
 }
 
-/// Errors building a flow-coordinate mapping.
+/// Errors building a flow-coordinate mapping or a key blend.
 #[derive(Clone, Debug, PartialEq)]
 pub enum MapError {
+    /// Key tilings that cannot be blended.
+    BadKeys(String),
     /// A triangle refers to a vertex that does not exist.
     BadIndex(usize),
     /// A triangle is degenerate in world or flow space.
@@ -243,6 +245,7 @@ impl std::fmt::Display for MapError {
                 write!(f, "triangle {t} has zero area in world or flow space")
             }
             MapError::BadVertices(why) => write!(f, "bad vertices: {why}"),
+            MapError::BadKeys(why) => write!(f, "cannot blend key tilings: {why}"),
         }
     }
 }
@@ -436,10 +439,14 @@ pub struct KeyBlend {
 impl KeyBlend {
     /// Keys spaced `period` apart in time; all must share grid size,
     /// resolution and periodicity.
-    pub fn new(keys: Vec<BakedTiling>, period: f64) -> Result<KeyBlend, String> {
-        let first = keys.first().ok_or("no key tilings")?;
+    pub fn new(keys: Vec<BakedTiling>, period: f64) -> Result<KeyBlend, MapError> {
+        let first = keys
+            .first()
+            .ok_or_else(|| MapError::BadKeys("no key tilings".into()))?;
         if !(period > 0.0 && period.is_finite()) {
-            return Err(format!("key period {period} must be positive"));
+            return Err(MapError::BadKeys(format!(
+                "key period {period} must be positive"
+            )));
         }
         for (i, k) in keys.iter().enumerate() {
             if (k.width, k.height, k.set.n, k.periodic_x, k.periodic_y)

@@ -34,7 +34,7 @@ use std::fmt;
 use serde::Deserialize;
 
 use crate::tileset::{FluxRange, TileSet, default_corner_options};
-use crate::tiling::{Border, Conditions, Edge, MAX_SIDE, parse_mask};
+use crate::tiling::{Border, Conditions, Edge, MAX_SIDE, MAX_SLOTS, parse_mask};
 
 /// A spec that failed to parse or describes an impossible problem.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,7 +241,7 @@ impl Problem {
         .map_err(|e| SpecError(format!("tileset: {e}")))?;
         let g = &spec.grid;
         let (w, h) = (g.width, g.height);
-        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || w as u64 * h as u64 > MAX_SLOTS {
             return Err(SpecError(format!("grid {w}x{h} is empty or too large")));
         }
         let mut conditions = Conditions::borders(g.border_x.into(), g.border_y.into());
