@@ -458,9 +458,9 @@ impl KeyBlend {
                     first.periodic_y,
                 )
             {
-                return Err(format!(
+                return Err(MapError::BadKeys(format!(
                     "key {i} differs in grid size, resolution or borders"
-                ));
+                )));
             }
         }
         Ok(KeyBlend { keys, period })
