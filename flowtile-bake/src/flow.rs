@@ -187,57 +187,111 @@ impl Network {
     }
 
     /// Finds a feasible circulation from the current fluxes (each starts at the
-    /// bound value nearest zero) by routing every node's surplus to deficits
-    /// along augmenting paths. Exact: fails only when none exists.
+    /// bound value nearest zero) by routing every node's surplus to deficits:
+    /// Dinic's algorithm with all surplus nodes as sources and all deficit
+    /// nodes as sinks (a level graph by breadth-first search, then blocking
+    /// flows by depth-first search with current-arc pointers). Exact: fails
+    /// only when no feasible circulation exists.
     pub fn make_feasible(&mut self) -> Result<(), Infeasible> {
         if !self.built {
             self.build();
         }
         let mut ex = self.imbalances();
-        for v in 0..self.nodes {
-            while ex[v] > 0 {
-                let Some((sink, path_cap)) = self.bfs_to_any(v as u32, &ex) else {
-                    return Err(Infeasible { node: v as u32 });
-                };
-                let amount = (path_cap as i64).min(ex[v]).min(-ex[sink as usize]) as i32;
-                self.augment_forward_tree(sink, amount);
-                ex[v] -= amount as i64;
-                ex[sink as usize] += amount as i64;
+        let nodes = self.nodes;
+        let mut level = vec![u32::MAX; nodes];
+        let mut next_arc = vec![0u32; nodes];
+        let mut queue = VecDeque::new();
+        let mut path: Vec<(u32, usize)> = Vec::new();
+        while let Some(first) = ex.iter().position(|&e| e > 0) {
+            // Level graph from every surplus node up to the nearest deficits.
+            level.fill(u32::MAX);
+            queue.clear();
+            for v in 0..nodes {
+                if ex[v] > 0 {
+                    level[v] = 0;
+                    queue.push_back(v as u32);
+                }
             }
-        }
-        if ex.iter().any(|&e| e != 0) {
-            let node = ex.iter().position(|&e| e != 0).unwrap_or(0) as u32;
-            return Err(Infeasible { node });
-        }
-        Ok(())
-    }
-
-    /// Plain BFS from `src` to the nearest node with negative imbalance;
-    /// leaves the path in the forward search tree.
-    fn bfs_to_any(&mut self, src: u32, ex: &[i64]) -> Option<(u32, i32)> {
-        self.next_stamp();
-        let stamp = self.search.stamp;
-        self.search.fwd_queue.clear();
-        self.search.fwd_mark[src as usize] = stamp;
-        self.search.fwd_via[src as usize] = NONE;
-        self.search.fwd_queue.push_back(src);
-        while let Some(v) = self.search.fwd_queue.pop_front() {
-            if ex[v as usize] < 0 {
-                let cap = self.tree_capacity(v);
-                return Some((v, cap));
+            let mut sink_level = u32::MAX;
+            while let Some(v) = queue.pop_front() {
+                let lv = level[v as usize];
+                if lv > sink_level {
+                    break;
+                }
+                if ex[v as usize] < 0 {
+                    sink_level = lv;
+                    continue;
+                }
+                if lv == sink_level {
+                    continue;
+                }
+                for k in self.start[v as usize]..self.start[v as usize + 1] {
+                    let e = self.adj[k as usize] as usize;
+                    if let Some(w) = self.residual_out(v, e)
+                        && level[w as usize] == u32::MAX
+                    {
+                        level[w as usize] = lv + 1;
+                        queue.push_back(w);
+                    }
+                }
             }
-            for k in self.start[v as usize]..self.start[v as usize + 1] {
-                let e = self.adj[k as usize];
-                if let Some(w) = self.residual_out(v, e as usize)
-                    && self.search.fwd_mark[w as usize] != stamp
-                {
-                    self.search.fwd_mark[w as usize] = stamp;
-                    self.search.fwd_via[w as usize] = e;
-                    self.search.fwd_queue.push_back(w);
+            if sink_level == u32::MAX {
+                return Err(Infeasible { node: first as u32 });
+            }
+            // Blocking flow.
+            next_arc.copy_from_slice(&self.start[..nodes]);
+            for src in 0..nodes as u32 {
+                while ex[src as usize] > 0 && level[src as usize] == 0 {
+                    path.clear();
+                    let mut cur = src;
+                    loop {
+                        let lc = level[cur as usize];
+                        if lc == sink_level && ex[cur as usize] < 0 {
+                            let mut amount = ex[src as usize].min(-ex[cur as usize]);
+                            for &(from, e) in &path {
+                                amount = amount.min(self.cap_from(from, e) as i64);
+                            }
+                            for &(from, e) in &path {
+                                self.push(from, e, amount as i32);
+                            }
+                            ex[src as usize] -= amount;
+                            ex[cur as usize] += amount;
+                            break;
+                        }
+                        let end = self.start[cur as usize + 1];
+                        let mut advanced = false;
+                        while lc < sink_level && next_arc[cur as usize] < end {
+                            let e = self.adj[next_arc[cur as usize] as usize] as usize;
+                            if let Some(w) = self.residual_out(cur, e)
+                                && level[w as usize] == lc + 1
+                            {
+                                path.push((cur, e));
+                                cur = w;
+                                advanced = true;
+                                break;
+                            }
+                            next_arc[cur as usize] += 1;
+                        }
+                        if advanced {
+                            continue;
+                        }
+                        // Dead end: drop the node from this phase and retreat.
+                        level[cur as usize] = u32::MAX;
+                        match path.pop() {
+                            Some((prev, _)) => {
+                                next_arc[prev as usize] += 1;
+                                cur = prev;
+                            }
+                            None => break,
+                        }
+                    }
                 }
             }
         }
-        None
+        if let Some(node) = ex.iter().position(|&e| e != 0) {
+            return Err(Infeasible { node: node as u32 });
+        }
+        Ok(())
     }
 
     fn next_stamp(&mut self) {
