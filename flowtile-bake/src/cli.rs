@@ -64,6 +64,9 @@ enum Command {
         /// Random seed (overrides the spec's).
         #[arg(long)]
         seed: Option<u64>,
+        /// Fill slots with a single option before the random fill.
+        #[arg(long)]
+        fill_forced: bool,
         /// Print statistics as JSON.
         #[arg(long)]
         json: bool,
@@ -148,6 +151,7 @@ pub fn run() -> Result<()> {
                 }
                 (None, Some(g)) => grid_problem(g, &set, n, border)?,
             };
+            problem.fill_forced |= fill_forced;
             tile(problem, seed, output.as_deref(), json)
         }
         Command::Render {

@@ -21,7 +21,8 @@ impl FluxRange {
     /// The range with `count` options centred on zero, as the paper's
     /// `(M_x, M_y, c)` triples assume: 3 → `-1..=1`, 5 → `-2..=2`, 4 → `-1..=2`.
     pub fn centered(count: u32) -> FluxRange {
-        let count = count.max(1) as i32;
+        // Clamped so absurd counts stay representable; TileSet::new rejects them.
+        let count = count.clamp(1, MAX_FLUX_OPTIONS as u32 + 1) as i32;
         let min = -((count - 1) / 2);
         FluxRange {
             min,
@@ -31,7 +32,7 @@ impl FluxRange {
 
     /// Number of options in the range.
     pub fn len(&self) -> u32 {
-        (self.max - self.min + 1).max(0) as u32
+        (self.max as i64 - self.min as i64 + 1).clamp(0, u32::MAX as i64) as u32
     }
 
     /// True when the range is empty (min > max).
@@ -122,13 +123,15 @@ impl fmt::Display for TileSetError {
             }
             TileSetError::BadFluxRange(axis, lo, hi) => write!(
                 f,
-                "flux range for {axis} edges [{lo}, {hi}] is empty or wider than {MAX_FLUX_OPTIONS} options"
+                "flux range for {axis} edges [{lo}, {hi}] is empty, wider than {MAX_FLUX_OPTIONS} options or beyond ±{MAX_FLUX_MULTIPLE}"
             ),
             TileSetError::BadCornerCount(c) => write!(
                 f,
                 "{c} corner velocity options; need between 1 and {MAX_CORNER_OPTIONS}"
             ),
-            TileSetError::NotFinite(what) => write!(f, "{what} is not a finite number"),
+            TileSetError::NotFinite(what) => {
+                write!(f, "{what} is not a finite number of magnitude at most 1e12")
+            }
             TileSetError::NotRotationInvariant(why) => {
                 write!(f, "tile set is not closed under 90° rotation: {why}")
             }
@@ -142,6 +145,8 @@ impl std::error::Error for TileSetError {}
 pub const MAX_RESOLUTION: usize = 1024;
 /// Largest number of flux options per axis.
 pub const MAX_FLUX_OPTIONS: i32 = 64;
+/// Largest |flux multiple| (keeps every sum of fluxes far from overflow).
+pub const MAX_FLUX_MULTIPLE: i32 = 1 << 20;
 /// Largest number of corner velocity options.
 pub const MAX_CORNER_OPTIONS: usize = 256;
 
@@ -187,17 +192,22 @@ impl TileSet {
             return Err(TileSetError::ResolutionTooLarge(n));
         }
         for (name, r) in [("vertical (x)", mx), ("horizontal (y)", my)] {
-            if r.is_empty() || r.max - r.min + 1 > MAX_FLUX_OPTIONS {
+            if r.is_empty()
+                || r.len() > MAX_FLUX_OPTIONS as u32
+                || r.min < -MAX_FLUX_MULTIPLE
+                || r.max > MAX_FLUX_MULTIPLE
+            {
                 return Err(TileSetError::BadFluxRange(name, r.min, r.max));
             }
         }
         if corners.is_empty() || corners.len() > MAX_CORNER_OPTIONS {
             return Err(TileSetError::BadCornerCount(corners.len()));
         }
-        if !f_base.is_finite() {
+        let sane = |v: f64| v.is_finite() && v.abs() <= 1e12;
+        if !sane(f_base) {
             return Err(TileSetError::NotFinite("base flux"));
         }
-        if corners.iter().flatten().any(|v| !v.is_finite()) {
+        if corners.iter().flatten().any(|&v| !sane(v)) {
             return Err(TileSetError::NotFinite("a corner velocity"));
         }
         let (nx, ny) = (mx.len() as usize, my.len() as usize);
@@ -488,6 +498,17 @@ mod tests {
         assert!(TileSet::paper(3, 3, 0, 4).is_ok()); // clamps to one corner option
         let r = FluxRange { min: 2, max: 1 };
         assert!(TileSet::new(r, r, 1.0, vec![[0.0, 0.0]], 4).is_err());
+        let huge = FluxRange {
+            min: i32::MIN,
+            max: i32::MAX,
+        };
+        assert!(TileSet::new(huge, huge, 1.0, vec![[0.0, 0.0]], 4).is_err());
+        let far = FluxRange {
+            min: i32::MAX - 2,
+            max: i32::MAX,
+        };
+        assert!(TileSet::new(far, far, 1.0, vec![[0.0, 0.0]], 4).is_err());
+        assert!(TileSet::paper(u32::MAX, 3, 1, 4).is_err());
         assert!(
             TileSet::new(
                 FluxRange::centered(3),
