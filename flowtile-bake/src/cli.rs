@@ -139,9 +139,10 @@ pub fn run() -> Result<()> {
             n,
             border,
             seed,
+            fill_forced,
             json,
         } => {
-            let problem = match (&spec, &grid) {
+            let mut problem = match (&spec, &grid) {
                 (Some(_), Some(_)) => bail!("give either a spec file or --grid, not both"),
                 (None, None) => bail!("give a spec file or --grid WxH"),
                 (Some(path), None) => {
