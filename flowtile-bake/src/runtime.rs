@@ -19,8 +19,18 @@ impl BakedTiling {
     fn stream_rel(&self, rx: i64, ry: i64, px: f64, py: f64) -> f64 {
         let n = self.set.n as f64;
         let (w, h) = (self.width as i64, self.height as i64);
-        let mut tx = (px / n).floor() as i64;
-        let mut ty = (py / n).floor() as i64;
+        // Points on the reference tile's own edges use the reference tile:
+        // robust to rounding, and the values agree with the neighbour anyway.
+        let pick = |p: f64, r: i64| {
+            let local = p - r as f64 * n;
+            if (-1e-9..=n + 1e-9).contains(&local) {
+                r
+            } else {
+                (p / n).floor() as i64
+            }
+        };
+        let mut tx = pick(px, rx);
+        let mut ty = pick(py, ry);
         // Clamp to the grid (or to the reference's neighbours); wrap if periodic.
         tx = tx.clamp(rx - 1, rx + 1);
         ty = ty.clamp(ry - 1, ry + 1);
