@@ -451,3 +451,54 @@ fn same_seed_same_tiling() {
     assert_eq!(run(4), run(4));
     assert_ne!(run(4), run(5));
 }
+
+/// Exhaustive over first placements: for every slot and every tile the
+/// selection offers there, place it and compare every remaining slot's
+/// selection and every edge interval with brute force.
+#[test]
+fn every_first_placement_matches_brute_force() {
+    let cases = [
+        (3, 3, Border::Zero, Border::Zero),
+        (2, 2, Border::Free, Border::Free),
+        (3, 2, Border::Periodic, Border::Zero),
+    ];
+    let mut checked = 0;
+    for (w, h, bx, by) in cases {
+        let set = TileSet::paper(3, 3, 1, 3).unwrap();
+        let base = Tiling::new(set, w, h, &Conditions::borders(bx, by)).unwrap();
+        for (x, y) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
+            let mut probe = base.clone();
+            let offered: Vec<TileKey> = probe.select(x, y).unwrap().keys().collect();
+            let reference = brute_force(&base).unwrap();
+            let want: HashSet<[i32; 4]> = reference[(y * w + x) as usize].clone();
+            assert_eq!(
+                offered.iter().map(|k| k.fluxes()).collect::<HashSet<_>>(),
+                want
+            );
+            for key in offered {
+                let mut t = base.clone();
+                t.place(x, y, key).unwrap();
+                let reference = brute_force(&t).unwrap();
+                for (sx, sy) in (0..h).flat_map(|y| (0..w).map(move |x| (x, y))) {
+                    if t.tile(sx, sy).is_some() {
+                        continue;
+                    }
+                    let got: HashSet<[i32; 4]> =
+                        t.select(sx, sy).unwrap().fluxes.into_iter().collect();
+                    assert_eq!(
+                        got,
+                        reference[(sy * w + sx) as usize],
+                        "after {key} at ({x}, {y})"
+                    );
+                    let (lo, hi) = t
+                        .edge_interval(Edge::Horizontal { x: sx, y: sy + 1 })
+                        .unwrap();
+                    let tops = reference[(sy * w + sx) as usize].iter().map(|v| v[3]);
+                    assert_eq!((lo, hi), (tops.clone().min().unwrap(), tops.max().unwrap()));
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 300, "{checked}");
+}
