@@ -1,0 +1,374 @@
+//! Command-line interface (binary only; errors are `anyhow`).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Parser, Subcommand, ValueEnum};
+use serde_json::json;
+
+use flowtile_bake::bake::BakedTiling;
+use flowtile_bake::render::{RenderOptions, Style, render_to_file};
+use flowtile_bake::rng::Rng;
+use flowtile_bake::spec::Problem;
+use flowtile_bake::tileset::TileSet;
+use flowtile_bake::tiling::{Border, Conditions, Tiling};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "flowtile-bake",
+    version,
+    about = "Flow tiles: divergence-free flow fields from tiles"
+)]
+struct Args {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Print the number of tiles in an (M_x, M_y, c) set.
+    Count {
+        /// Flux options on vertical edges.
+        #[arg(long)]
+        mx: u32,
+        /// Flux options on horizontal edges.
+        #[arg(long)]
+        my: u32,
+        /// Corner velocity options.
+        #[arg(long, default_value_t = 1)]
+        corners: usize,
+        /// Also print the number of rotational symmetry classes.
+        #[arg(long)]
+        classes: bool,
+    },
+    /// Tile a grid (from a spec file, or --grid/--set) and bake it.
+    Tile {
+        /// Spec file (TOML); see testdata/flowtiles/.
+        spec: Option<PathBuf>,
+        /// Baked tiling to write.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Grid size WxH (without a spec file).
+        #[arg(long)]
+        grid: Option<String>,
+        /// Tile set MX,MY,C (without a spec file).
+        #[arg(long, default_value = "5,5,1")]
+        set: String,
+        /// Tile resolution in cells (without a spec file).
+        #[arg(long, default_value_t = 8)]
+        n: usize,
+        /// Outer borders (without a spec file).
+        #[arg(long, value_enum, default_value_t = BorderArg::Free)]
+        border: BorderArg,
+        /// Random seed (overrides the spec's).
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Fill slots with a single option before the random fill.
+        #[arg(long)]
+        fill_forced: bool,
+        /// Print statistics as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Render a baked tiling to PNG.
+    Render {
+        /// Baked tiling file.
+        input: PathBuf,
+        /// PNG to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// What to draw.
+        #[arg(long, value_enum, default_value_t = StyleArg::Streamlines)]
+        style: StyleArg,
+        /// Pixels per tile.
+        #[arg(long, default_value_t = 48)]
+        px: u32,
+        /// Do not draw tile seams.
+        #[arg(long)]
+        no_seams: bool,
+        /// Particles to advect (particle style).
+        #[arg(long, default_value_t = 600)]
+        particles: usize,
+        /// Advection steps per particle.
+        #[arg(long, default_value_t = 400)]
+        steps: usize,
+        /// Seed for streamline seeds and particles.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Describe a baked tiling and check it.
+    Info {
+        /// Baked tiling file.
+        input: PathBuf,
+        /// Print as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum BorderArg {
+    Free,
+    Zero,
+    Periodic,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum StyleArg {
+    Arrows,
+    Streamlines,
+    Particles,
+}
+
+/// Runs the command line.
+pub fn run() -> Result<()> {
+    let args = Args::parse();
+    match args.command {
+        Command::Count {
+            mx,
+            my,
+            corners,
+            classes,
+        } => count(mx, my, corners, classes),
+        Command::Tile {
+            spec,
+            output,
+            grid,
+            set,
+            n,
+            border,
+            seed,
+            fill_forced,
+            json,
+        } => {
+            let mut problem = match (&spec, &grid) {
+                (Some(_), Some(_)) => bail!("give either a spec file or --grid, not both"),
+                (None, None) => bail!("give a spec file or --grid WxH"),
+                (Some(path), None) => {
+                    let text = std::fs::read_to_string(path)
+                        .with_context(|| format!("{}", path.display()))?;
+                    Problem::from_toml(&text).with_context(|| format!("{}", path.display()))?
+                }
+                (None, Some(g)) => grid_problem(g, &set, n, border)?,
+            };
+            problem.fill_forced |= fill_forced;
+            tile(problem, seed, output.as_deref(), json)
+        }
+        Command::Render {
+            input,
+            output,
+            style,
+            px,
+            no_seams,
+            particles,
+            steps,
+            seed,
+        } => {
+            let baked =
+                BakedTiling::read(&input).with_context(|| format!("{}", input.display()))?;
+            let opt = RenderOptions {
+                px_per_tile: px,
+                style: match style {
+                    StyleArg::Arrows => Style::Arrows,
+                    StyleArg::Streamlines => Style::Streamlines,
+                    StyleArg::Particles => Style::Particles,
+                },
+                seams: !no_seams,
+                particles,
+                steps,
+                seed,
+            };
+            render_to_file(&baked, &opt, &output)
+                .with_context(|| format!("{}", output.display()))?;
+            println!("wrote {}", output.display());
+            Ok(())
+        }
+        Command::Info { input, json } => info(&input, json),
+    }
+}
+
+fn count(mx: u32, my: u32, corners: usize, classes: bool) -> Result<()> {
+    if mx == 0 || my == 0 || corners == 0 {
+        bail!("--mx, --my and --corners must be at least 1");
+    }
+    let set = TileSet::paper(mx, my, corners, 3)?;
+    println!("{}", set.count());
+    if classes {
+        let c = set.rotation_classes()?;
+        println!("rotation classes: {}", c.len());
+    }
+    Ok(())
+}
+
+fn grid_problem(grid: &str, set: &str, n: usize, border: BorderArg) -> Result<Problem> {
+    let (w, h) = grid
+        .split_once(['x', 'X'])
+        .and_then(|(a, b)| Some((a.trim().parse::<u32>().ok()?, b.trim().parse::<u32>().ok()?)))
+        .with_context(|| format!("--grid {grid:?}: expected WxH, e.g. 32x32"))?;
+    let parts: Vec<&str> = set.split(',').collect();
+    let nums: Option<Vec<u32>> = parts.iter().map(|p| p.trim().parse().ok()).collect();
+    let Some([mx, my, c]) = nums.as_deref().and_then(|v| <[u32; 3]>::try_from(v).ok()) else {
+        bail!("--set {set:?}: expected MX,MY,C, e.g. 5,5,1");
+    };
+    if mx == 0 || my == 0 || c == 0 {
+        bail!("--set {set:?}: every number must be at least 1");
+    }
+    let border = match border {
+        BorderArg::Free => Border::Free,
+        BorderArg::Zero => Border::Zero,
+        BorderArg::Periodic => Border::Periodic,
+    };
+    Ok(Problem {
+        set: TileSet::paper(mx, my, c as usize, n)?,
+        width: w,
+        height: h,
+        conditions: Conditions::borders(border, border),
+        seed: 1,
+        fill_forced: false,
+        description: None,
+    })
+}
+
+fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) -> Result<()> {
+    let seed = seed.unwrap_or(problem.seed);
+    let set_size = problem.set.count();
+    let t0 = Instant::now();
+    let mut tiling = Tiling::new(
+        problem.set,
+        problem.width,
+        problem.height,
+        &problem.conditions,
+    )?;
+    let forced = if problem.fill_forced {
+        tiling.fill_forced()?
+    } else {
+        0
+    };
+    tiling.random_fill(&mut Rng::new(seed))?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let t1 = Instant::now();
+    let baked = BakedTiling::from_tiling(&tiling)?;
+    let bytes = baked.to_bytes();
+    let bake_seconds = t1.elapsed().as_secs_f64();
+    if let Some(path) = output {
+        flowtile_bake::bake::write_atomic(path, &bytes)?;
+    }
+    let stats = json!({
+        "width": problem.width,
+        "height": problem.height,
+        "slots": tiling.open_slots(),
+        "blocked": (problem.width * problem.height) as usize - tiling.open_slots(),
+        "tiles_used": baked.tiles.len(),
+        "tile_set_size": set_size,
+        "forced": forced,
+        "seed": seed,
+        "seconds": seconds,
+        "bake_seconds": bake_seconds,
+        "bytes": bytes.len(),
+        "output": output.map(|p| p.display().to_string()),
+        "max_divergence": baked.max_cell_divergence(),
+        "max_flux_error": baked.max_flux_error(),
+        "max_seam_mismatch": baked.max_seam_mismatch(),
+    });
+    if json {
+        println!("{stats}");
+    } else {
+        println!(
+            "tiled {}x{} ({} slots) with {} of {} tiles in {:.3} ms (seed {seed}); baked {} bytes{}",
+            problem.width,
+            problem.height,
+            tiling.open_slots(),
+            baked.tiles.len(),
+            set_size,
+            seconds * 1e3,
+            bytes.len(),
+            output
+                .map(|p| format!(" to {}", p.display()))
+                .unwrap_or_default()
+        );
+        println!(
+            "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}",
+            baked.max_cell_divergence(),
+            baked.max_flux_error(),
+            baked.max_seam_mismatch()
+        );
+    }
+    Ok(())
+}
+
+fn info(path: &Path, json: bool) -> Result<()> {
+    let bytes = std::fs::read(path).with_context(|| format!("{}", path.display()))?;
+    let b = BakedTiling::from_bytes(&bytes).with_context(|| format!("{}", path.display()))?;
+    let slots = b
+        .grid
+        .iter()
+        .filter(|&&g| g != flowtile_bake::bake::BLOCKED)
+        .count();
+    let nodes = (b.set.n + 1) * (b.set.n + 1);
+    // What storing every slot's stream function would take.
+    let unshared = slots * nodes * 8;
+    let s = &b.set;
+    let stats = json!({
+        "file": path.display().to_string(),
+        "bytes": bytes.len(),
+        "width": b.width,
+        "height": b.height,
+        "periodic_x": b.periodic_x,
+        "periodic_y": b.periodic_y,
+        "n": s.n,
+        "mx": [s.mx.min, s.mx.max],
+        "my": [s.my.min, s.my.max],
+        "corners": s.corners,
+        "f_base": s.f_base,
+        "tile_set_size": s.count(),
+        "slots": slots,
+        "tiles_used": b.tiles.len(),
+        "stream_bytes_vs_unshared": (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64,
+        "max_divergence": b.max_cell_divergence(),
+        "max_flux_error": b.max_flux_error(),
+        "max_seam_mismatch": b.max_seam_mismatch(),
+    });
+    if json {
+        println!("{stats}");
+    } else {
+        println!(
+            "{}: {} bytes, format version {}",
+            path.display(),
+            bytes.len(),
+            flowtile_bake::bake::VERSION
+        );
+        println!(
+            "grid {}x{} ({} slots, {} blocked){}{}",
+            b.width,
+            b.height,
+            slots,
+            b.grid.len() - slots,
+            if b.periodic_x { ", periodic in x" } else { "" },
+            if b.periodic_y { ", periodic in y" } else { "" }
+        );
+        println!(
+            "tile set: m_x {}..{}, m_y {}..{}, {} corner velocities, f_base {}, {} cells per tile; {} tiles",
+            s.mx.min,
+            s.mx.max,
+            s.my.min,
+            s.my.max,
+            s.corners.len(),
+            s.f_base,
+            s.n,
+            s.count()
+        );
+        println!(
+            "tiles stored: {} ({:.1}% of the stream data of storing every slot)",
+            b.tiles.len(),
+            100.0 * (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64
+        );
+        println!(
+            "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}",
+            b.max_cell_divergence(),
+            b.max_flux_error(),
+            b.max_seam_mismatch()
+        );
+    }
+    Ok(())
+}

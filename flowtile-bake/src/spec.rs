@@ -1,0 +1,363 @@
+//! Tiling spec files (TOML): grid, tile set, boundary conditions, mask and
+//! seed. See `testdata/flowtiles/*.toml` for examples.
+//!
+//! ```toml
+//! seed = 7
+//! fill_forced = false      # place forced slots before the random fill
+//! [tileset]
+//! mx = 5                   # options on vertical edges: a count (centred) or [min, max]
+//! my = 3                   # options on horizontal edges
+//! corners = 5              # a count of default options, or [[vx, vy], ...]
+//! f_base = 1.0
+//! n = 8                    # cells per tile side
+//! [grid]
+//! width = 24
+//! height = 8
+//! border_x = "free"        # left/right: free | zero | periodic
+//! border_y = "zero"        # bottom/top
+//! mask = """               # optional, top row first, '#' = blocked
+//! ...
+//! """
+//! [[flux]]                 # fixed flux multiples; x and y are a number or [first, last]
+//! edge = "v"               # "v": vertical edge at x (0..=W) in row y; "h": horizontal at y in column x
+//! x = 0
+//! y = [0, 7]
+//! m = 1
+//! [[corner]]               # fixed corner velocity (index into the options) at vertex (x, y)
+//! x = 3
+//! y = 4
+//! velocity = 1
+//! ```
+
+use std::fmt;
+
+use serde::Deserialize;
+
+use crate::tileset::{FluxRange, TileSet, default_corner_options};
+use crate::tiling::{Border, Conditions, Edge, MAX_SIDE, MAX_SLOTS, parse_mask};
+
+/// A spec that failed to parse or describes an impossible problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecError(pub String);
+
+impl fmt::Display for SpecError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for SpecError {}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+enum CountOrRange {
+    Count(u32),
+    Range([i32; 2]),
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+enum CornerSpec {
+    Count(usize),
+    List(Vec<[f64; 2]>),
+}
+
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(untagged)]
+enum Span {
+    One(u32),
+    Range([u32; 2]),
+}
+
+impl Span {
+    fn bounds(self) -> (u32, u32) {
+        match self {
+            Span::One(v) => (v, v),
+            Span::Range([a, b]) => (a.min(b), a.max(b)),
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TileSetSpec {
+    mx: CountOrRange,
+    my: CountOrRange,
+    #[serde(default = "one_corner")]
+    corners: CornerSpec,
+    #[serde(default = "unit")]
+    f_base: f64,
+    #[serde(default = "eight")]
+    n: usize,
+}
+
+fn one_corner() -> CornerSpec {
+    CornerSpec::Count(1)
+}
+fn unit() -> f64 {
+    1.0
+}
+fn eight() -> usize {
+    8
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "lowercase")]
+enum BorderSpec {
+    Free,
+    Zero,
+    Periodic,
+}
+
+impl From<BorderSpec> for Border {
+    fn from(b: BorderSpec) -> Border {
+        match b {
+            BorderSpec::Free => Border::Free,
+            BorderSpec::Zero => Border::Zero,
+            BorderSpec::Periodic => Border::Periodic,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GridSpec {
+    width: u32,
+    height: u32,
+    #[serde(default = "free")]
+    border_x: BorderSpec,
+    #[serde(default = "free")]
+    border_y: BorderSpec,
+    #[serde(default)]
+    mask: Option<String>,
+}
+
+fn free() -> BorderSpec {
+    BorderSpec::Free
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FluxSpec {
+    edge: String,
+    x: Span,
+    y: Span,
+    m: i32,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CornerFix {
+    x: Span,
+    y: Span,
+    velocity: u16,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpecFile {
+    #[serde(default)]
+    seed: u64,
+    #[serde(default)]
+    fill_forced: bool,
+    #[serde(default)]
+    description: Option<String>,
+    tileset: TileSetSpec,
+    grid: GridSpec,
+    #[serde(default)]
+    flux: Vec<FluxSpec>,
+    #[serde(default)]
+    corner: Vec<CornerFix>,
+}
+
+/// A tiling problem read from a spec.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// The tile set.
+    pub set: TileSet,
+    /// Grid width in tiles.
+    pub width: u32,
+    /// Grid height in tiles.
+    pub height: u32,
+    /// Boundary conditions.
+    pub conditions: Conditions,
+    /// Seed of the random fill.
+    pub seed: u64,
+    /// Fill forced slots before the random fill.
+    pub fill_forced: bool,
+    /// Free text from the spec.
+    pub description: Option<String>,
+}
+
+fn flux_range(r: &CountOrRange, axis: &str) -> Result<FluxRange, SpecError> {
+    match *r {
+        CountOrRange::Count(0) => Err(SpecError(format!(
+            "tileset.{axis} must offer at least one flux"
+        ))),
+        CountOrRange::Count(c) => Ok(FluxRange::centered(c)),
+        CountOrRange::Range([a, b]) => Ok(FluxRange { min: a, max: b }),
+    }
+}
+
+impl Problem {
+    /// Parses and checks a spec (feasibility is checked later, by
+    /// [`crate::tiling::Tiling::new`]).
+    ///
+    /// ```
+    /// let p = flowtile_bake::spec::Problem::from_toml(r#"
+    ///     [tileset]
+    ///     mx = 3
+    ///     my = 3
+    ///     [grid]
+    ///     width = 4
+    ///     height = 2
+    ///     border_y = "zero"
+    ///     [[flux]]
+    ///     edge = "v"
+    ///     x = 0
+    ///     y = [0, 1]
+    ///     m = 1
+    /// "#).unwrap();
+    /// assert_eq!(p.conditions.fluxes.len(), 2);
+    /// ```
+    pub fn from_toml(text: &str) -> Result<Problem, SpecError> {
+        let spec: SpecFile =
+            toml::from_str(text).map_err(|e| SpecError(format!("spec: {}", e.message())))?;
+        let ts = &spec.tileset;
+        let corners = match &ts.corners {
+            CornerSpec::Count(c) if *c == 0 || *c > crate::tileset::MAX_CORNER_OPTIONS => {
+                return Err(SpecError(format!("tileset.corners = {c} is out of range")));
+            }
+            CornerSpec::Count(c) => default_corner_options(*c),
+            CornerSpec::List(l) => l.clone(),
+        };
+        let set = TileSet::new(
+            flux_range(&ts.mx, "mx")?,
+            flux_range(&ts.my, "my")?,
+            ts.f_base,
+            corners,
+            ts.n,
+        )
+        .map_err(|e| SpecError(format!("tileset: {e}")))?;
+        let g = &spec.grid;
+        let (w, h) = (g.width, g.height);
+        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE || w as u64 * h as u64 > MAX_SLOTS {
+            return Err(SpecError(format!("grid {w}x{h} is empty or too large")));
+        }
+        let mut conditions = Conditions::borders(g.border_x.into(), g.border_y.into());
+        if let Some(mask) = &g.mask {
+            conditions.blocked = parse_mask(mask, w, h).map_err(|e| SpecError(e.to_string()))?;
+        }
+        for (i, f) in spec.flux.iter().enumerate() {
+            let (x0, x1) = f.x.bounds();
+            let (y0, y1) = f.y.bounds();
+            let vertical = match f.edge.as_str() {
+                "v" | "vertical" => true,
+                "h" | "horizontal" => false,
+                other => {
+                    return Err(SpecError(format!(
+                        "flux[{i}].edge = {other:?}; use \"v\" or \"h\""
+                    )));
+                }
+            };
+            let (xmax, ymax) = if vertical { (w, h - 1) } else { (w - 1, h) };
+            if x1 > xmax || y1 > ymax {
+                return Err(SpecError(format!(
+                    "flux[{i}] reaches edge ({x1}, {y1}); {} edges go up to ({xmax}, {ymax})",
+                    if vertical { "vertical" } else { "horizontal" }
+                )));
+            }
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    let e = if vertical {
+                        Edge::Vertical { x, y }
+                    } else {
+                        Edge::Horizontal { x, y }
+                    };
+                    conditions.fluxes.push((e, f.m));
+                }
+            }
+        }
+        for (i, c) in spec.corner.iter().enumerate() {
+            let (x0, x1) = c.x.bounds();
+            let (y0, y1) = c.y.bounds();
+            if x1 > w || y1 > h {
+                return Err(SpecError(format!(
+                    "corner[{i}] reaches vertex ({x1}, {y1}) outside the grid"
+                )));
+            }
+            for y in y0..=y1 {
+                for x in x0..=x1 {
+                    conditions.corners.push(((x, y), c.velocity));
+                }
+            }
+        }
+        Ok(Problem {
+            set,
+            width: w,
+            height: h,
+            conditions,
+            seed: spec.seed,
+            fill_forced: spec.fill_forced,
+            description: spec.description,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+    use crate::tiling::Tiling;
+
+    #[test]
+    fn example_specs_tile_completely() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/flowtiles");
+        let mut seen = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                let p = Problem::from_toml(&std::fs::read_to_string(&path).unwrap())
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                let mut t = Tiling::new(p.set, p.width, p.height, &p.conditions)
+                    .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+                if p.fill_forced {
+                    t.fill_forced().unwrap();
+                }
+                t.random_fill(&mut Rng::new(p.seed)).unwrap();
+                assert!(t.is_complete());
+                seen += 1;
+            }
+        }
+        assert!(seen >= 3);
+    }
+
+    #[test]
+    fn bad_specs_name_the_problem() {
+        let base = "[tileset]\nmx = 3\nmy = 3\n[grid]\nwidth = 4\nheight = 2\n";
+        assert!(Problem::from_toml(base).is_ok());
+        let cases = [
+            (
+                format!("{base}[[flux]]\nedge = \"q\"\nx = 0\ny = 0\nm = 1\n"),
+                "edge",
+            ),
+            (
+                format!("{base}[[flux]]\nedge = \"v\"\nx = 9\ny = 0\nm = 1\n"),
+                "flux[0]",
+            ),
+            (
+                format!("{base}[[corner]]\nx = 9\ny = 0\nvelocity = 0\n"),
+                "corner[0]",
+            ),
+            (base.replace("width = 4", "width = 0"), "grid"),
+            (base.replace("mx = 3", "mx = 0"), "mx"),
+            (format!("{base}bogus = 1\n"), "bogus"),
+            ("not toml [".to_string(), "spec"),
+            (base.replace("[grid]", "[grid]\nmask = \"..\""), "mask"),
+        ];
+        for (text, needle) in cases {
+            let err = Problem::from_toml(&text).unwrap_err().to_string();
+            assert!(err.contains(needle), "{needle}: {err}");
+        }
+    }
+}

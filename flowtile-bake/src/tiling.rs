@@ -1,0 +1,970 @@
+//! Tilings: a W×H grid of tile slots, boundary conditions, and the selection
+//! function that offers, for any empty slot of any partial tiling, exactly the
+//! tiles that keep the tiling completable (paper §4).
+//!
+//! Fluxes and corners are independent: corner velocities only have to match
+//! between the (up to four) slots meeting at a grid vertex, which is a local
+//! check, while fluxes are coupled across the whole grid by conservation. The
+//! flux constraints live in a [`Network`] (one node per slot plus the outside,
+//! one arc per grid edge) that always holds a feasible circulation; see
+//! [`crate::flow`].
+//!
+//! Grid conventions: slot `(x, y)` has `x` to the right and `y` up. Vertical
+//! edge `(x, y)` (`0 ≤ x ≤ W`) lies between slots `(x-1, y)` and `(x, y)` and
+//! carries flux towards +x; horizontal edge `(x, y)` (`0 ≤ y ≤ H`) lies
+//! between `(x, y-1)` and `(x, y)` and carries flux towards +y. Vertex
+//! `(x, y)` is the lower-left corner of slot `(x, y)`.
+
+use std::fmt;
+
+use crate::flow::{ArcId, Network};
+use crate::rng::Rng;
+use crate::tileset::{TileKey, TileSet};
+
+/// What happens at a pair of opposite outer borders.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Border {
+    /// Any flux the tile set offers may cross, corners are free.
+    Free,
+    /// Walls: zero flux and zero corner velocity.
+    Zero,
+    /// The two borders are glued together (a torus in that direction).
+    Periodic,
+}
+
+/// A grid edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Edge {
+    /// Vertical edge at `x` in row `y` (flux towards +x).
+    Vertical {
+        /// Column of the edge, `0..=W`.
+        x: u32,
+        /// Row, `0..H`.
+        y: u32,
+    },
+    /// Horizontal edge at `y` in column `x` (flux towards +y).
+    Horizontal {
+        /// Column, `0..W`.
+        x: u32,
+        /// Row of the edge, `0..=H`.
+        y: u32,
+    },
+}
+
+/// Boundary conditions of a tiling problem.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Conditions {
+    /// Left and right borders.
+    pub border_x: Border,
+    /// Bottom and top borders.
+    pub border_y: Border,
+    /// Blocked slots, row-major from the bottom row (`y * W + x`); empty for none.
+    pub blocked: Vec<bool>,
+    /// Edges with a fixed flux multiple.
+    pub fluxes: Vec<(Edge, i32)>,
+    /// Vertices `(x, y)` with a fixed corner velocity index.
+    pub corners: Vec<((u32, u32), u16)>,
+}
+
+impl Conditions {
+    /// Conditions with the given borders and nothing else.
+    pub fn borders(border_x: Border, border_y: Border) -> Conditions {
+        Conditions {
+            border_x,
+            border_y,
+            blocked: Vec::new(),
+            fluxes: Vec::new(),
+            corners: Vec::new(),
+        }
+    }
+}
+
+/// Reads an ASCII mask: one line per row, top row first; `#`, `X` or `x`
+/// mark blocked slots, `.` or space free ones. Returns the row-major blocked
+/// flags (bottom row first) for a `width`×`height` grid.
+pub fn parse_mask(text: &str, width: u32, height: u32) -> Result<Vec<bool>, TilingError> {
+    let rows: Vec<&str> = text
+        .lines()
+        .map(|l| l.trim_end_matches('\r'))
+        .filter(|l| !l.trim().is_empty())
+        .collect();
+    if rows.len() != height as usize {
+        return Err(TilingError::BadMask(format!(
+            "{} rows, grid has {height}",
+            rows.len()
+        )));
+    }
+    let mut blocked = vec![false; (width * height) as usize];
+    for (r, line) in rows.iter().enumerate() {
+        let chars: Vec<char> = line.trim().chars().collect();
+        if chars.len() != width as usize {
+            return Err(TilingError::BadMask(format!(
+                "row {} has {} columns, grid has {width}",
+                r + 1,
+                chars.len()
+            )));
+        }
+        let y = height as usize - 1 - r;
+        for (x, ch) in chars.iter().enumerate() {
+            blocked[y * width as usize + x] = match ch {
+                '#' | 'X' | 'x' => true,
+                '.' | ' ' => false,
+                other => {
+                    return Err(TilingError::BadMask(format!(
+                        "unexpected character {other:?} in row {}",
+                        r + 1
+                    )));
+                }
+            };
+        }
+    }
+    Ok(blocked)
+}
+
+/// Errors of tiling problems and placements.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TilingError {
+    /// Width or height zero or too large.
+    BadGrid(u32, u32),
+    /// The mask does not fit the grid.
+    BadMask(String),
+    /// An edge or vertex outside the grid.
+    OutOfGrid(String),
+    /// A fixed flux the tile set does not offer on that edge.
+    FluxOutOfRange(Edge, i32),
+    /// A corner index the tile set does not have.
+    CornerOutOfRange(u16),
+    /// Two conditions disagree.
+    Conflict(String),
+    /// Walls or blocked slots need a zero corner velocity option.
+    NoZeroCorner,
+    /// The conditions admit no complete tiling.
+    Infeasible(String),
+    /// The slot is blocked by the mask.
+    SlotBlocked(u32, u32),
+    /// The slot already holds a tile.
+    SlotOccupied(u32, u32),
+    /// The slot is outside the grid.
+    NoSuchSlot(u32, u32),
+    /// The tile would make the tiling impossible to complete.
+    TileNotAllowed(u32, u32, TileKey),
+}
+
+impl fmt::Display for TilingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TilingError::BadGrid(w, h) => write!(
+                f,
+                "grid {w}x{h} is empty or larger than {MAX_SIDE}x{MAX_SIDE} / {MAX_SLOTS} slots"
+            ),
+            TilingError::BadMask(why) => write!(f, "mask does not fit the grid: {why}"),
+            TilingError::OutOfGrid(what) => write!(f, "{what} lies outside the grid"),
+            TilingError::FluxOutOfRange(e, m) => {
+                write!(f, "fixed flux {m} on {e:?} is not offered by the tile set")
+            }
+            TilingError::CornerOutOfRange(c) => {
+                write!(f, "corner velocity index {c} is not in the tile set")
+            }
+            TilingError::Conflict(why) => write!(f, "conflicting conditions: {why}"),
+            TilingError::NoZeroCorner => write!(
+                f,
+                "walls and blocked slots need the zero velocity among the corner options"
+            ),
+            TilingError::Infeasible(why) => {
+                write!(f, "boundary conditions admit no complete tiling ({why})")
+            }
+            TilingError::SlotBlocked(x, y) => write!(f, "slot ({x}, {y}) is blocked"),
+            TilingError::SlotOccupied(x, y) => write!(f, "slot ({x}, {y}) is already tiled"),
+            TilingError::NoSuchSlot(x, y) => write!(f, "slot ({x}, {y}) is outside the grid"),
+            TilingError::TileNotAllowed(x, y, k) => write!(
+                f,
+                "tile {k} at ({x}, {y}) would leave the tiling uncompletable"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for TilingError {}
+
+/// Capacity of the arcs that join the outside ring: more than any border can carry.
+const UNBOUNDED: i32 = 1 << 28;
+
+/// Largest grid side.
+pub const MAX_SIDE: u32 = 8192;
+/// Largest number of slots.
+pub const MAX_SLOTS: u64 = 1 << 24;
+
+/// The tiles the selection function offers for one slot: every listed flux
+/// tuple combined with every choice of the four corner lists.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Selection {
+    /// Flux tuples `(left, bottom, right, top)` that keep the tiling completable.
+    pub fluxes: Vec<[i32; 4]>,
+    /// Allowed corner indices: bottom-left, bottom-right, top-right, top-left.
+    pub corners: [Vec<u16>; 4],
+    /// `Some(j)` when corner `k` is the same grid vertex as corner `j < k`
+    /// (periodic grids one slot wide or high) and must repeat its choice.
+    pub same_as: [Option<usize>; 4],
+}
+
+impl Selection {
+    /// Number of tiles offered.
+    pub fn len(&self) -> u64 {
+        self.fluxes.len() as u64 * self.corner_choices()
+    }
+
+    fn corner_choices(&self) -> u64 {
+        (0..4)
+            .filter(|&k| self.same_as[k].is_none())
+            .map(|k| self.corners[k].len() as u64)
+            .product()
+    }
+
+    /// True when nothing fits (never happens for a completable tiling).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The `i`-th offered tile (`i < len()`).
+    pub fn key(&self, i: u64) -> TileKey {
+        let per_flux = self.corner_choices();
+        let [left, bottom, right, top] = self.fluxes[(i / per_flux) as usize];
+        let mut rest = i % per_flux;
+        let mut corners = [0u16; 4];
+        for k in (0..4).rev() {
+            if self.same_as[k].is_none() {
+                let len = self.corners[k].len() as u64;
+                corners[k] = self.corners[k][(rest % len) as usize];
+                rest /= len;
+            }
+        }
+        for k in 0..4 {
+            if let Some(j) = self.same_as[k] {
+                corners[k] = corners[j];
+            }
+        }
+        TileKey {
+            left,
+            bottom,
+            right,
+            top,
+            corners,
+        }
+    }
+
+    /// Every offered tile.
+    pub fn keys(&self) -> impl Iterator<Item = TileKey> + '_ {
+        (0..self.len()).map(|i| self.key(i))
+    }
+}
+
+/// A partial or complete tiling together with its constraints.
+///
+/// ```
+/// use flowtile_bake::{tileset::TileSet, tiling::{Tiling, Conditions, Border}, rng::Rng};
+/// let set = TileSet::paper(3, 3, 1, 4).unwrap();
+/// let mut t = Tiling::new(set, 3, 3, &Conditions::borders(Border::Zero, Border::Zero)).unwrap();
+/// t.random_fill(&mut Rng::new(1)).unwrap();
+/// assert!(t.is_complete());
+/// ```
+#[derive(Clone, Debug)]
+pub struct Tiling {
+    set: TileSet,
+    width: u32,
+    height: u32,
+    border_x: Border,
+    border_y: Border,
+    blocked: Vec<bool>,
+    net: Network,
+    v_arcs: Vec<ArcId>,
+    h_arcs: Vec<ArcId>,
+    corner_fixed: Vec<Option<u16>>,
+    slots: Vec<Option<TileKey>>,
+}
+
+impl Tiling {
+    /// Sets up an empty tiling and checks that it can be completed.
+    pub fn new(
+        set: TileSet,
+        width: u32,
+        height: u32,
+        cond: &Conditions,
+    ) -> Result<Tiling, TilingError> {
+        if width == 0
+            || height == 0
+            || width > MAX_SIDE
+            || height > MAX_SIDE
+            || width as u64 * height as u64 > MAX_SLOTS
+        {
+            return Err(TilingError::BadGrid(width, height));
+        }
+        let slots = (width * height) as usize;
+        let blocked = if cond.blocked.is_empty() {
+            vec![false; slots]
+        } else if cond.blocked.len() == slots {
+            cond.blocked.clone()
+        } else {
+            return Err(TilingError::BadMask(format!(
+                "{} flags for {slots} slots",
+                cond.blocked.len()
+            )));
+        };
+        // The outside is one node in the flow problem. Storing it as a ring of
+        // "ports", one per border edge, joined by unbounded arcs is equivalent
+        // but keeps every search local: a path that leaves through the border
+        // walks along the ring instead of fanning out to every border slot.
+        let (w, h) = (width as i64, height as i64);
+        let ring = 2 * (width + height) as usize;
+        let port = |x: i64, y: i64| -> u32 {
+            let k = if y < 0 {
+                x
+            } else if x >= w {
+                w + y
+            } else if y >= h {
+                w + h + (w - 1 - x)
+            } else {
+                2 * w + h + (h - 1 - y)
+            };
+            (slots as i64 + k) as u32
+        };
+        let mut net = Network::new(slots + ring);
+        let slot_node = |x: i64, y: i64| -> u32 {
+            let xw = if cond.border_x == Border::Periodic {
+                x.rem_euclid(w)
+            } else {
+                x
+            };
+            let yw = if cond.border_y == Border::Periodic {
+                y.rem_euclid(h)
+            } else {
+                y
+            };
+            if xw < 0 || yw < 0 || xw >= w || yw >= h {
+                port(xw, yw)
+            } else {
+                (yw * w + xw) as u32
+            }
+        };
+        let outside = |node: u32| node as usize >= slots;
+        let is_blocked = |node: u32| !outside(node) && blocked[node as usize];
+        let (mx, my) = (set.mx, set.my);
+        let bounds = |tail: u32, head: u32, border: Border, r: crate::tileset::FluxRange| {
+            let at_border = outside(tail) || outside(head);
+            if is_blocked(tail) || is_blocked(head) || (at_border && border == Border::Zero) {
+                (0, 0)
+            } else {
+                (r.min, r.max)
+            }
+        };
+        for k in 0..ring {
+            let a = (slots + k) as u32;
+            let b = (slots + (k + 1) % ring) as u32;
+            net.add_arc(a, b, -UNBOUNDED, UNBOUNDED);
+        }
+        // Vertical edges: with periodic x the edge at x = W is the one at x = 0.
+        let vx_count = if cond.border_x == Border::Periodic {
+            width
+        } else {
+            width + 1
+        };
+        let mut v_arcs = Vec::with_capacity((vx_count * height) as usize);
+        for y in 0..height as i64 {
+            for x in 0..vx_count as i64 {
+                let (tail, head) = (slot_node(x - 1, y), slot_node(x, y));
+                let (lo, hi) = bounds(tail, head, cond.border_x, mx);
+                v_arcs.push(net.add_arc(tail, head, lo, hi));
+            }
+        }
+        let hy_count = if cond.border_y == Border::Periodic {
+            height
+        } else {
+            height + 1
+        };
+        let mut h_arcs = Vec::with_capacity((hy_count * width) as usize);
+        for y in 0..hy_count as i64 {
+            for x in 0..width as i64 {
+                let (tail, head) = (slot_node(x, y - 1), slot_node(x, y));
+                let (lo, hi) = bounds(tail, head, cond.border_y, my);
+                h_arcs.push(net.add_arc(tail, head, lo, hi));
+            }
+        }
+        let vw = if cond.border_x == Border::Periodic {
+            width
+        } else {
+            width + 1
+        };
+        let vh = if cond.border_y == Border::Periodic {
+            height
+        } else {
+            height + 1
+        };
+        let mut tiling = Tiling {
+            set,
+            width,
+            height,
+            border_x: cond.border_x,
+            border_y: cond.border_y,
+            blocked,
+            net,
+            v_arcs,
+            h_arcs,
+            corner_fixed: vec![None; (vw * vh) as usize],
+            slots: vec![None; slots],
+        };
+        tiling.apply_corner_conditions(cond)?;
+        let mut fixed: Vec<Option<i32>> = vec![None; tiling.net.arc_count()];
+        for &(edge, m) in &cond.fluxes {
+            let arc = tiling.edge_arc(edge)?;
+            let a = tiling.net.arc(arc);
+            let touches_block = [a.tail, a.head]
+                .iter()
+                .any(|&n| (n as usize) < slots && tiling.blocked[n as usize]);
+            if touches_block && m != 0 {
+                return Err(TilingError::Conflict(format!(
+                    "{edge:?} borders a blocked slot and cannot carry flux {m}"
+                )));
+            }
+            if let Some(old) = fixed[arc]
+                && old != m
+            {
+                return Err(TilingError::Conflict(format!(
+                    "{edge:?} fixed to both {old} and {m}"
+                )));
+            }
+            let range = match edge {
+                Edge::Vertical { .. } => mx,
+                Edge::Horizontal { .. } => my,
+            };
+            if !range.contains(m) {
+                return Err(TilingError::FluxOutOfRange(edge, m));
+            }
+            // An explicit flux overrides a wall border: an inlet or outlet.
+            fixed[arc] = Some(m);
+            tiling.net_clamp(arc, m);
+        }
+        tiling
+            .net
+            .make_feasible()
+            .map_err(|e| TilingError::Infeasible(tiling.describe_node(e.node)))?;
+        Ok(tiling)
+    }
+
+    /// Narrows an arc of the not yet solved network to one value.
+    fn net_clamp(&mut self, arc: ArcId, m: i32) {
+        self.net.set_bounds(arc, m, m);
+    }
+
+    fn describe_node(&self, node: u32) -> String {
+        if node as usize >= self.slots.len() {
+            "flux through the outer border cannot balance".to_string()
+        } else {
+            let (x, y) = (node % self.width, node / self.width);
+            format!("flux cannot balance at slot ({x}, {y})")
+        }
+    }
+
+    fn apply_corner_conditions(&mut self, cond: &Conditions) -> Result<(), TilingError> {
+        let c = self.set.corners.len() as u16;
+        let zero = self.set.zero_corner();
+        let mut need_zero = Vec::new();
+        for y in 0..self.height {
+            for x in 0..self.width {
+                if self.blocked[(y * self.width + x) as usize] {
+                    need_zero.extend([(x, y), (x + 1, y), (x + 1, y + 1), (x, y + 1)]);
+                }
+            }
+        }
+        if self.border_x == Border::Zero {
+            for y in 0..=self.height {
+                need_zero.extend([(0, y), (self.width, y)]);
+            }
+        }
+        if self.border_y == Border::Zero {
+            for x in 0..=self.width {
+                need_zero.extend([(x, 0), (x, self.height)]);
+            }
+        }
+        if !need_zero.is_empty() {
+            let z = zero.ok_or(TilingError::NoZeroCorner)?;
+            for (x, y) in need_zero {
+                let v = self.vertex(x, y);
+                self.corner_fixed[v] = Some(z);
+            }
+        }
+        for &((x, y), idx) in &cond.corners {
+            if idx >= c {
+                return Err(TilingError::CornerOutOfRange(idx));
+            }
+            if x > self.width || y > self.height {
+                return Err(TilingError::OutOfGrid(format!("vertex ({x}, {y})")));
+            }
+            let v = self.vertex(x, y);
+            match self.corner_fixed[v] {
+                Some(old) if old != idx => {
+                    return Err(TilingError::Conflict(format!(
+                        "vertex ({x}, {y}) fixed to corner {old} and {idx}"
+                    )));
+                }
+                _ => self.corner_fixed[v] = Some(idx),
+            }
+        }
+        Ok(())
+    }
+
+    /// Index of vertex `(x, y)` with periodic wrap-around.
+    fn vertex(&self, x: u32, y: u32) -> usize {
+        let vw = if self.border_x == Border::Periodic {
+            self.width
+        } else {
+            self.width + 1
+        };
+        let xw = if self.border_x == Border::Periodic {
+            x % self.width
+        } else {
+            x
+        };
+        let yw = if self.border_y == Border::Periodic {
+            y % self.height
+        } else {
+            y
+        };
+        (yw * vw + xw) as usize
+    }
+
+    /// The network arc of a grid edge.
+    fn edge_arc(&self, edge: Edge) -> Result<ArcId, TilingError> {
+        match edge {
+            Edge::Vertical { x, y } => {
+                if x > self.width || y >= self.height {
+                    return Err(TilingError::OutOfGrid(format!("{edge:?}")));
+                }
+                let per_row = self.v_arcs.len() as u32 / self.height;
+                Ok(self.v_arcs[(y * per_row + x % per_row) as usize])
+            }
+            Edge::Horizontal { x, y } => {
+                if x >= self.width || y > self.height {
+                    return Err(TilingError::OutOfGrid(format!("{edge:?}")));
+                }
+                let rows = self.h_arcs.len() as u32 / self.width;
+                Ok(self.h_arcs[((y % rows) * self.width + x) as usize])
+            }
+        }
+    }
+
+    /// Arcs of slot `(x, y)`: left, bottom, right, top.
+    fn slot_arcs(&self, x: u32, y: u32) -> [ArcId; 4] {
+        let arc = |e| self.edge_arc(e).expect("slot inside grid");
+        [
+            arc(Edge::Vertical { x, y }),
+            arc(Edge::Horizontal { x, y }),
+            arc(Edge::Vertical { x: x + 1, y }),
+            arc(Edge::Horizontal { x, y: y + 1 }),
+        ]
+    }
+
+    /// Vertices of slot `(x, y)`: bottom-left, bottom-right, top-right, top-left.
+    fn slot_vertices(&self, x: u32, y: u32) -> [usize; 4] {
+        [
+            self.vertex(x, y),
+            self.vertex(x + 1, y),
+            self.vertex(x + 1, y + 1),
+            self.vertex(x, y + 1),
+        ]
+    }
+
+    /// The tile set.
+    pub fn set(&self) -> &TileSet {
+        &self.set
+    }
+
+    /// Grid width in slots.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Grid height in slots.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Left/right and bottom/top borders.
+    pub fn borders(&self) -> (Border, Border) {
+        (self.border_x, self.border_y)
+    }
+
+    /// True when slot `(x, y)` is blocked by the mask.
+    pub fn is_blocked(&self, x: u32, y: u32) -> bool {
+        self.blocked[(y * self.width + x) as usize]
+    }
+
+    /// The tile at `(x, y)`, if one has been placed.
+    pub fn tile(&self, x: u32, y: u32) -> Option<TileKey> {
+        self.slots[(y * self.width + x) as usize]
+    }
+
+    /// Number of tile slots (excluding blocked ones).
+    pub fn open_slots(&self) -> usize {
+        self.blocked.iter().filter(|b| !**b).count()
+    }
+
+    /// True when every unblocked slot holds a tile.
+    pub fn is_complete(&self) -> bool {
+        self.slots
+            .iter()
+            .zip(&self.blocked)
+            .all(|(s, b)| *b || s.is_some())
+    }
+
+    /// The distinct tiles in use, sorted.
+    pub fn tiles_used(&self) -> Vec<TileKey> {
+        let mut keys: Vec<TileKey> = self.slots.iter().flatten().copied().collect();
+        keys.sort_unstable();
+        keys.dedup();
+        keys
+    }
+
+    fn check_slot(&self, x: u32, y: u32) -> Result<(), TilingError> {
+        if x >= self.width || y >= self.height {
+            return Err(TilingError::NoSuchSlot(x, y));
+        }
+        if self.is_blocked(x, y) {
+            return Err(TilingError::SlotBlocked(x, y));
+        }
+        if self.tile(x, y).is_some() {
+            return Err(TilingError::SlotOccupied(x, y));
+        }
+        Ok(())
+    }
+
+    /// The selection function: every tile that fits slot `(x, y)` and keeps
+    /// the tiling completable.
+    ///
+    /// Each free edge's exact flux interval comes from max-flow on the
+    /// residual graph. With at most two free edges (scan-line order) every
+    /// value in the interval is feasible, since conservation leaves one degree
+    /// of freedom; with more, each candidate tuple is tested by fixing it
+    /// tentatively and rolling back (the paper's second step, needed only
+    /// then).
+    pub fn select(&mut self, x: u32, y: u32) -> Result<Selection, TilingError> {
+        self.check_slot(x, y)?;
+        let arcs = self.slot_arcs(x, y);
+        let mut ranges = [(0i32, 0i32); 4];
+        let mut free_arcs: Vec<ArcId> = Vec::with_capacity(4);
+        for (k, &a) in arcs.iter().enumerate() {
+            let arc = self.net.arc(a);
+            if arc.lo == arc.hi {
+                ranges[k] = (arc.lo, arc.hi);
+            } else {
+                if !free_arcs.contains(&a) {
+                    free_arcs.push(a);
+                }
+                ranges[k] = (arc.lo, arc.hi); // refined below
+            }
+        }
+        for &a in &free_arcs {
+            let r = self.net.range(a);
+            for k in 0..4 {
+                if arcs[k] == a {
+                    ranges[k] = r;
+                }
+            }
+        }
+        let mut fluxes = Vec::new();
+        let test_each = free_arcs.len() >= 3;
+        for l in ranges[0].0..=ranges[0].1 {
+            for b in ranges[1].0..=ranges[1].1 {
+                for r in ranges[2].0..=ranges[2].1 {
+                    let t = l + b - r;
+                    if t < ranges[3].0 || t > ranges[3].1 {
+                        continue;
+                    }
+                    let values = [l, b, r, t];
+                    if !self.same_arc_consistent(&arcs, &values) {
+                        continue;
+                    }
+                    if test_each && !self.tuple_feasible(&arcs, &values) {
+                        continue;
+                    }
+                    fluxes.push(values);
+                }
+            }
+        }
+        let c = self.set.corners.len() as u16;
+        let verts = self.slot_vertices(x, y);
+        let corners = verts.map(|v| match self.corner_fixed[v] {
+            Some(i) => vec![i],
+            None => (0..c).collect(),
+        });
+        let same_as = std::array::from_fn(|k| (0..k).find(|&j| verts[j] == verts[k]));
+        Ok(Selection {
+            fluxes,
+            corners,
+            same_as,
+        })
+    }
+
+    /// With periodic borders of width or height 1 a slot's opposite edges are
+    /// the same arc and must carry the same value.
+    fn same_arc_consistent(&self, arcs: &[ArcId; 4], values: &[i32; 4]) -> bool {
+        (0..4).all(|i| (0..4).all(|j| arcs[i] != arcs[j] || values[i] == values[j]))
+    }
+
+    fn tuple_feasible(&mut self, arcs: &[ArcId; 4], values: &[i32; 4]) -> bool {
+        let mark = self.net.checkpoint();
+        let ok = arcs.iter().zip(values).all(|(&a, &v)| self.net.fix(a, v));
+        self.net.rollback(mark);
+        ok
+    }
+
+    /// Places `key` at `(x, y)` if it keeps the tiling completable.
+    pub fn place(&mut self, x: u32, y: u32, key: TileKey) -> Result<(), TilingError> {
+        self.check_slot(x, y)?;
+        if self.set.index_of(&key).is_none() {
+            return Err(TilingError::TileNotAllowed(x, y, key));
+        }
+        let verts = self.slot_vertices(x, y);
+        for (k, &v) in verts.iter().enumerate() {
+            if let Some(c) = self.corner_fixed[v]
+                && c != key.corners[k]
+            {
+                return Err(TilingError::TileNotAllowed(x, y, key));
+            }
+        }
+        // Same vertex twice (periodic 1-wide grids) must get the same corner.
+        for i in 0..4 {
+            for j in 0..4 {
+                if verts[i] == verts[j] && key.corners[i] != key.corners[j] {
+                    return Err(TilingError::TileNotAllowed(x, y, key));
+                }
+            }
+        }
+        let arcs = self.slot_arcs(x, y);
+        let values = key.fluxes();
+        let mark = self.net.checkpoint();
+        let ok = arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v));
+        if !ok {
+            self.net.rollback(mark);
+            return Err(TilingError::TileNotAllowed(x, y, key));
+        }
+        self.net.commit();
+        for (k, &v) in verts.iter().enumerate() {
+            self.corner_fixed[v] = Some(key.corners[k]);
+        }
+        self.slots[(y * self.width + x) as usize] = Some(key);
+        Ok(())
+    }
+
+    /// Fills every slot that has exactly one option, repeatedly, until none
+    /// is left (the paper's automatic filling of forced positions). Returns
+    /// the number of tiles placed.
+    pub fn fill_forced(&mut self) -> Result<usize, TilingError> {
+        let mut placed = 0;
+        loop {
+            let mut changed = false;
+            for y in 0..self.height {
+                for x in 0..self.width {
+                    if self.is_blocked(x, y) || self.tile(x, y).is_some() {
+                        continue;
+                    }
+                    let sel = self.select(x, y)?;
+                    if sel.len() == 1 {
+                        self.place(x, y, sel.key(0))?;
+                        placed += 1;
+                        changed = true;
+                    }
+                }
+            }
+            if !changed {
+                return Ok(placed);
+            }
+        }
+    }
+
+    /// Fills every empty slot in scan-line order (bottom row first) with a
+    /// tile chosen uniformly from the selection.
+    pub fn random_fill(&mut self, rng: &mut Rng) -> Result<(), TilingError> {
+        for y in 0..self.height {
+            for x in 0..self.width {
+                if self.is_blocked(x, y) || self.tile(x, y).is_some() {
+                    continue;
+                }
+                self.place_random(x, y, rng)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Places a tile drawn uniformly from the selection of `(x, y)`.
+    ///
+    /// When at most two of the slot's edges are free (always so in scan-line
+    /// order) the feasible values of the first free edge form an interval
+    /// `F` and the second follows by conservation. Rather than computing `F`
+    /// exactly (two full max-flow queries, then moving the flux back to the
+    /// chosen value) we draw from a candidate interval `C ⊇ F` given by the
+    /// edges' own bounds and try to move the flux there; a failed move proves
+    /// where `F` ends, so `C` shrinks to it and we draw again. Conditioned on
+    /// acceptance the draw is uniform over `F`, and the expected work is one
+    /// short move instead of three long ones.
+    pub fn place_random(&mut self, x: u32, y: u32, rng: &mut Rng) -> Result<TileKey, TilingError> {
+        self.check_slot(x, y)?;
+        let arcs = self.slot_arcs(x, y);
+        let distinct = (0..4).all(|i| (0..i).all(|j| arcs[i] != arcs[j]));
+        let free: Vec<usize> = (0..4)
+            .filter(|&k| {
+                let a = self.net.arc(arcs[k]);
+                a.lo < a.hi
+            })
+            .collect();
+        if !distinct {
+            let sel = self.select(x, y)?;
+            if sel.is_empty() {
+                return Err(TilingError::Infeasible(format!(
+                    "no tile fits slot ({x}, {y})"
+                )));
+            }
+            let key = sel.key(rng.below(sel.len()));
+            self.place(x, y, key)?;
+            return Ok(key);
+        }
+        if free.len() > 2 {
+            return self.place_random_tuple(x, y, arcs, rng);
+        }
+        // Conservation l + b - r - t = 0 with signs per side.
+        const SIGN: [i32; 4] = [1, 1, -1, -1];
+        let mut values = arcs.map(|a| self.net.arc(a).x);
+        if free.len() == 2 {
+            let (k, f) = (free[0], free[1]);
+            let (ek, ef) = (self.net.arc(arcs[k]), self.net.arc(arcs[f]));
+            let rest: i32 = (0..4)
+                .filter(|&i| i != k && i != f)
+                .map(|i| SIGN[i] * values[i])
+                .sum();
+            // value of side f given value v of side k
+            let partner = |v: i32| -(rest + SIGN[k] * v) * SIGN[f];
+            let mut lo = ek.lo;
+            let mut hi = ek.hi;
+            while lo <= hi && !(ef.lo..=ef.hi).contains(&partner(lo)) {
+                lo += 1;
+            }
+            while hi >= lo && !(ef.lo..=ef.hi).contains(&partner(hi)) {
+                hi -= 1;
+            }
+            let e = arcs[k];
+            loop {
+                if lo > hi {
+                    return Err(TilingError::Infeasible(format!(
+                        "no tile fits slot ({x}, {y})"
+                    )));
+                }
+                let v = lo + rng.below((hi - lo + 1) as u64) as i32;
+                let cur = self.net.arc(e).x;
+                if v > cur {
+                    let reached = self.net.raise(e, v);
+                    if reached < v {
+                        hi = reached;
+                        continue;
+                    }
+                } else if v < cur {
+                    let reached = self.net.lower(e, v);
+                    if reached > v {
+                        lo = reached;
+                        continue;
+                    }
+                }
+                values[k] = v;
+                values[f] = partner(v);
+                break;
+            }
+        }
+        for (&a, &v) in arcs.iter().zip(&values) {
+            if !self.net.fix(a, v) {
+                return Err(TilingError::Infeasible(format!(
+                    "internal: flux {v} became infeasible at ({x}, {y})"
+                )));
+            }
+        }
+        Ok(self.commit_slot(x, y, values, rng))
+    }
+
+    /// Rejection sampling over whole flux tuples for slots with three or four
+    /// free edges (the first row and column of a free-bordered grid): draw a
+    /// tuple allowed by the edges' own bounds, keep it if fixing it stays
+    /// feasible, otherwise drop it and draw again. Uniform over the
+    /// selection, and usually one feasibility test instead of one per tuple.
+    fn place_random_tuple(
+        &mut self,
+        x: u32,
+        y: u32,
+        arcs: [ArcId; 4],
+        rng: &mut Rng,
+    ) -> Result<TileKey, TilingError> {
+        let b = arcs.map(|a| {
+            let a = self.net.arc(a);
+            (a.lo, a.hi)
+        });
+        let mut candidates = Vec::new();
+        for l in b[0].0..=b[0].1 {
+            for bo in b[1].0..=b[1].1 {
+                for r in b[2].0..=b[2].1 {
+                    let t = l + bo - r;
+                    if (b[3].0..=b[3].1).contains(&t) {
+                        candidates.push([l, bo, r, t]);
+                    }
+                }
+            }
+        }
+        while !candidates.is_empty() {
+            let i = rng.below(candidates.len() as u64) as usize;
+            let values = candidates[i];
+            let mark = self.net.checkpoint();
+            if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
+                self.net.commit();
+                return Ok(self.commit_slot(x, y, values, rng));
+            }
+            self.net.rollback(mark);
+            candidates.swap_remove(i);
+        }
+        Err(TilingError::Infeasible(format!(
+            "no tile fits slot ({x}, {y})"
+        )))
+    }
+
+    /// Records a slot whose fluxes are already fixed in the network, drawing
+    /// its free corners uniformly.
+    fn commit_slot(&mut self, x: u32, y: u32, values: [i32; 4], rng: &mut Rng) -> TileKey {
+        let c = self.set.corners.len() as u64;
+        let verts = self.slot_vertices(x, y);
+        let corners = verts.map(|v| match self.corner_fixed[v] {
+            Some(i) => i,
+            None => rng.below(c) as u16,
+        });
+        let [left, bottom, right, top] = values;
+        let key = TileKey {
+            left,
+            bottom,
+            right,
+            top,
+            corners,
+        };
+        for (k, &v) in verts.iter().enumerate() {
+            self.corner_fixed[v] = Some(key.corners[k]);
+        }
+        self.slots[(y * self.width + x) as usize] = Some(key);
+        key
+    }
+
+    /// Current bounds of a grid edge's flux (after placements and conditions).
+    pub fn edge_bounds(&self, edge: Edge) -> Result<(i32, i32), TilingError> {
+        let a = self.net.arc(self.edge_arc(edge)?);
+        Ok((a.lo, a.hi))
+    }
+
+    /// The exact interval of flux values a grid edge can still take.
+    pub fn edge_interval(&mut self, edge: Edge) -> Result<(i32, i32), TilingError> {
+        let a = self.edge_arc(edge)?;
+        Ok(self.net.range(a))
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,175 @@
+//! End-to-end checks of the `flowtile-bake` binary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_flowtile-bake"))
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("flowtile-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn spec(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../testdata/flowtiles")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+/// A failure must be one clear line on stderr, a non-zero exit, no panic.
+fn assert_clean_failure(o: &Output, needle: &str) {
+    assert!(!o.status.success(), "unexpected success");
+    let err = stderr(o);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains(needle), "expected {needle:?} in {err:?}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err:?}");
+}
+
+#[test]
+fn count_prints_the_paper_numbers() {
+    for (mx, my, c, want) in [
+        ("3", "3", "1", "19"),
+        ("5", "5", "1", "85"),
+        ("3", "3", "5", "11875"),
+    ] {
+        let o = run(&["count", "--mx", mx, "--my", my, "--corners", c]);
+        assert!(o.status.success());
+        assert_eq!(stdout(&o).trim(), want);
+    }
+    let o = run(&[
+        "count",
+        "--mx",
+        "3",
+        "--my",
+        "3",
+        "--corners",
+        "1",
+        "--classes",
+    ]);
+    assert!(stdout(&o).contains("rotation classes: 6"));
+    assert_clean_failure(&run(&["count", "--mx", "0", "--my", "3"]), "at least 1");
+}
+
+#[test]
+fn tile_grid_json_has_the_stats() {
+    let o = run(&[
+        "tile", "--grid", "12x9", "--set", "5,5,1", "--seed", "1", "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["slots"], 108);
+    assert!(v["tiles_used"].as_u64().unwrap() <= 85);
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    assert!(v["max_divergence"].as_f64().unwrap() <= 1e-12);
+    assert!(v["max_seam_mismatch"].as_f64().unwrap() <= 1e-12);
+    assert_clean_failure(&run(&["tile", "--grid", "12by9"]), "WxH");
+    assert_clean_failure(&run(&["tile", "--grid", "4x4", "--set", "5,5"]), "MX,MY,C");
+    assert_clean_failure(&run(&["tile"]), "spec file");
+}
+
+#[test]
+fn spec_tile_info_render_round_trip_is_deterministic() {
+    let dir = scratch("roundtrip");
+    let (a, b) = (dir.join("a.ftbk"), dir.join("b.ftbk"));
+    for out in [&a, &b] {
+        let o = run(&["tile", &spec("river.toml"), "-o", out.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+    let o = run(&["info", a.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
+    assert_eq!(v["width"], 28);
+    let png = dir.join("r.png");
+    let o = run(&[
+        "render",
+        a.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--px",
+        "8",
+        "--style",
+        "particles",
+        "--particles",
+        "20",
+        "--steps",
+        "20",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn bad_inputs_fail_cleanly() {
+    let dir = scratch("bad");
+    let good = dir.join("good.ftbk");
+    assert!(
+        run(&[
+            "tile",
+            "--grid",
+            "5x4",
+            "--set",
+            "3,3,1",
+            "-o",
+            good.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
+    let bytes = std::fs::read(&good).unwrap();
+    let cut = dir.join("cut.ftbk");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    assert_clean_failure(&run(&["info", cut.to_str().unwrap()]), "truncated");
+    let junk = dir.join("junk.ftbk");
+    std::fs::write(&junk, b"hello world, not a tiling").unwrap();
+    assert_clean_failure(&run(&["info", junk.to_str().unwrap()]), "magic");
+    assert_clean_failure(
+        &run(&["render", junk.to_str().unwrap(), "-o", "x.png"]),
+        "magic",
+    );
+    assert_clean_failure(
+        &run(&["info", dir.join("missing").to_str().unwrap()]),
+        "missing",
+    );
+    // Unwritable output: error, and nothing left behind.
+    let nowhere = dir.join("no/such/dir/out.ftbk");
+    assert_clean_failure(
+        &run(&["tile", "--grid", "3x3", "-o", nowhere.to_str().unwrap()]),
+        "out.ftbk",
+    );
+    assert!(!nowhere.exists());
+    // Bad and infeasible specs.
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[tileset]\nmx = 3\nmy = 3\n[grid]\nwidth = 2\nheight = 1\nborder_x = \"zero\"\nborder_y = \"zero\"\n[[flux]]\nedge = \"v\"\nx = 1\ny = 0\nm = 1\n").unwrap();
+    assert_clean_failure(&run(&["tile", bad.to_str().unwrap()]), "no complete tiling");
+    std::fs::write(&bad, "[tileset]\nmx = 3\n").unwrap();
+    assert_clean_failure(&run(&["tile", bad.to_str().unwrap()]), "bad.toml");
+    let o = run(&[
+        "render",
+        good.to_str().unwrap(),
+        "-o",
+        dir.join("big.png").to_str().unwrap(),
+        "--px",
+        "100000",
+    ]);
+    assert_clean_failure(&o, "pixels");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
