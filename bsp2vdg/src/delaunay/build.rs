@@ -42,6 +42,8 @@ pub(super) struct Builder<'a> {
     pub last: u32,
     /// State of the deterministic "stochastic" walk (xorshift32).
     pub walk_rng: u32,
+    /// Cavities with more boundary vertices than this are glued by the hash table.
+    pub matrix_glue_max: usize,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
     /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
@@ -55,6 +57,15 @@ impl<'a> Builder<'a> {
     /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
     /// indices when the result is assembled.
     pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
+        Self::run_with(input, super::insert::MATRIX_GLUE_MAX)
+    }
+
+    /// [`Self::run`] with a chosen limit for the dense gluing table (tests force the hash
+    /// table path with 0).
+    pub fn run_with(
+        input: &[[f64; 3]],
+        matrix_glue_max: usize,
+    ) -> Result<Triangulation, DelaunayError> {
         if input.len() >= (MAX_TETS / 8) {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
@@ -62,11 +73,15 @@ impl<'a> Builder<'a> {
         let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
         let ids: Vec<u32> = (0..sorted.len() as u32).collect();
         let simplex = initial_simplex(&sorted, &ids)?;
-        let b = Builder::triangulate(&sorted, simplex)?;
+        let b = Builder::triangulate(&sorted, simplex, matrix_glue_max)?;
         Ok(b.finish(input, &order))
     }
 
-    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
+    fn triangulate(
+        pts: &'a [[f64; 3]],
+        simplex: [u32; 4],
+        matrix_glue_max: usize,
+    ) -> Result<Self, DelaunayError> {
         // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
@@ -76,6 +91,7 @@ impl<'a> Builder<'a> {
             free: Vec::new(),
             last: 0,
             walk_rng: 0x2545_F491,
+            matrix_glue_max,
             duplicates: Vec::new(),
             scratch: Default::default(),
             vlocal: vec![[0; 2]; pts.len()],
@@ -224,6 +240,29 @@ impl<'a> Builder<'a> {
             .collect();
         duplicates.sort_unstable();
         Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Builder;
+
+    /// The hash-table gluing (normally only for huge cavities) builds the same valid
+    /// triangulation as the dense table.
+    #[test]
+    fn hash_gluing_path_is_valid_and_equivalent() {
+        let mut pts = Vec::new();
+        for i in 0..1500u32 {
+            let h = i.wrapping_mul(2_654_435_761);
+            pts.push([(h % 97) as f64, (h / 97 % 89) as f64, (i % 7) as f64 * 3.0]);
+        }
+        let dense = Builder::run_with(&pts, super::super::insert::MATRIX_GLUE_MAX).unwrap();
+        let hashed = Builder::run_with(&pts, 0).unwrap();
+        hashed.validate().unwrap();
+        assert!(dense.cells().eq(hashed.cells()));
+        for t in 0..dense.num_cells() as u32 {
+            assert_eq!(dense.neighbors(t), hashed.neighbors(t));
+        }
     }
 }
 

@@ -18,6 +18,10 @@ use super::build::{Builder, DEAD, IN_CAVITY, NBR_MASK, TESTED};
 use super::locate::Location;
 use super::predicates::{in_conflict, orient3d};
 
+/// Largest number of cavity boundary vertices glued through the dense `m × m` table (up
+/// to 36 KiB, cache resident); larger cavities use the hash table.
+pub(super) const MATRIX_GLUE_MAX: usize = 96;
+
 /// A boundary facet of the cavity: the new cell's vertices (the old cell with the opposite
 /// vertex replaced by the new point at `pos`) and the packed outside neighbour.
 #[derive(Clone, Copy)]
@@ -154,7 +158,6 @@ impl Builder<'_> {
     /// searching, no clearing. Returns `false` (nothing done) for cavities with too many
     /// boundary vertices, which then use the hash table.
     fn glue_by_edge_matrix(&mut self, s: &mut Scratch) -> bool {
-        const MAX_LOCAL: usize = 96;
         let epoch = self.epoch;
         // Local id 0 is the infinite vertex.
         let mut m = 1usize;
@@ -170,7 +173,7 @@ impl Builder<'_> {
                 }
             }
         }
-        if m > MAX_LOCAL {
+        if m > self.matrix_glue_max {
             return false;
         }
         if s.edge_tab.len() < m * m {

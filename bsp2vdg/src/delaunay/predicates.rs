@@ -37,7 +37,8 @@ const ISP_STATIC: f64 = ISP_ERRBOUND_A * 72.0 * (1.0 + 1e-10);
 const STATIC_MIN: f64 = 7.888609052210118e-31; // 2^-100
 const STATIC_MAX: f64 = 1.2676506002282294e30; // 2^100
 
-/// Exact sign (and approximate value) of the orientation determinant of `a, b, c, d`.
+/// Exact sign of the orientation determinant of `a, b, c, d`. The magnitude is the float
+/// estimate when the filter decides, otherwise only the sign is meaningful.
 ///
 /// Three stages: the float evaluation with Shewchuk's error bound; if that is inconclusive
 /// and all coordinate differences are exact dyadic numbers of at most 40 significant bits

@@ -3,7 +3,6 @@
 
 use super::INFINITE;
 use super::build::Cell;
-use super::predicates::orient3d;
 
 /// A Delaunay tetrahedralization of a point set, with an infinite vertex closing the convex
 /// hull (so every cell has exactly four neighbours).
@@ -141,8 +140,15 @@ impl Triangulation {
         };
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let (a, b, c) = (sub(p1, p0), sub(p2, p0), sub(p3, p0));
-        // det[a; b; c] = -orient3d(p0, p1, p2, p3) in Shewchuk's convention.
-        let det = -orient3d(&p0, &p1, &p2, &p3);
+        // det[a; b; c] = -orient3d(p0, p1, p2, p3) in Shewchuk's convention. `robust`
+        // returns a close approximation of the determinant's value (our predicate only
+        // promises its sign), and it is never zero for a cell of this triangulation.
+        let c3 = |p: [f64; 3]| robust::Coord3D {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+        };
+        let det = -robust::orient3d(c3(p0), c3(p1), c3(p2), c3(p3));
         let (bc, ca, ab) = (cross(b, c), cross(c, a), cross(a, b));
         let (la, lb, lc) = (dot(a, a), dot(b, b), dot(c, c));
         let s = 0.5 / det;
