@@ -243,6 +243,25 @@ impl<'a> Builder<'a> {
     }
 }
 
+/// Four affinely independent points, the earliest possible in insertion order (the first
+/// BRIO round is a random sample, so they span the domain well). Points skipped on the way
+/// are inserted normally later (duplicates among them are then detected by the walk).
+fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], DelaunayError> {
+    let p = |i: u32| &pts[i as usize];
+    let too_few = || DelaunayError::Degenerate { count: pts.len() };
+    let &a = order.first().ok_or_else(too_few)?;
+    let b = *order.iter().find(|&&i| p(i) != p(a)).ok_or_else(too_few)?;
+    let c = *order
+        .iter()
+        .find(|&&i| !collinear(p(a), p(b), p(i)))
+        .ok_or_else(too_few)?;
+    let d = *order
+        .iter()
+        .find(|&&i| orient_ids(pts, [a, b, c, i]) != 0.0)
+        .ok_or_else(too_few)?;
+    Ok([a, b, c, d])
+}
+
 #[cfg(test)]
 mod tests {
     use super::Builder;
@@ -264,23 +283,4 @@ mod tests {
             assert_eq!(dense.neighbors(t), hashed.neighbors(t));
         }
     }
-}
-
-/// Four affinely independent points, the earliest possible in insertion order (the first
-/// BRIO round is a random sample, so they span the domain well). Points skipped on the way
-/// are inserted normally later (duplicates among them are then detected by the walk).
-fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], DelaunayError> {
-    let p = |i: u32| &pts[i as usize];
-    let too_few = || DelaunayError::Degenerate { count: pts.len() };
-    let &a = order.first().ok_or_else(too_few)?;
-    let b = *order.iter().find(|&&i| p(i) != p(a)).ok_or_else(too_few)?;
-    let c = *order
-        .iter()
-        .find(|&&i| !collinear(p(a), p(b), p(i)))
-        .ok_or_else(too_few)?;
-    let d = *order
-        .iter()
-        .find(|&&i| orient_ids(pts, [a, b, c, i]) != 0.0)
-        .ok_or_else(too_few)?;
-    Ok([a, b, c, d])
 }
