@@ -48,6 +48,8 @@ pub(super) struct Builder<'a> {
     pub scratch: super::insert::Scratch,
     /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
     pub vlocal: Vec<[u32; 2]>,
+    /// Set when a cell could not be allocated; the triangulation is then abandoned.
+    pub overflow: bool,
 }
 
 impl<'a> Builder<'a> {
@@ -86,7 +88,7 @@ impl<'a> Builder<'a> {
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
             pts,
-            cells: Vec::with_capacity(cap),
+            cells: Vec::new(),
             epoch: 0,
             free: Vec::new(),
             last: 0,
@@ -95,16 +97,20 @@ impl<'a> Builder<'a> {
             duplicates: Vec::new(),
             scratch: Default::default(),
             vlocal: vec![[0; 2]; pts.len()],
+            overflow: false,
         };
+        // Reserve the estimate if the allocator can; otherwise grow on demand (and fail
+        // with an error, never an abort, if even that is impossible).
+        let _ = b.cells.try_reserve_exact(cap);
         b.create_simplex(simplex);
         for q in 0..pts.len() as u32 {
             if simplex.contains(&q) {
                 continue;
             }
-            if b.cells.len() >= MAX_TETS - 64 {
+            b.insert_point(q);
+            if b.overflow {
                 return Err(DelaunayError::TooManyPoints { count: pts.len() });
             }
-            b.insert_point(q);
         }
         Ok(b)
     }
@@ -116,7 +122,12 @@ impl<'a> Builder<'a> {
         } else {
             if self.cells.len() == self.cells.capacity() {
                 // Grow by a quarter, not double: the estimate is usually close.
-                self.cells.reserve_exact(self.cells.len() / 4 + 1024);
+                let more = self.cells.len() / 4 + 1024;
+                if self.cells.len() >= MAX_TETS || self.cells.try_reserve_exact(more).is_err() {
+                    // Out of cell ids or memory: the caller abandons the build.
+                    self.overflow = true;
+                    return 0;
+                }
             }
             self.cells.push(Cell {
                 v: [DEAD; 4],

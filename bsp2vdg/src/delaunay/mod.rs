@@ -76,7 +76,7 @@ pub enum DelaunayError {
     NonFinite { index: usize },
     /// Fewer than four affinely independent points (all coplanar, collinear or equal).
     Degenerate { count: usize },
-    /// More points than 30-bit cell ids can hold.
+    /// The triangulation needs more cells than 29-bit cell ids (or the memory) allow.
     TooManyPoints { count: usize },
 }
 

@@ -321,7 +321,7 @@ impl Triangulation {
     /// equal to an earlier-inserted one are skipped and listed in [`Self::duplicates`].
     ///
     /// Errors: a non-finite coordinate, fewer than four affinely independent points, or
-    /// more points than the 30-bit cell ids can triangulate.
+    /// more cells than 29-bit cell ids (or the available memory) allow.
     ///
     /// ```
     /// use bsp2vdg::delaunay::{DelaunayError, Triangulation};
