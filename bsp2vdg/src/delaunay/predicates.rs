@@ -275,15 +275,43 @@ fn scaled_ints<const N: usize>(diffs: [f64; N], bits: i32) -> Option<[i64; N]> {
     Some(diffs.map(|x| (x * scale) as i64))
 }
 
-fn orient3d_int(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<f64> {
-    let mut diffs = [0.0; 9];
-    for k in 0..3 {
-        diffs[k] = exact_diff(a[k], d[k])?;
-        diffs[3 + k] = exact_diff(b[k], d[k])?;
-        diffs[6 + k] = exact_diff(c[k], d[k])?;
+/// Fast case of the integer stage: every coordinate an integer of magnitude below 2^22
+/// (grid-aligned samples), so all differences are exact integers below 2^23 — no
+/// per-difference analysis needed. Differences are `p[k] − origin[k]`, flattened.
+#[inline]
+fn small_int_diffs<const P: usize, const N: usize>(
+    pts: [&[f64; 3]; P],
+    origin: &[f64; 3],
+) -> Option<[i64; N]> {
+    const LIMIT: f64 = 4_194_304.0; // 2^22
+    let ok = |x: f64| x == x.trunc() && x.abs() < LIMIT;
+    if !origin.iter().all(|&x| ok(x)) || !pts.iter().all(|p| p.iter().all(|&x| ok(x))) {
+        return None;
     }
-    // |entries| < 2^40: 2×2 minors < 2^81, the determinant < 2^123.
-    let v = scaled_ints(diffs, 40)?.map(|x| x as i128);
+    let mut out = [0i64; N];
+    for (i, p) in pts.iter().enumerate() {
+        for k in 0..3 {
+            out[3 * i + k] = p[k] as i64 - origin[k] as i64;
+        }
+    }
+    Some(out)
+}
+
+fn orient3d_int(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> Option<f64> {
+    let v = match small_int_diffs([a, b, c], d) {
+        Some(v) => v,
+        None => {
+            let mut diffs = [0.0; 9];
+            for k in 0..3 {
+                diffs[k] = exact_diff(a[k], d[k])?;
+                diffs[3 + k] = exact_diff(b[k], d[k])?;
+                diffs[6 + k] = exact_diff(c[k], d[k])?;
+            }
+            // |entries| < 2^40: 2×2 minors < 2^81, the determinant < 2^123.
+            scaled_ints(diffs, 40)?
+        }
+    }
+    .map(|x| x as i128);
     let [adx, ady, adz, bdx, bdy, bdz, cdx, cdy, cdz] = v;
     let det = adz * (bdx * cdy - cdx * bdy)
         + bdz * (cdx * ady - adx * cdy)
@@ -298,15 +326,21 @@ fn insphere_int(
     d: &[f64; 3],
     e: &[f64; 3],
 ) -> Option<f64> {
-    let mut diffs = [0.0; 12];
-    for k in 0..3 {
-        diffs[k] = exact_diff(a[k], e[k])?;
-        diffs[3 + k] = exact_diff(b[k], e[k])?;
-        diffs[6 + k] = exact_diff(c[k], e[k])?;
-        diffs[9 + k] = exact_diff(d[k], e[k])?;
-    }
+    let ints = match small_int_diffs([a, b, c, d], e) {
+        Some(v) => v,
+        None => {
+            let mut diffs = [0.0; 12];
+            for k in 0..3 {
+                diffs[k] = exact_diff(a[k], e[k])?;
+                diffs[3 + k] = exact_diff(b[k], e[k])?;
+                diffs[6 + k] = exact_diff(c[k], e[k])?;
+                diffs[9 + k] = exact_diff(d[k], e[k])?;
+            }
+            scaled_ints(diffs, 23)?
+        }
+    };
     // |entries| < 2^23: 2×2 minors < 2^47 (i64), 3×3 < 2^72, lifts < 2^48, det < 2^122.
-    let [aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez] = scaled_ints(diffs, 23)?;
+    let [aex, aey, aez, bex, bey, bez, cex, cey, cez, dex, dey, dez] = ints;
     let ab = (aex * bey - bex * aey) as i128;
     let bc = (bex * cey - cex * bey) as i128;
     let cd = (cex * dey - dex * cey) as i128;
@@ -436,9 +470,11 @@ mod tests {
     #[test]
     fn integer_stage_agrees_with_robust() {
         let mut rng = crate::delaunay::sort::SplitMix64(99);
-        let mut pick = || ((rng.next_u64() % 9) as f64 - 4.0) * 0.25 + 1024.0;
         let mut zeros = 0;
-        for _ in 0..20000 {
+        // Quarter steps use the general dyadic analysis, whole steps the small-integer case.
+        for i in 0..40000 {
+            let step = if i % 2 == 0 { 0.25 } else { 24.0 };
+            let mut pick = || ((rng.next_u64() % 9) as f64 - 4.0) * step + 1024.0;
             let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
             let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
             let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
