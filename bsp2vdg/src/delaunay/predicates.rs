@@ -284,7 +284,8 @@ fn small_int_diffs<const P: usize, const N: usize>(
     origin: &[f64; 3],
 ) -> Option<[i64; N]> {
     const LIMIT: f64 = 4_194_304.0; // 2^22
-    let ok = |x: f64| x == x.trunc() && x.abs() < LIMIT;
+    // (`as i64` round trip rather than `trunc`, which is a libm call on baseline x86-64.)
+    let ok = |x: f64| x.abs() < LIMIT && (x as i64) as f64 == x;
     if !origin.iter().all(|&x| ok(x)) || !pts.iter().all(|p| p.iter().all(|&x| ok(x))) {
         return None;
     }
