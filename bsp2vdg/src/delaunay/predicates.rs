@@ -37,6 +37,13 @@ const ISP_STATIC: f64 = ISP_ERRBOUND_A * 72.0 * (1.0 + 1e-10);
 const STATIC_MIN: f64 = 7.888609052210118e-31; // 2^-100
 const STATIC_MAX: f64 = 1.2676506002282294e30; // 2^100
 
+/// `max` without `f64::max`'s NaN handling (one `maxsd`): differences of finite inputs
+/// are never NaN.
+#[inline(always)]
+fn fmax(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
 /// Exact sign of the orientation determinant of `a, b, c, d`. The magnitude is the float
 /// estimate when the filter decides, otherwise only the sign is meaningful.
 ///
@@ -56,16 +63,9 @@ pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
     let adxbdy = adx * bdy;
     let bdxady = bdx * ady;
     let det = adz * (bdxcdy - cdxbdy) + bdz * (cdxady - adxcdy) + cdz * (adxbdy - bdxady);
-    let m = adx
-        .abs()
-        .max(bdx.abs())
-        .max(cdx.abs())
-        .max(ady.abs())
-        .max(bdy.abs())
-        .max(cdy.abs())
-        .max(adz.abs())
-        .max(bdz.abs())
-        .max(cdz.abs());
+    let m = [adx, bdx, cdx, ady, bdy, cdy, adz, bdz, cdz]
+        .iter()
+        .fold(0.0, |m, x| fmax(m, x.abs()));
     let errbound = O3D_STATIC * (m * m * m);
     if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
         return det;
@@ -124,7 +124,7 @@ pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64
     let det = (dlift * abc - clift * dab) + (blift * cda - alift * bcd);
     let m = [aex, bex, cex, dex, aey, bey, cey, dey, aez, bez, cez, dez]
         .iter()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
+        .fold(0.0, |m, x| fmax(m, x.abs()));
     let m2 = m * m;
     let errbound = ISP_STATIC * (m2 * m2 * m);
     if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
