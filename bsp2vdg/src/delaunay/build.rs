@@ -36,7 +36,6 @@ pub(super) struct Cell {
 pub(super) struct Builder<'a> {
     pub pts: &'a [[f64; 3]],
     pub cells: Vec<Cell>,
-    pub epoch: u32,
     pub free: Vec<u32>,
     /// A live tetrahedron near the last inserted point: where the next walk starts.
     pub last: u32,
@@ -46,8 +45,6 @@ pub(super) struct Builder<'a> {
     pub matrix_glue_max: usize,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
-    /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
-    pub vlocal: Vec<[u32; 2]>,
     /// Set when a cell could not be allocated; the triangulation is then abandoned.
     pub overflow: bool,
 }
@@ -89,14 +86,12 @@ impl<'a> Builder<'a> {
         let mut b = Builder {
             pts,
             cells: Vec::new(),
-            epoch: 0,
             free: Vec::new(),
             last: 0,
             walk_rng: 0x2545_F491,
             matrix_glue_max,
             duplicates: Vec::new(),
             scratch: Default::default(),
-            vlocal: vec![[0; 2]; pts.len()],
             overflow: false,
         };
         // Reserve the estimate if the allocator can; otherwise grow on demand (and fail
@@ -198,10 +193,8 @@ impl<'a> Builder<'a> {
         let Builder {
             mut cells,
             duplicates,
-            vlocal,
             ..
         } = self;
-        drop(vlocal);
         if std::env::var_os("DELAUNAY_DEBUG").is_some() {
             let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
             let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");
