@@ -23,7 +23,8 @@ def timed(cmd, stdin=None, timeout=None):
                 out = subprocess.run(full, stdin=inp, capture_output=True, text=True,
                                      timeout=timeout)
         except subprocess.TimeoutExpired:
-            return None
+            sys.stderr.write("timeout after %.0f s: %s\n" % (timeout, " ".join(cmd)))
+            return "timeout"
         if out.returncode != 0:
             sys.stderr.write("failed: %s: %s\n" % (" ".join(cmd), out.stderr[-300:]))
             return None
@@ -70,7 +71,9 @@ def main():
             qs = []
             for _ in range(qruns if info["points"] <= 200000 else qruns_large):
                 r = timed(["qdelaunay", "Qt", "i"], stdin=path, timeout=qtimeout)
-                if r is None:
+                if r == "timeout":
+                    row["q_timeout"] = True
+                if r is None or r == "timeout":
                     break
                 qs.append(r)
             if qs:
@@ -96,7 +99,8 @@ def print_row(r, header):
     print("| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %s | %s | %s | %s | %s |" % (
         r["input"], r["points"], r["tets"], r["tri_s"], r["proc_s"], r["cpu_s"], r["mb"],
         f(r["q_tets"], "%d"),
-        f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
+        (">%.0f (timeout)" % float(os.environ.get("QHULL_TIMEOUT", "900"))) if r.get("q_timeout") and r["q_s"] is None
+        else f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
         f(r["q_cpu_s"], "%.2f"), f(r["q_mb"], "%.0f"), f(ratio, "%.4f")), flush=True)
 
 
