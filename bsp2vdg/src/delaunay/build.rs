@@ -195,11 +195,6 @@ impl<'a> Builder<'a> {
             duplicates,
             ..
         } = self;
-        if std::env::var_os("DELAUNAY_DEBUG").is_some() {
-            let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-            let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");
-            eprintln!("cells len {} cap {} {hwm}", cells.len(), cells.capacity());
-        }
         let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
         let live = |c: &Cell| c.v[0] != DEAD;
         let mut remap = vec![u32::MAX; cells.len()];
