@@ -4,6 +4,7 @@ every point file of OUT (argv[1]), printed as a table."""
 import json
 import os
 import re
+import signal
 import statistics
 import subprocess
 import sys
@@ -18,13 +19,19 @@ def timed(cmd, stdin=None, timeout=None):
     """Run cmd under /usr/bin/time; return (stdout, wall s, peak MB, cpu s) or None."""
     with tempfile.NamedTemporaryFile("r") as tf:
         full = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", tf.name] + cmd
-        try:
-            with open(stdin) if stdin else open(os.devnull) as inp:
-                out = subprocess.run(full, stdin=inp, capture_output=True, text=True,
-                                     timeout=timeout)
-        except subprocess.TimeoutExpired:
-            sys.stderr.write("timeout after %.0f s: %s\n" % (timeout, " ".join(cmd)))
-            return "timeout"
+        with open(stdin) if stdin else open(os.devnull) as inp:
+            # Own process group, so a timeout kills the measured program too, not only
+            # /usr/bin/time.
+            proc = subprocess.Popen(full, stdin=inp, stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True, start_new_session=True)
+            try:
+                stdout, stderr = proc.communicate(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.communicate()
+                sys.stderr.write("timeout after %.0f s: %s\n" % (timeout, " ".join(cmd)))
+                return "timeout"
+        out = subprocess.CompletedProcess(full, proc.returncode, stdout, stderr)
         if out.returncode != 0:
             sys.stderr.write("failed: %s: %s\n" % (" ".join(cmd), out.stderr[-300:]))
             return None
