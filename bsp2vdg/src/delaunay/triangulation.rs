@@ -36,6 +36,10 @@ pub struct Triangulation {
 /// A Delaunay edge and the cells around it, in cyclic order: counter-clockwise when looking
 /// from `b` towards `a` (i.e. positive rotation about the direction `a → b`, right-hand
 /// rule). Consecutive cells share a facet, and so do the last and the first.
+///
+/// On degenerate input (wall samples) cospherical neighbouring cells have the same
+/// circumcenter, so the Voronoi polygon built from a ring can repeat a vertex (zero-length
+/// Voronoi edges); merge equal consecutive circumcenters when building faces.
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeRing<'a> {
     /// Smaller vertex id.
