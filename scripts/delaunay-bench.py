@@ -4,6 +4,7 @@ every point file of OUT (argv[1]), printed as a table."""
 import json
 import os
 import re
+import signal
 import statistics
 import subprocess
 import sys
@@ -18,12 +19,19 @@ def timed(cmd, stdin=None, timeout=None):
     """Run cmd under /usr/bin/time; return (stdout, wall s, peak MB, cpu s) or None."""
     with tempfile.NamedTemporaryFile("r") as tf:
         full = ["/usr/bin/time", "-f", "%e %M %U %S", "-o", tf.name] + cmd
-        try:
-            with open(stdin) if stdin else open(os.devnull) as inp:
-                out = subprocess.run(full, stdin=inp, capture_output=True, text=True,
-                                     timeout=timeout)
-        except subprocess.TimeoutExpired:
-            return None
+        with open(stdin) if stdin else open(os.devnull) as inp:
+            # Own process group, so a timeout kills the measured program too, not only
+            # /usr/bin/time.
+            proc = subprocess.Popen(full, stdin=inp, stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True, start_new_session=True)
+            try:
+                stdout, stderr = proc.communicate(timeout=timeout)
+            except subprocess.TimeoutExpired:
+                os.killpg(proc.pid, signal.SIGKILL)
+                proc.communicate()
+                sys.stderr.write("timeout after %.0f s: %s\n" % (timeout, " ".join(cmd)))
+                return "timeout"
+        out = subprocess.CompletedProcess(full, proc.returncode, stdout, stderr)
         if out.returncode != 0:
             sys.stderr.write("failed: %s: %s\n" % (" ".join(cmd), out.stderr[-300:]))
             return None
@@ -70,7 +78,9 @@ def main():
             qs = []
             for _ in range(qruns if info["points"] <= 200000 else qruns_large):
                 r = timed(["qdelaunay", "Qt", "i"], stdin=path, timeout=qtimeout)
-                if r is None:
+                if r == "timeout":
+                    row["q_timeout"] = True
+                if r is None or r == "timeout":
                     break
                 qs.append(r)
             if qs:
@@ -96,7 +106,8 @@ def print_row(r, header):
     print("| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %s | %s | %s | %s | %s |" % (
         r["input"], r["points"], r["tets"], r["tri_s"], r["proc_s"], r["cpu_s"], r["mb"],
         f(r["q_tets"], "%d"),
-        f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
+        (">%.0f (timeout)" % float(os.environ.get("QHULL_TIMEOUT", "900"))) if r.get("q_timeout") and r["q_s"] is None
+        else f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
         f(r["q_cpu_s"], "%.2f"), f(r["q_mb"], "%.0f"), f(ratio, "%.4f")), flush=True)
 
 

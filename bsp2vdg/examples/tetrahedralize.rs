@@ -56,13 +56,6 @@ fn main() -> anyhow::Result<()> {
         bail!("usage: tetrahedralize POINTS.txt [--validate] [--rings] [--repeat N]");
     };
     let pts = read_qhull_points(path)?;
-    if std::env::var_os("DELAUNAY_DEBUG").is_some() {
-        let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-        eprintln!(
-            "after read: {}",
-            st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("")
-        );
-    }
     // `--repeat N`: triangulate N times and report the fastest (a noisy machine's floor).
     let repeat: usize = match args.iter().position(|a| a == "--repeat") {
         Some(i) => args.get(i + 1).context("--repeat needs a count")?.parse()?,

@@ -264,6 +264,28 @@ fn circumspheres_pass_through_the_vertices() {
     }
 }
 
+/// A sliver whose orientation needs the exact stages: the circumcenter must still use the
+/// determinant's value, not just its sign.
+#[test]
+fn circumcenter_of_a_sliver_is_accurate() {
+    let h = 2f64.powi(-30);
+    let pts = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.5, 0.5, h],
+    ];
+    let tri = check(&pts);
+    assert_eq!(tri.num_finite_cells(), 1);
+    let c = tri.circumcenter(0);
+    let r = tri.circumradius(0);
+    assert!(r > 1e6, "{r}");
+    for p in pts {
+        let d = ((p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)).sqrt();
+        assert!((d - r).abs() <= 1e-6 * r, "{d} vs {r}");
+    }
+}
+
 #[test]
 fn edge_rings_cover_every_edge_once_in_order() {
     for pts in [uniform(3000, 8), box_level(2, 1)] {

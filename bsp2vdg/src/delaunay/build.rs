@@ -36,16 +36,17 @@ pub(super) struct Cell {
 pub(super) struct Builder<'a> {
     pub pts: &'a [[f64; 3]],
     pub cells: Vec<Cell>,
-    pub epoch: u32,
     pub free: Vec<u32>,
     /// A live tetrahedron near the last inserted point: where the next walk starts.
     pub last: u32,
     /// State of the deterministic "stochastic" walk (xorshift32).
     pub walk_rng: u32,
+    /// Cavities with more boundary vertices than this are glued by the hash table.
+    pub matrix_glue_max: usize,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
-    /// Per point: `[epoch, local id]`, its id in the current cavity boundary (gluing).
-    pub vlocal: Vec<[u32; 2]>,
+    /// Set when a cell could not be allocated; the triangulation is then abandoned.
+    pub overflow: bool,
 }
 
 impl<'a> Builder<'a> {
@@ -55,6 +56,15 @@ impl<'a> Builder<'a> {
     /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
     /// indices when the result is assembled.
     pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
+        Self::run_with(input, super::insert::MATRIX_GLUE_MAX)
+    }
+
+    /// [`Self::run`] with a chosen limit for the dense gluing table (tests force the hash
+    /// table path with 0).
+    pub fn run_with(
+        input: &[[f64; 3]],
+        matrix_glue_max: usize,
+    ) -> Result<Triangulation, DelaunayError> {
         if input.len() >= (MAX_TETS / 8) {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
@@ -62,33 +72,40 @@ impl<'a> Builder<'a> {
         let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
         let ids: Vec<u32> = (0..sorted.len() as u32).collect();
         let simplex = initial_simplex(&sorted, &ids)?;
-        let b = Builder::triangulate(&sorted, simplex)?;
+        let b = Builder::triangulate(&sorted, simplex, matrix_glue_max)?;
         Ok(b.finish(input, &order))
     }
 
-    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
+    fn triangulate(
+        pts: &'a [[f64; 3]],
+        simplex: [u32; 4],
+        matrix_glue_max: usize,
+    ) -> Result<Self, DelaunayError> {
         // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
             pts,
-            cells: Vec::with_capacity(cap),
-            epoch: 0,
+            cells: Vec::new(),
             free: Vec::new(),
             last: 0,
             walk_rng: 0x2545_F491,
+            matrix_glue_max,
             duplicates: Vec::new(),
             scratch: Default::default(),
-            vlocal: vec![[0; 2]; pts.len()],
+            overflow: false,
         };
+        // Reserve the estimate if the allocator can; otherwise grow on demand (and fail
+        // with an error, never an abort, if even that is impossible).
+        let _ = b.cells.try_reserve_exact(cap);
         b.create_simplex(simplex);
         for q in 0..pts.len() as u32 {
             if simplex.contains(&q) {
                 continue;
             }
-            if b.cells.len() >= MAX_TETS - 64 {
+            b.insert_point(q);
+            if b.overflow {
                 return Err(DelaunayError::TooManyPoints { count: pts.len() });
             }
-            b.insert_point(q);
         }
         Ok(b)
     }
@@ -100,7 +117,12 @@ impl<'a> Builder<'a> {
         } else {
             if self.cells.len() == self.cells.capacity() {
                 // Grow by a quarter, not double: the estimate is usually close.
-                self.cells.reserve_exact(self.cells.len() / 4 + 1024);
+                let more = self.cells.len() / 4 + 1024;
+                if self.cells.len() >= MAX_TETS || self.cells.try_reserve_exact(more).is_err() {
+                    // Out of cell ids or memory: the caller abandons the build.
+                    self.overflow = true;
+                    return 0;
+                }
             }
             self.cells.push(Cell {
                 v: [DEAD; 4],
@@ -171,15 +193,8 @@ impl<'a> Builder<'a> {
         let Builder {
             mut cells,
             duplicates,
-            vlocal,
             ..
         } = self;
-        drop(vlocal);
-        if std::env::var_os("DELAUNAY_DEBUG").is_some() {
-            let st = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
-            let hwm = st.lines().find(|l| l.starts_with("VmHWM")).unwrap_or("");
-            eprintln!("cells len {} cap {} {hwm}", cells.len(), cells.capacity());
-        }
         let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
         let live = |c: &Cell| c.v[0] != DEAD;
         let mut remap = vec![u32::MAX; cells.len()];
@@ -244,4 +259,27 @@ fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], Delaunay
         .find(|&&i| orient_ids(pts, [a, b, c, i]) != 0.0)
         .ok_or_else(too_few)?;
     Ok([a, b, c, d])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Builder;
+
+    /// The hash-table gluing (normally only for huge cavities) builds the same valid
+    /// triangulation as the dense table.
+    #[test]
+    fn hash_gluing_path_is_valid_and_equivalent() {
+        let mut pts = Vec::new();
+        for i in 0..1500u32 {
+            let h = i.wrapping_mul(2_654_435_761);
+            pts.push([(h % 97) as f64, (h / 97 % 89) as f64, (i % 7) as f64 * 3.0]);
+        }
+        let dense = Builder::run_with(&pts, super::super::insert::MATRIX_GLUE_MAX).unwrap();
+        let hashed = Builder::run_with(&pts, 0).unwrap();
+        hashed.validate().unwrap();
+        assert!(dense.cells().eq(hashed.cells()));
+        for t in 0..dense.num_cells() as u32 {
+            assert_eq!(dense.neighbors(t), hashed.neighbors(t));
+        }
+    }
 }

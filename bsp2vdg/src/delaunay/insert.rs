@@ -18,6 +18,13 @@ use super::build::{Builder, DEAD, IN_CAVITY, NBR_MASK, TESTED};
 use super::locate::Location;
 use super::predicates::{in_conflict, orient3d};
 
+/// Largest number of cavity boundary vertices glued through the dense `m × m` table (up
+/// to 36 KiB, cache resident); larger cavities use the hash table.
+pub(super) const MATRIX_GLUE_MAX: usize = 96;
+
+/// Slots of the vertex → local id table (power of two, at least twice the largest `m`).
+const VTAB: usize = 256;
+
 /// A boundary facet of the cavity: the new cell's vertices (the old cell with the opposite
 /// vertex replaced by the new point at `pos`) and the packed outside neighbour.
 #[derive(Clone, Copy)]
@@ -38,6 +45,13 @@ pub(super) struct Scratch {
     keys: Vec<u64>,
     /// Dense directed-edge table of [`Builder::glue_by_edge_matrix`].
     edge_tab: Vec<u32>,
+    /// Vertex id → local id hash table (keys, values, epoch stamps).
+    vtab_key: Vec<u32>,
+    vtab_val: Vec<u8>,
+    vtab_stamp: Vec<u32>,
+    vtab_epoch: u32,
+    /// Local ids of each boundary facet's vertices (0 at the new point's position).
+    local_ids: Vec<[u8; 4]>,
     vals: Vec<u32>,
     slot_epoch: Vec<u32>,
     table_epoch: u32,
@@ -53,7 +67,6 @@ impl Builder<'_> {
             }
             Location::Cell(t) => t,
         };
-        self.epoch += 1;
         let mut s = std::mem::take(&mut self.scratch);
         s.stack.clear();
         s.cavity.clear();
@@ -154,49 +167,67 @@ impl Builder<'_> {
     /// searching, no clearing. Returns `false` (nothing done) for cavities with too many
     /// boundary vertices, which then use the hash table.
     fn glue_by_edge_matrix(&mut self, s: &mut Scratch) -> bool {
-        const MAX_LOCAL: usize = 96;
-        let epoch = self.epoch;
-        // Local id 0 is the infinite vertex.
+        // Local ids come from a 256-slot hash table that stays in L1 (a per-point array
+        // would miss the cache for every old vertex of the cavity). Local id 0 is ∞.
+        let max = self.matrix_glue_max.min(VTAB / 2);
+        if s.vtab_key.len() < VTAB {
+            s.vtab_key = vec![0; VTAB];
+            s.vtab_val = vec![0; VTAB];
+            s.vtab_stamp = vec![0; VTAB];
+        }
+        s.vtab_epoch = s.vtab_epoch.wrapping_add(1);
+        if s.vtab_epoch == 0 {
+            s.vtab_stamp.iter_mut().for_each(|e| *e = 0);
+            s.vtab_epoch = 1;
+        }
+        let ep = s.vtab_epoch;
         let mut m = 1usize;
+        s.local_ids.clear();
         for b in &s.boundary {
+            let mut ids = [0u8; 4];
             for (k, &v) in b.verts.iter().enumerate() {
                 if k as u32 == b.pos || v == INFINITE {
                     continue;
                 }
-                let slot = &mut self.vlocal[v as usize];
-                if slot[0] != epoch {
-                    *slot = [epoch, m as u32];
-                    m += 1;
+                let mut h = (v.wrapping_mul(0x9E37_79B1) >> 24) as usize;
+                loop {
+                    if s.vtab_stamp[h] != ep {
+                        if m > max {
+                            return false;
+                        }
+                        s.vtab_stamp[h] = ep;
+                        s.vtab_key[h] = v;
+                        s.vtab_val[h] = m as u8;
+                        ids[k] = m as u8;
+                        m += 1;
+                        break;
+                    }
+                    if s.vtab_key[h] == v {
+                        ids[k] = s.vtab_val[h];
+                        break;
+                    }
+                    h = (h + 1) & (VTAB - 1);
                 }
             }
-        }
-        if m > MAX_LOCAL {
-            return false;
+            s.local_ids.push(ids);
         }
         if s.edge_tab.len() < m * m {
             s.edge_tab.resize(m * m, 0);
         }
-        let local = |v: u32| {
-            if v == INFINITE {
-                0
-            } else {
-                self.vlocal[v as usize][1] as usize
-            }
-        };
-        for (&t, b) in s.new_cells.iter().zip(&s.boundary) {
+        for ((&t, b), ids) in s.new_cells.iter().zip(&s.boundary).zip(&s.local_ids) {
             let p = b.pos as usize;
             for (k, &(x, y)) in EVEN_REST[p].iter().enumerate() {
                 if k != p {
-                    let (lx, ly) = (local(b.verts[x as usize]), local(b.verts[y as usize]));
+                    let (lx, ly) = (ids[x as usize] as usize, ids[y as usize] as usize);
                     s.edge_tab[lx * m + ly] = (t << 2) | k as u32;
                 }
             }
         }
-        for (&t, b) in s.new_cells.iter().zip(&s.boundary) {
+        for ((&t, b), ids) in s.new_cells.iter().zip(&s.boundary).zip(&s.local_ids) {
             let p = b.pos as usize;
             for (k, &(x, y)) in EVEN_REST[p].iter().enumerate() {
                 if k != p {
-                    let (lx, ly) = (local(b.verts[x as usize]), local(b.verts[y as usize]));
+                    let (lx, ly) = (ids[x as usize] as usize, ids[y as usize] as usize);
                     self.cells[t as usize].n[k] = s.edge_tab[ly * m + lx];
                 }
             }

@@ -3,7 +3,6 @@
 
 use super::INFINITE;
 use super::build::Cell;
-use super::predicates::orient3d;
 
 /// A Delaunay tetrahedralization of a point set, with an infinite vertex closing the convex
 /// hull (so every cell has exactly four neighbours).
@@ -37,6 +36,10 @@ pub struct Triangulation {
 /// A Delaunay edge and the cells around it, in cyclic order: counter-clockwise when looking
 /// from `b` towards `a` (i.e. positive rotation about the direction `a → b`, right-hand
 /// rule). Consecutive cells share a facet, and so do the last and the first.
+///
+/// On degenerate input (wall samples) cospherical neighbouring cells have the same
+/// circumcenter, so the Voronoi polygon built from a ring can repeat a vertex (zero-length
+/// Voronoi edges); merge equal consecutive circumcenters when building faces.
 #[derive(Clone, Copy, Debug)]
 pub struct EdgeRing<'a> {
     /// Smaller vertex id.
@@ -141,8 +144,15 @@ impl Triangulation {
         };
         let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let (a, b, c) = (sub(p1, p0), sub(p2, p0), sub(p3, p0));
-        // det[a; b; c] = -orient3d(p0, p1, p2, p3) in Shewchuk's convention.
-        let det = -orient3d(&p0, &p1, &p2, &p3);
+        // det[a; b; c] = -orient3d(p0, p1, p2, p3) in Shewchuk's convention. `robust`
+        // returns a close approximation of the determinant's value (our predicate only
+        // promises its sign), and it is never zero for a cell of this triangulation.
+        let c3 = |p: [f64; 3]| robust::Coord3D {
+            x: p[0],
+            y: p[1],
+            z: p[2],
+        };
+        let det = -robust::orient3d(c3(p0), c3(p1), c3(p2), c3(p3));
         let (bc, ca, ab) = (cross(b, c), cross(c, a), cross(a, b));
         let (la, lb, lc) = (dot(a, a), dot(b, b), dot(c, c));
         let s = 0.5 / det;
@@ -315,7 +325,7 @@ impl Triangulation {
     /// equal to an earlier-inserted one are skipped and listed in [`Self::duplicates`].
     ///
     /// Errors: a non-finite coordinate, fewer than four affinely independent points, or
-    /// more points than the 30-bit cell ids can triangulate.
+    /// more cells than 29-bit cell ids (or the available memory) allow.
     ///
     /// ```
     /// use bsp2vdg::delaunay::{DelaunayError, Triangulation};
