@@ -146,6 +146,11 @@ impl Walls {
             key(p.map(|c| c + radius), self.cell),
         );
         let mut candidates: Vec<u32> = Vec::new();
+        let cells: i64 = (0..3).map(|k| b[k] - a[k] + 1).product();
+        if cells > self.polygons.len() as i64 {
+            // A big ball: visiting its cells costs more than testing every polygon.
+            return self.nearest_of(p, radius, 0..self.polygons.len() as u32);
+        }
         for x in a[0]..=b[0] {
             for y in a[1]..=b[1] {
                 for z in a[2]..=b[2] {
@@ -158,20 +163,27 @@ impl Walls {
         candidates.sort_unstable();
         candidates.dedup();
         candidates.extend_from_slice(&self.large);
-        let mut best = radius.max(0.0) * (1.0 + 1e-12) + 1e-12;
-        let mut found = false;
-        for &i in &candidates {
+        self.nearest_of(p, radius, candidates.into_iter())
+    }
+
+    /// The nearest of the given polygons if within `radius`, skipping polygons whose
+    /// lower bound (plane or box distance) cannot beat the best so far.
+    fn nearest_of(
+        &self,
+        p: [f64; 3],
+        radius: f64,
+        candidates: impl Iterator<Item = u32>,
+    ) -> Option<f64> {
+        let mut best = f64::INFINITY;
+        for i in candidates {
             let poly = &self.polygons[i as usize];
-            if poly.lower_bound(p) >= best {
+            let bound = poly.lower_bound(p);
+            if bound > radius || bound >= best {
                 continue;
             }
-            let d = point_polygon_distance(p, &poly.vertices, poly.normal);
-            if d < best || (d <= radius && !found) {
-                best = best.min(d);
-                found = d <= radius || found;
-            }
+            best = best.min(point_polygon_distance(p, &poly.vertices, poly.normal));
         }
-        (found && best <= radius).then_some(best)
+        (best <= radius).then_some(best)
     }
 }
 
