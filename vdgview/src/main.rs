@@ -4,7 +4,11 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
-#[command(name = "vdgview", version, about = "Inspect, check, query and render Voronoi Distance Graphs")]
+#[command(
+    name = "vdgview",
+    version,
+    about = "Inspect, check, query and render Voronoi Distance Graphs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
