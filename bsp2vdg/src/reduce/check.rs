@@ -12,7 +12,7 @@ use super::mesh::{Changes, Mesh};
 use super::volume::{P3, add, scale};
 
 /// Points per face edge of the sampling grid.
-const GRID: usize = 6;
+const GRID: usize = 4;
 
 pub(crate) fn condition_a(mesh: &Mesh, ch: &Changes) -> Result<(), String> {
     let base = mesh.faces.len() as u32;

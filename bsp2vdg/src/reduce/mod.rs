@@ -200,7 +200,17 @@ pub fn reduce_with_ticks(
         stats.removals += 1;
         stats.lost_volume += cost;
         progress.advance(gone as u64);
-        recost(&mesh, &mut queue, &touched);
+        if EAGER_RECOST {
+            recost(&mesh, &mut queue, &touched);
+        } else {
+            for &t in &touched {
+                if mesh.vfaces[t as usize].is_empty() {
+                    queue.set(t, None);
+                } else {
+                    queue.mark_dirty(t);
+                }
+            }
+        }
         if last_tick.elapsed() >= Duration::from_secs(1) {
             last_tick = Instant::now();
             tick(&Tick {
@@ -223,6 +233,10 @@ pub fn reduce_with_ticks(
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
     (out, stats)
 }
+
+/// Re-cost the neighbours right after each removal (thesis 6.1.5) instead
+/// of lazily when they come up.
+const EAGER_RECOST: bool = false;
 
 /// Cost of removing `v` from the mesh as it is, `None` if impossible.
 fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {

@@ -17,6 +17,8 @@ fn key(cost: f64) -> u64 {
 pub(crate) struct CostQueue {
     heap: BinaryHeap<Reverse<(u64, u32, u32)>>,
     version: Vec<u32>,
+    /// Whether the vertex's current version has an entry in the heap.
+    queued: Vec<bool>,
 }
 
 impl CostQueue {
@@ -24,6 +26,7 @@ impl CostQueue {
         CostQueue {
             heap: BinaryHeap::new(),
             version: vec![0; vertices],
+            queued: vec![false; vertices],
         }
     }
 
@@ -31,6 +34,7 @@ impl CostQueue {
     /// earlier entry.
     pub fn set(&mut self, v: u32, cost: Option<f64>) {
         self.version[v as usize] = self.version[v as usize].wrapping_add(1);
+        self.queued[v as usize] = cost.is_some();
         if let Some(c) = cost {
             self.heap
                 .push(Reverse((key(c), v, self.version[v as usize])));
@@ -42,6 +46,7 @@ impl CostQueue {
         while let Some(Reverse((k, v, ver))) = self.heap.pop() {
             if self.version[v as usize] == ver {
                 self.version[v as usize] = ver.wrapping_add(1);
+                self.queued[v as usize] = false;
                 return Some((v, k));
             }
         }
@@ -62,6 +67,15 @@ impl CostQueue {
             self.heap.pop();
         }
         None
+    }
+
+    /// Marks `v` for re-costing when its neighbourhood changed. A queued
+    /// vertex keeps its entry (it is re-costed when popped); one that could
+    /// not be removed is queued first in line, so it is looked at again soon.
+    pub fn mark_dirty(&mut self, v: u32) {
+        if !self.queued[v as usize] {
+            self.set(v, Some(f64::NEG_INFINITY));
+        }
     }
 
     pub fn key_of(cost: f64) -> u64 {

@@ -33,6 +33,8 @@ pub(crate) struct Swap {
     pub k: [u32; 4],
     pub fi: u32,
     pub fj: u32,
+    /// `(k1,k3,k4)` exists already (seam merge, see [`plan`]).
+    pub merge: bool,
     /// Clearances of k3 and k4 after the swap.
     pub r3: f64,
     pub r4: f64,
@@ -54,7 +56,14 @@ pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
     let [fi, fj] = fs[..] else { return None };
     let k3 = third(e, fi, k1, k2);
     let k4 = third(e, fj, k1, k2);
-    if k3 == k4 || k3 == k1 || k4 == k1 || e.has_edge(k3, k4) {
+    if k3 == k4 || k3 == k1 || k4 == k1 {
+        return None;
+    }
+    // The new edge must be new, except on a seam where sheets meet: there
+    // the face `(k1,k3,k4)` may exist already (made by a swap in another
+    // sheet) and the two merge; `(k2,k3,k4)` must still be new.
+    let merge = e.has_edge(k3, k4);
+    if merge && (!e.has_face(k1, k3, k4) || e.has_face(k2, k3, k4)) {
         return None;
     }
     let (p1, p2, p3, p4) = (e.pos(k1), e.pos(k2), e.pos(k3), e.pos(k4));
@@ -77,12 +86,18 @@ pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
     }
     let lowered = [(k3, n3), (k4, n4)];
     let old = e.volume(e.face(fi), &[]) + e.volume(e.face(fj), &[]);
-    let new = e.volume([k1, k3, k4], &lowered) + e.volume([k2, k3, k4], &lowered);
+    let kept = if merge {
+        0.0
+    } else {
+        e.volume([k1, k3, k4], &lowered)
+    };
+    let new = kept + e.volume([k2, k3, k4], &lowered);
     let cost = old - new + e.lowering_cost(&lowered, &[fi, fj]);
     Some(Swap {
         k: [k1, k2, k3, k4],
         fi,
         fj,
+        merge,
         r3: n3,
         r4: n4,
         cost,
@@ -100,7 +115,9 @@ pub(crate) fn apply(e: &mut Edit, s: &Swap) {
     if s.r4 < e.radius(k4) {
         e.set_radius(k4, s.r4);
     }
-    e.add_face([k1, k3, k4]);
+    if !s.merge {
+        e.add_face([k1, k3, k4]);
+    }
     e.add_face([k2, k4, k3]);
     e.count(Op::Swap);
 }

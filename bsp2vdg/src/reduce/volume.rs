@@ -73,7 +73,7 @@ pub(crate) fn perpendicular_feet(p1: P3, p2: P3, p3: P3, p4: P3) -> Option<(f64,
     let (a, b, c) = (dot(u, u), dot(u, v), dot(v, v));
     let (d, e) = (dot(u, w), dot(v, w));
     let den = a * c - b * b;
-    if !(den > 1e-9 * a * c) {
+    if den.is_nan() || den <= 1e-9 * a * c {
         return None;
     }
     Some(((b * e - c * d) / den, (a * e - b * d) / den))
