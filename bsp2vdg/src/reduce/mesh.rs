@@ -239,13 +239,19 @@ impl<'m> Edit<'m> {
         n
     }
 
-    /// Faces containing the edge `a`–`b`.
-    pub fn edge_faces(&self, a: u32, b: u32) -> Vec<u32> {
-        self.faces_of(a)
-            .iter()
-            .copied()
-            .filter(|&f| self.face(f).contains(&b))
-            .collect()
+    /// How many faces contain the edge `a`–`b`, and the first two of them.
+    pub fn edge_faces(&self, a: u32, b: u32) -> (usize, [u32; 2]) {
+        let mut n = 0;
+        let mut first = [u32::MAX; 2];
+        for &f in self.faces_of(a) {
+            if self.face(f).contains(&b) {
+                if n < 2 {
+                    first[n] = f;
+                }
+                n += 1;
+            }
+        }
+        (n, first)
     }
 
     pub fn has_edge(&self, a: u32, b: u32) -> bool {
@@ -321,6 +327,9 @@ impl<'m> Edit<'m> {
     /// Extra cost of lowering clearances (4.5, `CalcNodeReduceDistanceError`):
     /// the volume the other faces of those vertices lose.
     pub fn lowering_cost(&self, lowered: &[(u32, f64)], exclude: &[u32]) -> f64 {
+        if lowered.iter().all(|&(v, r)| r >= self.radius(v)) {
+            return 0.0;
+        }
         let mut faces: Vec<u32> = Vec::with_capacity(16);
         for &(v, r) in lowered {
             if r < self.radius(v) {

@@ -52,8 +52,9 @@ pub(crate) fn third(e: &Edit, f: u32, a: u32, b: u32) -> u32 {
 
 /// Plans swapping the edge `k1–k2`; `None` if a condition fails.
 pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
-    let fs = e.edge_faces(k1, k2);
-    let [fi, fj] = fs[..] else { return None };
+    let (2, [fi, fj]) = e.edge_faces(k1, k2) else {
+        return None;
+    };
     let k3 = third(e, fi, k1, k2);
     let k4 = third(e, fj, k1, k2);
     if k3 == k4 || k3 == k1 || k4 == k1 {
@@ -122,17 +123,61 @@ pub(crate) fn apply(e: &mut Edit, s: &Swap) {
     e.count(Op::Swap);
 }
 
-/// The cheapest allowed swap of an edge at `k` (thesis `EntferneKnoten`:
-/// all face pairs at `k` are tried, the one losing least is taken; ties go
-/// to the lower neighbour id).
-pub(crate) fn best_at(e: &Edit, k: u32, neighbours: &[u32]) -> Option<Swap> {
-    let mut best: Option<Swap> = None;
-    for &n in neighbours {
-        if let Some(s) = plan(e, k, n)
-            && best.is_none_or(|b| s.cost < b.cost)
-        {
-            best = Some(s);
+/// The vertices besides `k1` and `k2` that a plan for the edge `k1–k2`
+/// reads: the third vertices of its two faces (or `k2` when there are not two).
+fn plan_deps(e: &Edit, k1: u32, k2: u32) -> [u32; 2] {
+    match e.edge_faces(k1, k2) {
+        (2, [fi, fj]) => [third(e, fi, k1, k2), third(e, fj, k1, k2)],
+        _ => [k2, k2],
+    }
+}
+
+/// The candidate swaps at one vertex while its degree is lowered (thesis
+/// `EntferneKnoten`: all face pairs at `k` are tried, the one losing least is
+/// taken, ties to the lower neighbour id). After a swap `(k, k2 → k3, k4)`
+/// only plans that read `k2`, `k3` or `k4` can change — the other faces and
+/// clearances they read are untouched — so only those are planned again.
+pub(crate) struct Candidates {
+    k: u32,
+    /// Per neighbour (sorted): the plan and the vertices it read.
+    plans: Vec<(u32, Option<Swap>, [u32; 2])>,
+}
+
+impl Candidates {
+    pub fn new(e: &Edit, k: u32, neighbours: &[u32]) -> Candidates {
+        let plans = neighbours
+            .iter()
+            .map(|&n| (n, plan(e, k, n), plan_deps(e, k, n)))
+            .collect();
+        Candidates { k, plans }
+    }
+
+    pub fn best(&self) -> Option<Swap> {
+        let mut best: Option<Swap> = None;
+        for (_, s, _) in &self.plans {
+            if let Some(s) = s
+                && best.is_none_or(|b| s.cost < b.cost)
+            {
+                best = Some(*s);
+            }
+        }
+        best
+    }
+
+    /// Updates the plans after `done` was applied to `e`.
+    /// A plan also reads the clearances of the faces around its third
+    /// vertices (the cost of lowering them), so when the swap lowered the
+    /// clearance of `k3` or `k4` the plans next to those are redone too.
+    pub fn after(&mut self, e: &Edit, done: &Swap, lowered: &[u32]) {
+        let [_, k2, k3, k4] = done.k;
+        let changed =
+            |v: u32| v == k2 || v == k3 || v == k4 || lowered.iter().any(|&l| e.has_edge(v, l));
+        self.plans.retain(|x| x.0 != k2);
+        for x in &mut self.plans {
+            if changed(x.0) || changed(x.2[0]) || changed(x.2[1]) {
+                x.1 = plan(e, self.k, x.0);
+                x.2 = plan_deps(e, self.k, x.0);
+            }
         }
     }
-    best
 }
