@@ -261,3 +261,119 @@ fn recost(mesh: &Mesh, queue: &mut CostQueue, touched: &[u32]) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::progress::NoProgress;
+    use crate::util::SplitMix64;
+
+    /// A wavy sheet with a fin standing on it along x = 5 (a seam of three
+    /// sheets), varying clearances: swaps, merges and all removal cases occur.
+    fn sheet(n: usize, seed: u64) -> Graph {
+        let mut rng = SplitMix64::new(seed);
+        let mut g = Graph {
+            vertices: vec![],
+            clearance: vec![],
+            faces: vec![],
+        };
+        for y in 0..n {
+            for x in 0..n {
+                let z = (x as f64 * 0.7).sin() * 3.0 + rng.range(-0.5, 0.5);
+                g.vertices.push([x as f64 * 10.0, y as f64 * 10.0, z]);
+                g.clearance.push(rng.range(6.0, 12.0));
+            }
+        }
+        let id = |x: usize, y: usize| (y * n + x) as u32;
+        for y in 0..n - 1 {
+            for x in 0..n - 1 {
+                g.faces.push([id(x, y), id(x + 1, y), id(x, y + 1)]);
+                g.faces.push([id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+            }
+        }
+        // The fin: a strip above the line x = 5.
+        let base = g.vertices.len() as u32;
+        for y in 0..n {
+            g.vertices.push([50.0, y as f64 * 10.0, 12.0]);
+            g.clearance.push(rng.range(6.0, 12.0));
+        }
+        for y in 0..n - 1 {
+            let (a, b) = (id(5, y), id(5, y + 1));
+            let (c, d) = (base + y as u32, base + y as u32 + 1);
+            g.faces.push([a, b, c]);
+            g.faces.push([b, d, c]);
+        }
+        g
+    }
+
+    fn components(g: &Graph) -> usize {
+        let mut parent: Vec<usize> = (0..g.vertices.len()).collect();
+        fn find(p: &mut [usize], mut x: usize) -> usize {
+            while p[x] != x {
+                p[x] = p[p[x]];
+                x = p[x];
+            }
+            x
+        }
+        for f in &g.faces {
+            let a = find(&mut parent, f[0] as usize);
+            for &v in &f[1..] {
+                let b = find(&mut parent, v as usize);
+                parent[b] = a;
+            }
+        }
+        let mut used = vec![false; g.vertices.len()];
+        for f in &g.faces {
+            for &v in f {
+                used[v as usize] = true;
+            }
+        }
+        (0..g.vertices.len())
+            .filter(|&v| used[v] && find(&mut parent, v) == v)
+            .count()
+    }
+
+    #[test]
+    fn reduces_a_sheet_keeping_components_and_never_growing_clearance() {
+        let g = sheet(12, 7);
+        let (r, s) = reduce(&g, &ReduceOptions { limit: 0.05 }, &NoProgress);
+        assert!(s.vertices_after * 3 < s.vertices_before, "{s:?}");
+        assert!(
+            s.swaps > 0 && s.one_face + s.three_faces + s.two_faces_concave > 0,
+            "{s:?}"
+        );
+        assert_eq!(components(&r), components(&g));
+        // Every kept vertex is an original one with at most its old clearance
+        // (condition A per operation is asserted inside `Mesh::apply`).
+        for (p, &c) in r.vertices.iter().zip(&r.clearance) {
+            let i = g
+                .vertices
+                .iter()
+                .position(|q| q == p)
+                .expect("an original vertex");
+            assert!(c <= g.clearance[i]);
+        }
+        // The limit is respected or nothing more could go.
+        match s.stop {
+            StopReason::LimitReached => assert!(s.vertices_after <= s.target + 2),
+            StopReason::NothingRemovable => assert!(s.vertices_after > s.target),
+        }
+    }
+
+    #[test]
+    fn limit_one_keeps_everything_and_threads_do_not_matter() {
+        let g = sheet(10, 3);
+        let (r, _) = reduce(&g, &ReduceOptions { limit: 1.0 }, &NoProgress);
+        assert_eq!(r.faces.len(), g.faces.len());
+        let run = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| reduce(&g, &ReduceOptions { limit: 0.1 }, &NoProgress).0)
+        };
+        let (a, b) = (run(1), run(2));
+        assert_eq!(a.faces, b.faces);
+        assert_eq!(a.clearance, b.clearance);
+    }
+}
