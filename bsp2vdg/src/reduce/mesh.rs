@@ -75,7 +75,22 @@ impl Mesh {
 
     /// Commits an edit. New faces get the next ids in the order the edit
     /// created them. In debug builds condition A is checked first.
-    pub fn apply(&mut self, ch: Changes) {
+    pub fn apply(&mut self, mut ch: Changes) {
+        // An edit made before other edits were applied numbered its new
+        // faces from an older face count: shift them.
+        let now = self.faces.len() as u32;
+        if ch.base != now {
+            let shift = |f: &mut u32| {
+                if *f >= ch.base {
+                    *f = *f - ch.base + now;
+                }
+            };
+            ch.removed.iter_mut().for_each(shift);
+            for (_, l) in &mut ch.lists {
+                l.iter_mut().for_each(shift);
+            }
+            ch.base = now;
+        }
         #[cfg(debug_assertions)]
         if let Err(e) = super::check::condition_a(self, &ch) {
             panic!("reduction broke condition A: {e}");
@@ -137,6 +152,8 @@ pub(crate) struct Changes {
     pub radii: Vec<(u32, f64)>,
     /// Operations performed, by kind (see [`Op`]).
     pub ops: [u32; Op::COUNT],
+    /// `mesh.faces.len()` when the edit was made: the first new face id.
+    pub base: u32,
 }
 
 impl Changes {
@@ -185,7 +202,10 @@ impl<'m> Edit<'m> {
     pub fn new(base: &'m Mesh) -> Edit<'m> {
         Edit {
             base,
-            ch: Changes::default(),
+            ch: Changes {
+                base: base.faces.len() as u32,
+                ..Changes::default()
+            },
         }
     }
 

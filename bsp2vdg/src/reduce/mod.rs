@@ -32,7 +32,7 @@ use rayon::prelude::*;
 
 use crate::progress::Progress;
 use crate::voronoi::Graph;
-use mesh::{Edit, Mesh, Op};
+use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
 
 /// What to reduce to.
@@ -161,48 +161,77 @@ pub fn reduce_with_ticks(
     let mut last_tick = Instant::now();
     let mut ops = [0u64; Op::COUNT];
     stats.stop = StopReason::LimitReached;
-    while live > stats.target {
-        let Some((v, key)) = queue.pop() else {
+    // Marks the vertices changed within the current batch (by stamp).
+    let mut marks = vec![0u32; mesh.pos.len()];
+    let mut stamp = 0u32;
+    'outer: while live > stats.target {
+        // Speculative batch: the cheapest BATCH vertices are costed in
+        // parallel against the same mesh, then handled one by one in heap
+        // order; a result whose neighbourhood an earlier commit of the batch
+        // changed is recomputed first. The batch size is fixed, so the
+        // output does not depend on the thread count.
+        let mut batch = Vec::with_capacity(BATCH);
+        while batch.len() < BATCH {
+            match queue.pop() {
+                Some(x) => batch.push(x),
+                None => break,
+            }
+        }
+        if batch.is_empty() {
             stats.stop = StopReason::NothingRemovable;
             break;
-        };
-        let mut edit = Edit::new(&mesh);
-        let Some(cost) = remove::remove_vertex(&mut edit, v) else {
-            continue; // not removable now; re-costed when its neighbourhood changes
-        };
-        // Lazy re-evaluation: the stored cost may be stale (only the direct
-        // neighbours are re-costed after a removal, as in the thesis).
-        let now = CostQueue::key_of(cost);
-        if now > key && queue.peek_key().is_some_and(|top| now > top) {
-            queue.push_back(v, cost);
-            continue;
         }
-        let ch = edit.into_changes();
-        let touched = ch.touched();
-        let before: usize = touched
-            .iter()
-            .filter(|&&t| !mesh.vfaces[t as usize].is_empty())
-            .count();
-        for (o, n) in ops.iter_mut().zip(ch.ops) {
-            *o += u64::from(n);
-        }
-        let dead_faces = ch.removed.len();
-        let new_faces = ch.new_faces.len();
-        mesh.apply(ch);
-        let after: usize = touched
-            .iter()
-            .filter(|&&t| !mesh.vfaces[t as usize].is_empty())
-            .count();
-        let gone = before - after
-            + usize::from(mesh.vfaces[v as usize].is_empty() && !touched.contains(&v));
-        live -= gone;
-        faces = faces + new_faces - dead_faces;
-        stats.removals += 1;
-        stats.lost_volume += cost;
-        progress.advance(gone as u64);
-        if EAGER_RECOST {
-            recost(&mesh, &mut queue, &touched);
-        } else {
+        let results: Vec<Option<(f64, Changes)>> =
+            batch.par_iter().map(|&(v, _)| simulate(&mesh, v)).collect();
+        stamp += 1;
+        let keys: Vec<u64> = batch.iter().map(|x| x.1).collect();
+        for (i, (&(v, key), res)) in batch.iter().zip(results).enumerate() {
+            if live <= stats.target {
+                for &(u, k) in &batch[i..] {
+                    queue.push_key(u, k);
+                }
+                break 'outer;
+            }
+            let res = if near_marked(&mesh, v, &marks, stamp) {
+                simulate(&mesh, v)
+            } else {
+                res
+            };
+            let Some((cost, ch)) = res else {
+                continue; // not removable now; re-costed when its neighbourhood changes
+            };
+            // Lazy re-evaluation: the stored cost may be stale (only the
+            // direct neighbours are marked after a removal).
+            let now = CostQueue::key_of(cost);
+            let next = keys[i + 1..].iter().copied().chain(queue.peek_key()).min();
+            if now > key && next.is_some_and(|top| now > top) {
+                queue.push_back(v, cost);
+                continue;
+            }
+            let touched = ch.touched();
+            for &t in &touched {
+                marks[t as usize] = stamp;
+            }
+            let before: usize = touched
+                .iter()
+                .filter(|&&t| !mesh.vfaces[t as usize].is_empty())
+                .count();
+            for (o, n) in ops.iter_mut().zip(ch.ops) {
+                *o += u64::from(n);
+            }
+            let dead_faces = ch.removed.len();
+            let new_faces = ch.new_faces.len();
+            mesh.apply(ch);
+            let after: usize = touched
+                .iter()
+                .filter(|&&t| !mesh.vfaces[t as usize].is_empty())
+                .count();
+            let gone = before - after;
+            live -= gone;
+            faces = faces + new_faces - dead_faces;
+            stats.removals += 1;
+            stats.lost_volume += cost;
+            progress.advance(gone as u64);
             for &t in &touched {
                 if mesh.vfaces[t as usize].is_empty() {
                     queue.set(t, None);
@@ -210,16 +239,16 @@ pub fn reduce_with_ticks(
                     queue.mark_dirty(t);
                 }
             }
-        }
-        if last_tick.elapsed() >= Duration::from_secs(1) {
-            last_tick = Instant::now();
-            tick(&Tick {
-                seconds: start.elapsed().as_secs_f64(),
-                vertices: live,
-                faces,
-                cost,
-                reduction: live as f64 / stats.vertices_before.max(1) as f64,
-            });
+            if last_tick.elapsed() >= Duration::from_secs(1) {
+                last_tick = Instant::now();
+                tick(&Tick {
+                    seconds: start.elapsed().as_secs_f64(),
+                    vertices: live,
+                    faces,
+                    cost,
+                    reduction: live as f64 / stats.vertices_before.max(1) as f64,
+                });
+            }
         }
     }
     progress.finish();
@@ -234,9 +263,8 @@ pub fn reduce_with_ticks(
     (out, stats)
 }
 
-/// Re-cost the neighbours right after each removal (thesis 6.1.5) instead
-/// of lazily when they come up.
-const EAGER_RECOST: bool = false;
+/// Vertices costed together per step of the main loop (see there).
+const BATCH: usize = 8;
 
 /// Cost of removing `v` from the mesh as it is, `None` if impossible.
 fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {
@@ -247,19 +275,29 @@ fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {
     remove::remove_vertex(&mut e, v)
 }
 
-/// Re-costs the vertices touched by a removal: in parallel when there are
-/// enough of them, applied in id order either way.
-fn recost(mesh: &Mesh, queue: &mut CostQueue, touched: &[u32]) {
-    if touched.len() >= 24 {
-        let costs: Vec<Option<f64>> = touched.par_iter().map(|&v| cost_of(mesh, v)).collect();
-        for (&v, c) in touched.iter().zip(costs) {
-            queue.set(v, c);
-        }
-    } else {
-        for &v in touched {
-            queue.set(v, cost_of(mesh, v));
-        }
+/// Removes `v` on an overlay of the mesh: its cost and changes.
+fn simulate(mesh: &Mesh, v: u32) -> Option<(f64, Changes)> {
+    let mut e = Edit::new(mesh);
+    let cost = remove::remove_vertex(&mut e, v)?;
+    Some((cost, e.into_changes()))
+}
+
+/// Whether a vertex within two rings of `v` (whose face lists and
+/// clearances a removal of `v` reads) was changed in this batch.
+fn near_marked(mesh: &Mesh, v: u32, marks: &[u32], stamp: u32) -> bool {
+    if marks[v as usize] == stamp {
+        return true;
     }
+    mesh.vfaces[v as usize].iter().any(|&f| {
+        mesh.faces[f as usize].iter().any(|&u| {
+            marks[u as usize] == stamp
+                || mesh.vfaces[u as usize].iter().any(|&g| {
+                    mesh.faces[g as usize]
+                        .iter()
+                        .any(|&w| marks[w as usize] == stamp)
+                })
+        })
+    })
 }
 
 #[cfg(test)]

@@ -53,6 +53,13 @@ impl CostQueue {
         None
     }
 
+    /// Re-inserts a popped vertex with the key it had.
+    pub fn push_key(&mut self, v: u32, key: u64) {
+        self.version[v as usize] = self.version[v as usize].wrapping_add(1);
+        self.queued[v as usize] = true;
+        self.heap.push(Reverse((key, v, self.version[v as usize])));
+    }
+
     /// Re-inserts a popped vertex with a new cost.
     pub fn push_back(&mut self, v: u32, cost: f64) {
         self.set(v, Some(cost));
