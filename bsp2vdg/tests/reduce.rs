@@ -173,3 +173,33 @@ fn output_is_identical_at_one_and_two_threads() {
     let b = compile("ramp", "t2", &["-rl", "0.025", "-threads", "2"]);
     assert!(a == b, "the reduced .vdg differs between 1 and 2 threads");
 }
+
+/// Measurement, not a check (run by hand on real maps):
+/// `REDUCE_FULL=a.vdg REDUCE_REDUCED=b.vdg cargo test --release -p bsp2vdg
+/// --test reduce volume_kept -- --ignored --nocapture` prints the share of
+/// the unreduced volume the reduced graph still describes and the share of
+/// reduced-volume points outside the unreduced volume (condition A: 0).
+#[test]
+#[ignore]
+fn volume_kept_on_given_files() {
+    let (Some(full), Some(red)) = (
+        std::env::var_os("REDUCE_FULL"),
+        std::env::var_os("REDUCE_REDUCED"),
+    ) else {
+        return;
+    };
+    let full = VdgFile::open(full).unwrap();
+    let red = VdgFile::open(red).unwrap();
+    let n = 100_000;
+    let mut rng = SplitMix64::new(1);
+    let kept = (0..n)
+        .filter(|_| red.graph().contains(point_in_volume(&full, &mut rng)))
+        .count();
+    let outside = (0..n)
+        .filter(|_| full.graph().clearance(point_in_volume(&red, &mut rng)) < -1e-2)
+        .count();
+    println!(
+        "volume kept {:.1} % (by {n} points of the unreduced volume); reduced points outside the unreduced volume: {outside} of {n}",
+        100.0 * kept as f64 / n as f64
+    );
+}
