@@ -6,17 +6,28 @@
 //! is removed by edge swaps that lower its edge degree (4.5) until it can be
 //! taken out as a vertex with one face or with two or three faces (4.6).
 //! Every operation keeps the conditions of 4.2: A — the described free space
-//! never grows (proven per operation, see [`swap`](self) docs, and checked in
+//! never grows (proven per operation, see the `swap` module, and checked in
 //! debug builds); B, C — topology and connected components are kept, and
 //! non-manifold edges are never swapped.
 //!
 //! Speed (the thesis needed 19 min to 1 h 50 min per map): adjacency is a
 //! face list per vertex; costing a vertex runs its removal on a read-only
-//! overlay ([`mesh::Edit`]) so all initial costs and each batch of re-costs
-//! are computed in parallel with rayon; a lazy-deletion heap holds the costs
-//! and a popped vertex is re-costed before it is removed (if it got dearer
-//! than the next one it goes back). Results are applied in a fixed order with
-//! ties broken by vertex id, so the output is the same for any thread count.
+//! overlay (`mesh::Edit`), so all initial costs are computed in parallel
+//! with rayon, and the main loop costs the 8 cheapest queued vertices at a
+//! time in parallel, then applies them one by one in heap order (a result
+//! whose two-ring an earlier one changed is recomputed). A lazy-deletion
+//! heap holds the costs; after a removal the changed neighbours are only
+//! marked, and a popped vertex whose fresh cost exceeds the next key goes
+//! back into the heap. Ties break by vertex id and the batch size is fixed,
+//! so the output is byte-identical for any thread count.
+//!
+//! Deviations from the thesis, all conservative: the clearance bound at the
+//! foot point `q` is the exact face clearance (never less than the thesis'
+//! `c_p − d`); a swap may not create an edge that exists unless it merges
+//! into an existing face on a seam of sheets; an isolated face is kept (it
+//! is a connected component); vertices with more than 20 neighbours wait
+//! until their degree drops; nearly parallel edge pairs are skipped instead
+//! of "jerking" a vertex.
 
 #[cfg(debug_assertions)]
 mod check;
