@@ -4,11 +4,7 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser, Debug)]
-#[command(
-    name = "vdgview",
-    version,
-    about = "Inspect, check, query and render Voronoi Distance Graphs"
-)]
+#[command(name = "vdgview", version, about = "Inspect, check, query and render Voronoi Distance Graphs")]
 struct Cli {
     #[command(subcommand)]
     command: Command,
