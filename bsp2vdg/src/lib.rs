@@ -12,6 +12,7 @@ pub mod log;
 pub mod oracle;
 pub mod pipeline;
 pub mod progress;
+pub mod reduce;
 pub mod sample;
 pub mod util;
 pub mod voronoi;

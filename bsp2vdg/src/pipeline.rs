@@ -6,6 +6,7 @@ use crate::delaunay::Triangulation;
 use crate::log::{Log, secs};
 use crate::oracle::{Oracle, OracleOptions};
 use crate::progress::Progress;
+use crate::reduce;
 use crate::sample::{self, SampleOptions, Samples};
 use crate::voronoi::{self, FreeSpace, Graph, VoronoiOptions, VoronoiStats};
 use crate::walls::Walls;
@@ -111,7 +112,52 @@ pub struct Stats {
     pub voronoi: Option<VoronoiStats>,
     /// The written graph: vertices, faces, bytes.
     pub vdg: Option<(usize, usize, usize)>,
+    /// The reduction's counts, when it ran (`-rl` < 1).
+    pub reduce: Option<crate::reduce::ReduceStats>,
     pub output: Option<PathBuf>,
+}
+
+/// Runs the reduction stage (thesis 4, 6.1.5) with its log lines.
+fn reduce_graph(
+    graph: &Graph,
+    limit: f64,
+    log: &Log,
+    progress: &dyn Progress,
+) -> (Graph, (reduce::ReduceStats, f64)) {
+    let t = Instant::now();
+    let before = graph.vertices.len();
+    log.info(format!(
+        "Reducing to {} ({}) vertices...",
+        (limit * before as f64).ceil() as usize,
+        limit
+    ));
+    let (reduced, rs) = reduce::reduce_with_ticks(
+        graph,
+        &reduce::ReduceOptions { limit },
+        progress,
+        &mut |k| {
+            log.info(format!(
+                "Time {:.0}, Nodes {}, Faces {}, Cost {:.1}, Reduction {:.3}",
+                k.seconds, k.vertices, k.faces, k.cost, k.reduction
+            ))
+        },
+    );
+    log.info(match rs.stop {
+        reduce::StopReason::LimitReached => "Reduction limit reached.".to_string(),
+        reduce::StopReason::NothingRemovable => {
+            "Reduction stopped: nothing more can be removed.".to_string()
+        }
+    });
+    log.info(format!(
+        "Reduced nodes {} -> {}, faces {} -> {} ({} swaps) [{}]",
+        rs.vertices_before,
+        rs.vertices_after,
+        rs.faces_before,
+        rs.faces_after,
+        rs.swaps,
+        secs(t.elapsed().as_secs_f64())
+    ));
+    (reduced, (rs, t.elapsed().as_secs_f64()))
 }
 
 /// Why a compile failed.
@@ -335,10 +381,15 @@ fn later_stages(
         log.info("Stopped after the Voronoi stage (--stop-after voronoi).");
         return Ok(());
     }
-    if options.reduction_limit < 1.0 {
-        return Err(CompileError::NotBuilt(Stage::Reduce));
-    }
-    log.info("Reduction limit 1.0: the graph is written unreduced.");
+    let graph = if options.reduction_limit < 1.0 {
+        let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, log, progress);
+        stats.seconds.push(("reduce", rs.1));
+        stats.reduce = Some(rs.0);
+        reduced
+    } else {
+        log.info("Reduction limit 1.0: the graph is written unreduced.");
+        graph
+    };
 
     // The volume must not leave free space between vertices (thesis fig. 3.9): bound
     // each face's interpolation error against the exact walls and lower its vertices.

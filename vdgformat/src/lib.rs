@@ -56,6 +56,31 @@ pub use hash::xxh64;
 pub use query::{FaceHit, VdgPath};
 pub use read::{ReadError, Vdg, VdgFile};
 
+/// Exact clearance of `p` for the face volume of the triangle of balls
+/// `(centre, radius)`: `max_{q ∈ triangle} r(q) − |p − q|` with `r`
+/// interpolated linearly (positive inside the volume). The same closed form
+/// as [`Vdg::face_clearance`], in f64 and without a file, for tools that edit
+/// graphs before writing them (the reduction of `bsp2vdg` proves its
+/// condition A with it).
+///
+/// ```
+/// let ball = |x: f64| ([x, 0.0, 0.0], 10.0);
+/// let c = vdgformat::triangle_clearance([ball(0.0), ball(100.0), ([0.0, 100.0, 0.0], 10.0)], [50.0, 0.0, 4.0]);
+/// assert!((c - 6.0).abs() < 1e-9);
+/// ```
+pub fn triangle_clearance(balls: [([f64; 3], f64); 3], p: [f64; 3]) -> f64 {
+    let ball = |(c, r): ([f64; 3], f64)| geom::Ball {
+        c: geom::V3(c[0], c[1], c[2]),
+        r,
+    };
+    geom::face_clearance(
+        ball(balls[0]),
+        ball(balls[1]),
+        ball(balls[2]),
+        geom::V3(p[0], p[1], p[2]),
+    )
+}
+
 #[doc(hidden)]
 pub mod __private {
     //! For this crate's tests and fuzz harness only.

@@ -1,0 +1,205 @@
+//! The reduction (thesis ch. 4) end to end through the command line, on
+//! generated maps with known geometry: condition A globally (points of the
+//! reduced volume lie in the unreduced one), connected components kept,
+//! byte-identical output at 1 and 2 threads, and the box room reducing to
+//! its medial axis. The per-operation check of condition A runs inside the
+//! binary, which the tests build with debug assertions.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use bsp2vdg::util::SplitMix64;
+use mapgen::world::World;
+use vdgformat::VdgFile;
+
+fn maps_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/maps")
+}
+
+/// Compiles `map` (copied into a fresh folder: the log goes beside the map)
+/// with extra arguments, returning the `.vdg` bytes.
+fn compile(map: &str, tag: &str, args: &[&str]) -> Vec<u8> {
+    let dir =
+        std::env::temp_dir().join(format!("bsp2vdg-reduce-{map}-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = maps_dir().join(format!("{map}.bsp"));
+    let copy = dir.join(format!("{map}.bsp"));
+    std::fs::copy(&src, &copy).unwrap();
+    let out = dir.join("out.vdg");
+    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(args)
+        .args(["-quiet", "-o"])
+        .arg(&out)
+        .arg(&copy)
+        .output()
+        .expect("bsp2vdg runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&out).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    bytes
+}
+
+/// Connected components of the vertices that have faces (union–find).
+fn components(file: &VdgFile) -> usize {
+    let g = file.graph();
+    let n = g.vertex_count();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut x: usize) -> usize {
+        while p[x] != x {
+            p[x] = p[p[x]];
+            x = p[x];
+        }
+        x
+    }
+    let mut used = vec![false; n];
+    for f in g.faces() {
+        for &v in f {
+            used[v as usize] = true;
+        }
+        let a = find(&mut parent, f[0] as usize);
+        for &v in &f[1..] {
+            let b = find(&mut parent, v as usize);
+            parent[b] = a;
+        }
+    }
+    (0..n)
+        .filter(|&v| used[v] && find(&mut parent, v) == v)
+        .count()
+}
+
+/// A random point of the reduced volume: a random ball `B(x, r(x))` of a
+/// random face, shrunk by 1 % so boundary rounding does not count.
+fn point_in_volume(file: &VdgFile, rng: &mut SplitMix64) -> [f32; 3] {
+    let g = file.graph();
+    let f = g.faces()[(rng.next_u64() % g.face_count() as u64) as usize];
+    let (mut u, mut w) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
+    if u + w > 1.0 {
+        (u, w) = (1.0 - u, 1.0 - w);
+    }
+    let vs = f.map(|v| g.vertices()[v as usize]);
+    let bary = [1.0 - u - w, u, w];
+    let mut x = [0.0f64; 3];
+    let mut r = 0.0;
+    for (v, b) in vs.iter().zip(bary) {
+        for (xi, pi) in x.iter_mut().zip(v.pos) {
+            *xi += b * f64::from(pi);
+        }
+        r += b * f64::from(v.clearance);
+    }
+    // Uniform direction, radius fraction.
+    let d = loop {
+        let d = [0; 3].map(|_| rng.range(-1.0, 1.0));
+        let n2: f64 = d.iter().map(|c| c * c).sum();
+        if n2 > 1e-6 && n2 <= 1.0 {
+            break d.map(|c| c / n2.sqrt());
+        }
+    };
+    let s = 0.99 * r * rng.range(0.0, 1.0).cbrt();
+    [0, 1, 2].map(|i| (x[i] + s * d[i]) as f32)
+}
+
+fn reduced_and_full(map: &str) -> (VdgFile, VdgFile) {
+    let full = compile(map, "full", &["-rl", "1.0"]);
+    let red = compile(map, "red", &["-rl", "0.025"]);
+    (
+        VdgFile::from_bytes(&full).unwrap(),
+        VdgFile::from_bytes(&red).unwrap(),
+    )
+}
+
+#[test]
+fn reduced_volume_lies_in_the_unreduced_volume_and_components_are_kept() {
+    for map in ["two_rooms"] {
+        let (full, red) = reduced_and_full(map);
+        assert!(
+            red.graph().vertex_count() * 4 < full.graph().vertex_count(),
+            "{map}: {} of {} vertices left",
+            red.graph().vertex_count(),
+            full.graph().vertex_count()
+        );
+        assert_eq!(components(&full), components(&red), "{map}: components");
+        let mut rng = SplitMix64::new(0x5eed);
+        let n = 100_000;
+        let mut outside = 0;
+        let mut worst = 0.0f32;
+        for _ in 0..n {
+            let p = point_in_volume(&red, &mut rng);
+            let c = full.graph().clearance(p);
+            if c < -1e-2 {
+                outside += 1;
+                worst = worst.min(c);
+            }
+        }
+        assert_eq!(
+            outside, 0,
+            "{map}: {outside} of {n} points outside, worst {worst}"
+        );
+    }
+}
+
+#[test]
+fn box_room_reduces_to_its_medial_axis() {
+    let json = std::fs::read_to_string(maps_dir().join("box_room.json")).unwrap();
+    let world = World::from_manifest_json(&json).unwrap();
+    let (full, red) = reduced_and_full("box_room");
+    let g = red.graph();
+    assert_eq!(components(&red), 1);
+    assert!(g.vertex_count() * 10 < full.graph().vertex_count());
+    // The medial axis of the box [0,512]x[0,384]x[0,256]: points whose two
+    // nearest walls are equally far. Vertices sit on it up to the sampling
+    // error (spacing 24), and no clearance exceeds the true wall distance.
+    let (lo, hi) = ([0.0, 0.0, 0.0], [512.0, 384.0, 256.0]);
+    for v in g.vertices() {
+        let p = v.pos.map(f64::from);
+        let mut d: Vec<f64> = (0..3).flat_map(|i| [p[i] - lo[i], hi[i] - p[i]]).collect();
+        d.sort_by(f64::total_cmp);
+        assert!(
+            d[1] - d[0] < 24.0,
+            "vertex {p:?} is off the medial axis: walls at {d:?}"
+        );
+        let wall = world.clearance(p);
+        assert!(
+            f64::from(v.clearance) <= wall + 1.0,
+            "vertex {p:?} claims clearance {} but the wall is {wall} away",
+            v.clearance
+        );
+    }
+}
+
+#[test]
+fn output_is_identical_at_one_and_two_threads() {
+    let a = compile("ramp", "t1", &["-rl", "0.025", "-threads", "1"]);
+    let b = compile("ramp", "t2", &["-rl", "0.025", "-threads", "2"]);
+    assert!(a == b, "the reduced .vdg differs between 1 and 2 threads");
+}
+
+/// Measurement, not a check (run by hand on real maps):
+/// `REDUCE_FULL=a.vdg REDUCE_REDUCED=b.vdg cargo test --release -p bsp2vdg
+/// --test reduce volume_kept -- --ignored --nocapture` prints the share of
+/// the unreduced volume the reduced graph still describes and the share of
+/// reduced-volume points outside the unreduced volume (condition A: 0).
+#[test]
+#[ignore]
+fn volume_kept_on_given_files() {
+    let (Some(full), Some(red)) = (
+        std::env::var_os("REDUCE_FULL"),
+        std::env::var_os("REDUCE_REDUCED"),
+    ) else {
+        return;
+    };
+    let full = VdgFile::open(full).unwrap();
+    let red = VdgFile::open(red).unwrap();
+    let n = 100_000;
+    let mut rng = SplitMix64::new(1);
+    let kept = (0..n)
+        .filter(|_| red.graph().contains(point_in_volume(&full, &mut rng)))
+        .count();
+    let outside = (0..n)
+        .filter(|_| full.graph().clearance(point_in_volume(&red, &mut rng)) < -1e-2)
+        .count();
+    println!(
+        "volume kept {:.1} % (by {n} points of the unreduced volume); reduced points outside the unreduced volume: {outside} of {n}",
+        100.0 * kept as f64 / n as f64
+    );
+}
