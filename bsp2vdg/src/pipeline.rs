@@ -198,7 +198,7 @@ impl fmt::Display for CompileError {
             }
             CompileError::NotBuilt(stage) => write!(
                 f,
-                "the {} stage is not built yet in this version; -rl 1.0 writes the unreduced graph, --stop-after voronoi stops before writing",
+                "the {} stage is not built yet in this version",
                 stage.name(),
             ),
         }
@@ -381,18 +381,10 @@ fn later_stages(
         log.info("Stopped after the Voronoi stage (--stop-after voronoi).");
         return Ok(());
     }
-    let graph = if options.reduction_limit < 1.0 {
-        let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, log, progress);
-        stats.seconds.push(("reduce", rs.1));
-        stats.reduce = Some(rs.0);
-        reduced
-    } else {
-        log.info("Reduction limit 1.0: the graph is written unreduced.");
-        graph
-    };
-
     // The volume must not leave free space between vertices (thesis fig. 3.9): bound
     // each face's interpolation error against the exact walls and lower its vertices.
+    // This runs on the unreduced graph, whose small faces give tight bounds; the
+    // reduction keeps its volume inside this one (condition A), so it stays free too.
     let t = Instant::now();
     let (graph, guard) = voronoi::guard_interpolation(graph, space, options.min_clearance);
     log.info(format!(
@@ -405,6 +397,16 @@ fn later_stages(
         secs(t.elapsed().as_secs_f64())
     ));
     stats.seconds.push(("guard", t.elapsed().as_secs_f64()));
+
+    let graph = if options.reduction_limit < 1.0 {
+        let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, log, progress);
+        stats.seconds.push(("reduce", rs.1));
+        stats.reduce = Some(rs.0);
+        reduced
+    } else {
+        log.info("Reduction limit 1.0: the graph is written unreduced.");
+        graph
+    };
 
     let t = Instant::now();
     let bytes = write_vdg(map, options, &graph)?;
