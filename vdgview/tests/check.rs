@@ -116,3 +116,29 @@ fn an_inflated_graph_is_caught_leaking() {
     );
     assert!(r.leaked > 0 && !r.passed(), "{}", r.to_json());
 }
+
+/// World brushes with `{` alpha textures are solid in the BSP: the graph must treat
+/// them as walls (a name-only skip let the volume pass through the fence).
+#[test]
+fn alpha_textured_world_brushes_are_walls() {
+    let map = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/testmaps/goldsrc/allocblock-in-bsp-texture-test.bsp");
+    if !map.exists() {
+        eprintln!("skipped: {} is absent", map.display());
+        return;
+    }
+    let out = tempdir().join("fence.vdg");
+    compile(&map, &out);
+    let bsp = Bsp::open(&map).unwrap();
+    let file = vdgformat::VdgFile::open(&out).unwrap();
+    let r = check(
+        &bsp,
+        &file.graph(),
+        0,
+        &CheckOptions {
+            samples: 20_000,
+            ..Default::default()
+        },
+    );
+    assert!(r.leaked == 0 && r.false_positives == 0, "{}", r.to_json());
+}

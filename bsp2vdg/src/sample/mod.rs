@@ -171,10 +171,14 @@ pub fn sample(bsp: &Bsp, options: &SampleOptions) -> Samples {
 /// Marks faces that do not separate free space from an obstacle as skipped.
 pub fn cull_by_contents(faces: &mut [SampledFace], is_free: impl Fn([f64; 3]) -> bool + Sync) {
     faces.par_iter_mut().for_each(|f| {
-        if !matches!(f.class, FaceClass::Skip(_))
-            && let Some(r) = classify::classify_by_contents(&f.polygon, f.normal, &is_free)
-        {
-            f.class = FaceClass::Skip(r);
+        let verdict = classify::classify_by_contents(&f.polygon, f.normal, &is_free);
+        match (f.class, verdict) {
+            (FaceClass::Wall | FaceClass::Sky, Some(r)) => f.class = FaceClass::Skip(r),
+            // A name says "invisible" or "transparent", but the BSP has free space in
+            // front and an obstacle behind: a solid brush with an alpha or helper
+            // texture in the world is a wall all the same (cameras cannot pass it).
+            (FaceClass::Skip(r), None) if r != SkipReason::Liquid => f.class = FaceClass::Wall,
+            _ => {}
         }
     });
 }
