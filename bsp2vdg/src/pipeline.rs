@@ -88,6 +88,25 @@ pub struct CompileOptions {
     pub output: PathBuf,
 }
 
+impl CompileOptions {
+    /// The command line's defaults (`-sd 24 -ms 250000 -rl 0.025 -md 20 -bb 256`),
+    /// writing to `output`.
+    pub fn new(output: PathBuf) -> CompileOptions {
+        CompileOptions {
+            sampling: SampleOptions::default(),
+            reduction_limit: 0.025,
+            min_clearance: 20.0,
+            tree_leaf_size: 256.0,
+            liquids_are_solid: false,
+            entity_classes: Vec::new(),
+            save_samples: false,
+            samples_format: SamplesFormat::Xyz,
+            stop_after: Stage::Reduce,
+            output,
+        }
+    }
+}
+
 /// What a compile measured, for the log summary and `--json`.
 #[derive(Debug, Clone, Default)]
 pub struct Stats {

@@ -6,9 +6,8 @@
 //! `cargo run --release -p vdgview --example clearance_error -- [POINTS] [bsp2vdg options...]`
 
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::pipeline::{self, CompileOptions, SamplesFormat, Stage};
+use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
-use bsp2vdg::sample::SampleOptions;
 use bsp2vdg::util::SplitMix64;
 use mapgen::world::World;
 use std::path::Path;
@@ -36,16 +35,8 @@ fn main() {
         .unwrap();
         let out = tmp.join(map.file_name().unwrap()).with_extension("vdg");
         let options = CompileOptions {
-            sampling: SampleOptions::default(),
             reduction_limit: 1.0,
-            min_clearance: 20.0,
-            tree_leaf_size: 256.0,
-            liquids_are_solid: false,
-            entity_classes: Vec::new(),
-            save_samples: false,
-            samples_format: SamplesFormat::Xyz,
-            stop_after: Stage::Reduce,
-            output: out.clone(),
+            ..CompileOptions::new(out.clone())
         };
         pipeline::compile(
             &map,

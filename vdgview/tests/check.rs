@@ -3,9 +3,8 @@
 
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::pipeline::{self, CompileOptions, SamplesFormat, Stage};
+use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
-use bsp2vdg::sample::SampleOptions;
 use std::path::{Path, PathBuf};
 use vdgview::check::{CheckOptions, check};
 
@@ -22,16 +21,8 @@ fn generated_maps() -> Vec<PathBuf> {
 
 fn compile(map: &Path, out: &Path) {
     let options = CompileOptions {
-        sampling: SampleOptions::default(),
         reduction_limit: 1.0,
-        min_clearance: 20.0,
-        tree_leaf_size: 256.0,
-        liquids_are_solid: false,
-        entity_classes: Vec::new(),
-        save_samples: false,
-        samples_format: SamplesFormat::Xyz,
-        stop_after: Stage::Reduce,
-        output: out.to_path_buf(),
+        ..CompileOptions::new(out.to_path_buf())
     };
     pipeline::compile(
         map,

@@ -470,7 +470,7 @@ mod tests {
     /// The integer stage must agree with `robust` on near-degenerate dyadic inputs.
     #[test]
     fn integer_stage_agrees_with_robust() {
-        let mut rng = crate::delaunay::sort::SplitMix64(99);
+        let mut rng = crate::util::SplitMix64::new(99);
         let mut zeros = 0;
         // Quarter steps use the general dyadic analysis, whole steps the small-integer case.
         for i in 0..20000 {
@@ -518,7 +518,7 @@ mod tests {
     /// degenerate, non-dyadic inputs of every magnitude.
     #[test]
     fn float_filters_agree_with_robust_near_degeneracy() {
-        let mut rng = crate::delaunay::sort::SplitMix64(17);
+        let mut rng = crate::util::SplitMix64::new(17);
         let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         for &scale in &[1e-6, 1.0, 3.7e3, 1e9] {
             for _ in 0..5000 {
@@ -571,7 +571,7 @@ mod tests {
     /// perturbation a perturbation (a wrong sign in either rule breaks it).
     #[test]
     fn perturbed_local_delaunay_test_is_symmetric() {
-        let mut rng = crate::delaunay::sort::SplitMix64(5);
+        let mut rng = crate::util::SplitMix64::new(5);
         let mut pts: Vec<[f64; 3]> = Vec::new();
         for x in 0..3 {
             for y in 0..3 {

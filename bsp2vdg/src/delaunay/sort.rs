@@ -9,30 +9,12 @@
 //! ones together, like CGAL's multiscale sort), so the first points form a coarse random
 //! sample of the whole domain. The shuffle uses a fixed seed: the order is deterministic.
 
+use crate::util::SplitMix64;
 /// Bits per axis of the Hilbert key (3 × 21 = 63 bits).
 const HILBERT_BITS: u32 = 21;
 
 /// Rounds smaller than this are merged into the first one.
 const MIN_ROUND: usize = 64;
-
-/// SplitMix64: a tiny deterministic generator, good enough for shuffling.
-#[derive(Clone, Debug)]
-pub struct SplitMix64(pub u64);
-
-impl SplitMix64 {
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `0..n` (n > 0), by multiply-shift (bias negligible for our sizes).
-    pub fn below(&mut self, n: usize) -> usize {
-        (((self.next_u64() >> 32) * n as u64) >> 32) as usize
-    }
-}
 
 /// Spread the low 21 bits of `v` so that bit i moves to bit 3i.
 fn spread3(v: u32) -> u64 {
@@ -107,7 +89,7 @@ pub fn brio_order(points: &[[f64; 3]]) -> Vec<u32> {
     let n = points.len();
     let keys = hilbert_keys(points);
     let mut order: Vec<u32> = (0..n as u32).collect();
-    let mut rng = SplitMix64(0x5EED_DE1A_0A11_u64);
+    let mut rng = SplitMix64::new(0x5EED_DE1A_0A11_u64);
     for i in (1..n).rev() {
         let j = rng.below(i + 1);
         order.swap(i, j);
@@ -160,7 +142,7 @@ mod tests {
 
     #[test]
     fn brio_is_a_deterministic_permutation() {
-        let mut rng = SplitMix64(7);
+        let mut rng = SplitMix64::new(7);
         let pts: Vec<[f64; 3]> = (0..5000)
             .map(|_| [0, 1, 2].map(|_| (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64))
             .collect();
