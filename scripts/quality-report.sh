@@ -4,15 +4,20 @@
 # then runs `vdgview check` with N points (default 10^6) and N/10 segments.
 # Prints one row per map: counts, sizes, seconds per stage, leak, coverage, visible fp/fn.
 #   scripts/quality-report.sh [N] [extra bsp2vdg options, e.g. -rl 1.0]
+#   MAPS="path/a.bsp path/b.bsp" scripts/quality-report.sh ...   (only these maps)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 n=${1:-1000000}; shift || true
 opts=("$@"); [ ${#opts[@]} -eq 0 ] && opts=(-rl 1.0)
 cargo build --release -q -p bsp2vdg -p vdgview
 out=$(mktemp -d)
-maps=(testdata/maps/*.bsp)
 shopt -s nullglob
-maps+=(../shared/testmaps/goldsrc/*.bsp ../shared/testmaps/goldsrc/nonfree/*.bsp)
+if [ -n "${MAPS:-}" ]; then
+  # shellcheck disable=SC2206
+  maps=($MAPS)
+else
+  maps=(testdata/maps/*.bsp ../shared/testmaps/goldsrc/*.bsp ../shared/testmaps/goldsrc/nonfree/*.bsp)
+fi
 printf '%-32s %7s %8s %8s %8s %9s %7s %7s %7s %9s %8s %9s %9s %9s\n' map samples tets inner_v inner_f vertices faces bytes secs leak coverage vis_fp vis_fn fn_inside
 for m in "${maps[@]}"; do
   name=$(basename "$m" .bsp)
