@@ -203,10 +203,10 @@ impl Viewer {
             ("mark", Some(&[])) => self.mark_crosshair(),
             ("mark", Some(&[x, y, z])) => self.set_mark(Vec3::new(x, y, z)),
             ("path", _) => self.compute_path(),
-            ("reduce", _) => self.say(
-                "reduce: not available in this build: bsp2vdg's reduction stage is not linked yet \
-                 (and a reduced graph cannot be stepped further)",
-            ),
+            ("reduce", Some(&[n])) if n >= 1.0 && n.fract() == 0.0 => self.reduce_by(n as usize),
+            ("reduce", _) => {
+                self.say("reduce: expected a number of vertices to remove, e.g. reduce 1000")
+            }
             ("screenshot", _) if args.len() == 1 => self.screenshot = Some(args[0].to_string()),
             ("help", _) => {
                 for chunk in HELP.split("; ") {
@@ -263,6 +263,63 @@ impl Viewer {
     }
 
     /// The thesis' `stats`: graph size, position, clearance, frame time.
+    /// Removes `n` more vertices by the compiler's reduction (thesis ch. 4), as the
+    /// thesis' VDGView does with an unreduced graph, and shows the result.
+    pub fn reduce_by(&mut self, n: usize) {
+        let Some(file) = &self.graph else {
+            self.say("reduce: no graph loaded");
+            return;
+        };
+        let g = file.graph();
+        let graph = bsp2vdg::voronoi::Graph {
+            vertices: g.vertices().iter().map(|v| v.pos.map(f64::from)).collect(),
+            clearance: g
+                .vertices()
+                .iter()
+                .map(|v| f64::from(v.clearance))
+                .collect(),
+            faces: g.faces().to_vec(),
+        };
+        let before = graph.vertices.len();
+        if before == 0 {
+            self.say("reduce: the graph is empty");
+            return;
+        }
+        let limit = before.saturating_sub(n) as f64 / before as f64;
+        let options = bsp2vdg::reduce::ReduceOptions { limit };
+        let (reduced, stats) =
+            bsp2vdg::reduce::reduce(&graph, &options, &bsp2vdg::progress::NoProgress);
+        let mut b = vdgformat::VdgBuilder::new();
+        for (p, &c) in reduced.vertices.iter().zip(&reduced.clearance) {
+            b.add_vertex(p.map(|x| x as f32), c as f32);
+        }
+        for f in &reduced.faces {
+            b.add_face(*f);
+        }
+        let file = match b
+            .to_bytes()
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| VdgFile::from_bytes(&bytes).map_err(|e| e.to_string()))
+        {
+            Ok(f) => f,
+            Err(e) => {
+                self.say(format!("reduce: {e}"));
+                return;
+            }
+        };
+        self.scene.graph = Some(crate::scene::GraphMesh::from_vdg(&file.graph()));
+        self.graph = Some(file);
+        self.hint = 0;
+        self.say(format!(
+            "reduce: nodes {} -> {}, faces {} -> {} ({:?})",
+            before,
+            reduced.vertices.len(),
+            graph.faces.len(),
+            reduced.faces.len(),
+            stats.stop
+        ));
+    }
+
     pub fn stats(&mut self) {
         let mut s = String::new();
         if let Some(g) = &self.scene.graph {
@@ -537,6 +594,38 @@ mod tests {
     }
 
     #[test]
+    fn reduce_steps_the_compilers_reduction() {
+        let mut v = viewer();
+        // A 12×12 sheet of faces with constant clearance: plenty to remove.
+        let mut b = VdgBuilder::new();
+        for y in 0..12 {
+            for x in 0..12 {
+                b.add_vertex([x as f32 * 30.0, y as f32 * 30.0, 50.0], 40.0);
+            }
+        }
+        for y in 0..11u32 {
+            for x in 0..11u32 {
+                let i = y * 12 + x;
+                b.add_face([i, i + 1, i + 12]);
+                b.add_face([i + 1, i + 13, i + 12]);
+            }
+        }
+        v.graph = Some(VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap());
+        v.execute("reduce 40");
+        let after = v.graph.as_ref().unwrap().graph().vertices().len();
+        assert!(
+            (100..144).contains(&after),
+            "{after} vertices, {:?}",
+            v.messages.last()
+        );
+        assert!(v.messages.last().unwrap().contains("nodes 144 -> "));
+        assert_eq!(
+            v.scene.graph.as_ref().map(|g| g.positions.len()),
+            Some(after)
+        );
+    }
+
+    #[test]
     fn modes_and_bad_commands_report_instead_of_failing() {
         let mut v = viewer();
         v.execute("mode 2");
@@ -546,8 +635,8 @@ mod tests {
         assert_eq!(v.mode, Mode::Wireframe);
         v.execute("gopos 1 2");
         assert!(v.messages.last().unwrap().contains("malformed"));
-        v.execute("reduce 100");
-        assert!(v.messages.last().unwrap().contains("not available"));
+        v.execute("reduce x");
+        assert!(v.messages.last().unwrap().contains("expected a number"));
         v.record_frame(Duration::from_millis(10));
         v.execute("stats");
         assert!(v.messages.last().unwrap().contains("frame median 10.0 ms"));
