@@ -421,7 +421,26 @@ fn later_stages(
         let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, log, progress);
         stats.seconds.push(("reduce", rs.1));
         stats.reduce = Some(rs.0);
-        reduced
+        // Condition A keeps the reduced volume inside the guarded one; check it on
+        // every face anyway and repair faces where it evidently failed.
+        let t = Instant::now();
+        let (checked, repair) = voronoi::guard_with(
+            reduced,
+            space,
+            options.min_clearance,
+            voronoi::GuardMode::Repair,
+        );
+        log.info(format!(
+            "Reduction check: repaired {} vertices (lowered by up to {:.3} units), removed {}; nodes {}, faces {} [{}]",
+            repair.lowered,
+            repair.max_lowering,
+            repair.removed,
+            checked.vertices.len(),
+            checked.faces.len(),
+            secs(t.elapsed().as_secs_f64())
+        ));
+        stats.seconds.push(("check", t.elapsed().as_secs_f64()));
+        checked
     } else {
         log.info("Reduction limit 1.0: the graph is written unreduced.");
         graph

@@ -46,28 +46,37 @@ pub fn classify_by_contents(
     normal: [f64; 3],
     is_free: impl Fn([f64; 3]) -> bool,
 ) -> Option<SkipReason> {
-    let c = interior_point(polygon)?;
     const EPS: f64 = 0.25;
-    let at = |s: f64| {
+    let at = |c: [f64; 3], s: f64| {
         [
             c[0] + s * normal[0],
             c[1] + s * normal[1],
             c[2] + s * normal[2],
         ]
     };
-    if !is_free(at(EPS)) {
-        Some(SkipReason::NotFacingFree)
-    } else if is_free(at(-EPS)) {
-        Some(SkipReason::FreeBehind)
-    } else {
-        None
+    // Several interior points: a face partly covered by another brush may have its
+    // centre under it; it is a wall if free space meets an obstacle anywhere on it.
+    let points = interior_points(polygon);
+    if points.is_empty() {
+        return None;
     }
+    let mut verdict = None;
+    for c in points {
+        if !is_free(at(c, EPS)) {
+            verdict = verdict.or(Some(SkipReason::NotFacingFree));
+        } else if is_free(at(c, -EPS)) {
+            verdict = verdict.or(Some(SkipReason::FreeBehind));
+        } else {
+            return None;
+        }
+    }
+    verdict
 }
 
-/// The centroid of the largest fan triangle: well inside a convex polygon, away from
-/// its edges (where the side test would be ambiguous).
-fn interior_point(p: &[[f64; 3]]) -> Option<[f64; 3]> {
-    let mut best: Option<(f64, [f64; 3])> = None;
+/// The centroids of the fan triangles (of non-zero area): inside a convex polygon and,
+/// for all but slivers, away from its edges where the side test would be ambiguous.
+fn interior_points(p: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    let mut out = Vec::new();
     for i in 1..p.len().saturating_sub(1) {
         let (a, b, c) = (p[0], p[i], p[i + 1]);
         let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
@@ -77,12 +86,11 @@ fn interior_point(p: &[[f64; 3]]) -> Option<[f64; 3]> {
             u[2] * v[0] - u[0] * v[2],
             u[0] * v[1] - u[1] * v[0],
         ];
-        let area2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        if best.is_none_or(|(ba, _)| area2 > ba) {
-            best = Some((area2, [0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0)));
+        if n[0] * n[0] + n[1] * n[1] + n[2] * n[2] > 1e-6 {
+            out.push([0, 1, 2].map(|k| (a[k] + b[k] + c[k]) / 3.0));
         }
     }
-    best.filter(|(a, _)| *a > 0.0).map(|(_, c)| c)
+    out
 }
 
 /// Classifies a face by its texture name (case-insensitive, as the engines do).

@@ -30,6 +30,17 @@ pub struct GuardStats {
     pub removed: usize,
 }
 
+/// How the guard treats a face whose grid shows no excess.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GuardMode {
+    /// Lower every face by its bound (grid maximum plus curvature margin): a proof.
+    Bound,
+    /// Lower only faces whose grid shows an actual excess, by their full bound: a
+    /// check of a graph that should already be safe (after the reduction, whose
+    /// condition A keeps its volume inside the guarded one), repairing where not.
+    Repair,
+}
+
 /// Lowers vertex clearances so that no face's volume leaves free space; vertices that
 /// fall below `min_clearance` are removed with their faces. Run it on the graph that
 /// is written: any later change of clearances would void the guarantee.
@@ -38,16 +49,30 @@ pub fn guard_interpolation(
     space: &dyn FreeSpace,
     min_clearance: f64,
 ) -> (Graph, GuardStats) {
+    guard_with(graph, space, min_clearance, GuardMode::Bound)
+}
+
+/// [`guard_interpolation`] with a choice of [`GuardMode`].
+pub fn guard_with(
+    graph: Graph,
+    space: &dyn FreeSpace,
+    min_clearance: f64,
+    mode: GuardMode,
+) -> (Graph, GuardStats) {
     let mut stats = GuardStats::default();
     let lowering: Vec<f64> = graph
         .faces
         .par_iter()
         .map(|f| {
-            face_excess(
+            let (seen, bound) = face_excess(
                 f.map(|v| graph.vertices[v as usize]),
                 f.map(|v| graph.clearance[v as usize]),
                 space,
-            )
+            );
+            match mode {
+                GuardMode::Repair if seen <= 0.0 => 0.0,
+                _ => bound,
+            }
         })
         .collect();
     let mut lower = vec![0.0f64; graph.vertices.len()];
@@ -90,8 +115,10 @@ pub fn guard_interpolation(
     (out, stats)
 }
 
-/// An upper bound of `max over the triangle of (r(q) − d(q))`, at least 0.
-fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> f64 {
+/// The largest excess `r(q) − d(q)` seen on the face's grid (corners excluded, so
+/// `-inf` when nothing was sampled), and an upper bound of it over the whole face
+/// (at least 0).
+fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> (f64, f64) {
     let edge = |i: usize, j: usize| {
         let d = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
         (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
@@ -100,6 +127,7 @@ fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> f64 {
     let n = ((longest / CELL).ceil() as usize).clamp(1, MAX_DIVISIONS);
     let h = longest / n as f64;
     let mut max_excess = 0.0f64;
+    let mut seen = f64::NEG_INFINITY;
     let mut min_distance = c[0].min(c[1]).min(c[2]);
     for i in 0..=n {
         for j in 0..=(n - i) {
@@ -119,10 +147,11 @@ fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> f64 {
             let d = space.wall_distance_within(q, r + 1.0).unwrap_or(r + 1.0);
             min_distance = min_distance.min(d);
             max_excess = max_excess.max(r - d);
+            seen = seen.max(r - d);
         }
     }
     // Curvature margin inside one grid cell: the wall distance there is at least the
     // smallest grid value less the cell size.
     let d_low = (min_distance - h).max(1.0);
-    max_excess + h * h / (2.0 * d_low)
+    (seen, max_excess + h * h / (2.0 * d_low))
 }

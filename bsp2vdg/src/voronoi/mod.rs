@@ -22,7 +22,7 @@
 //! analytic worlds as well as run against a map's BSP.
 
 mod guard;
-pub use guard::{GuardStats, guard_interpolation};
+pub use guard::{GuardMode, GuardStats, guard_interpolation, guard_with};
 mod polygon;
 
 use crate::delaunay::Triangulation;
