@@ -89,9 +89,16 @@ pub fn guard_with(
         .zip(&lower)
         .map(|(c, l)| c - l)
         .collect();
+    // Repair keeps every vertex: removing one could split the graph the reduction
+    // kept connected (condition C); a vertex at a free point with clearance 0 adds
+    // no volume.
+    let clearance: Vec<f64> = match mode {
+        GuardMode::Repair => clearance.iter().map(|&c| c.max(0.0)).collect(),
+        GuardMode::Bound => clearance,
+    };
     let keep: Vec<bool> = clearance
         .iter()
-        .map(|&c| c >= min_clearance && c > 0.0)
+        .map(|&c| mode == GuardMode::Repair || (c >= min_clearance && c > 0.0))
         .collect();
     stats.removed = keep.iter().filter(|&&k| !k).count();
 
