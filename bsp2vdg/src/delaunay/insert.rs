@@ -334,7 +334,7 @@ const EVEN_REST: [[(u8, u8); 4]; 4] = {
 
 /// The two indices of `0..4` other than `i` and `k`.
 #[inline]
-fn other_two(i: usize, k: usize) -> (usize, usize) {
+pub(super) fn other_two(i: usize, k: usize) -> (usize, usize) {
     let mut r = [0usize; 2];
     let mut n = 0;
     for j in 0..4 {

@@ -3,6 +3,7 @@
 
 use super::INFINITE;
 use super::build::Cell;
+use super::insert::other_two;
 
 /// A Delaunay tetrahedralization of a point set, with an infinite vertex closing the convex
 /// hull (so every cell has exactly four neighbours).
@@ -293,19 +294,6 @@ fn edge_bit(i: usize, j: usize) -> usize {
 #[inline]
 fn local(v: [u32; 4], x: u32) -> usize {
     v.iter().position(|&y| y == x).expect("vertex of the cell")
-}
-
-#[inline]
-fn other_two(i: usize, k: usize) -> (usize, usize) {
-    let mut r = [0usize; 2];
-    let mut n = 0;
-    for j in 0..4 {
-        if j != i && j != k {
-            r[n] = j;
-            n += 1;
-        }
-    }
-    (r[0], r[1])
 }
 
 fn is_even_permutation(p: [usize; 4]) -> bool {
