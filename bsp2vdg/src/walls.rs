@@ -1,20 +1,22 @@
 //! Exact distance from a point to the map's obstacle faces: the ground truth for
 //! "clearance" in quality measurements (SPEC §8).
 //!
-//! The obstacle faces are the faces that bound free space (those the sampler keeps:
-//! walls and sky). A uniform grid over their bounding boxes answers "the nearest wall
-//! within r" by testing the few faces whose boxes come near, each exactly.
+//! The obstacles are bounded by the pieces of the BSP tree's boundary between free and
+//! obstacle leaves ([`boundary`]); the map's faces cover the same walls but miss those
+//! the compiler left faceless. A uniform grid over the polygons' bounding boxes answers
+//! "the nearest wall within r" by testing the few whose boxes come near, each exactly.
 //!
 //! ```no_run
 //! use bsp2vdg::{bsp::Bsp, walls::Walls};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
-//! let walls = Walls::of_map(&bsp, &[]);
+//! let walls = Walls::of_map(&bsp, &Default::default());
 //! let d = walls.distance_within([0.0, 0.0, 64.0], 128.0); // None: no wall within 128
 //! # Ok::<(), bsp2vdg::bsp::BspError>(())
 //! ```
 
+use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
-use crate::oracle::{Oracle, OracleOptions};
+use crate::oracle::OracleOptions;
 use crate::sample::{self, classify::FaceClass};
 use std::collections::HashMap;
 
@@ -51,18 +53,20 @@ impl Polygon {
 }
 
 impl Walls {
-    /// The faces of `bsp` (and of brush models `models`) that bound its free space.
-    pub fn of_map(bsp: &Bsp, models: &[usize]) -> Walls {
-        let oracle = Oracle::new(
-            bsp,
-            &OracleOptions {
-                solid_models: models.to_vec(),
-                ..Default::default()
-            },
-        );
-        let mut faces = sample::collect_faces(bsp, models);
-        sample::cull_by_contents(&mut faces, |p| oracle.is_free(p));
-        Walls::from_faces(&faces)
+    /// The boundary of `bsp`'s free space under `options`, taken from its BSP trees
+    /// (see [`boundary`]): the faces alone miss walls the compiler left faceless.
+    pub fn of_map(bsp: &Bsp, options: &OracleOptions) -> Walls {
+        Walls::from_boundary(&boundary::of_map(bsp, options))
+    }
+
+    /// Walls from the pieces of a BSP tree's obstacle boundary.
+    pub fn from_boundary(boundary: &[BoundaryPolygon]) -> Walls {
+        let polygons = boundary
+            .iter()
+            .filter(|b| b.vertices.len() >= 3)
+            .map(|b| (b.vertices.clone(), b.normal))
+            .collect();
+        Walls::new(polygons, 64.0)
     }
 
     /// The faces the sampler keeps (those not classified as skipped).
@@ -96,7 +100,10 @@ impl Walls {
         let mut large = Vec::new();
         for (i, p) in polygons.iter().enumerate() {
             let (a, b) = (key(p.lo, cell), key(p.hi, cell));
-            let span: i64 = (0..3).map(|k| b[k] - a[k] + 1).product();
+            // Saturating: corrupt maps can carry absurd coordinates.
+            let span = (0..3).fold(1i64, |s, k| {
+                s.saturating_mul(b[k].saturating_sub(a[k]).saturating_add(1))
+            });
             if span > 64 {
                 large.push(i as u32);
                 continue;
@@ -146,7 +153,9 @@ impl Walls {
             key(p.map(|c| c + radius), self.cell),
         );
         let mut candidates: Vec<u32> = Vec::new();
-        let cells: i64 = (0..3).map(|k| b[k] - a[k] + 1).product();
+        let cells = (0..3).fold(1i64, |s, k| {
+            s.saturating_mul(b[k].saturating_sub(a[k]).saturating_add(1))
+        });
         if cells > self.polygons.len() as i64 {
             // A big ball: visiting its cells costs more than testing every polygon.
             return self.nearest_of(p, radius, 0..self.polygons.len() as u32);
