@@ -255,7 +255,6 @@ pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
                 .filter(|f| !f.hidden && f.polygon.len() >= 3)
                 .map(|f| (f.polygon.clone(), f.normal))
                 .collect(),
-            64.0,
         )
     });
     loop {
