@@ -35,6 +35,16 @@ const ON_PLANE: f64 = 0.01;
 /// splitting that bound nothing a sample or a distance query could notice.
 const MIN_AREA: f64 = 1e-3;
 
+/// Deepest node considered; real maps are 20–60 deep.
+const MAX_DEPTH: usize = 1024;
+
+/// A node of the tree walk: its parent's index in the walk and the parent's
+/// half-space it lies in (`None` for the root).
+struct CellNode {
+    node: u32,
+    parent: Option<(u32, Plane)>,
+}
+
 /// A convex piece of the boundary between free space and an obstacle.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BoundaryPolygon {
@@ -85,9 +95,9 @@ pub fn of_tree(
 ) -> Vec<BoundaryPolygon> {
     let tree = Tree::new(bsp, model);
     let cells = tree.node_cells();
-    let per_node: Vec<Vec<BoundaryPolygon>> = cells
-        .par_iter()
-        .map(|(node, cell)| tree.portals_of(*node, cell, &blocks))
+    let per_node: Vec<Vec<BoundaryPolygon>> = (0..cells.len())
+        .into_par_iter()
+        .map(|i| tree.portals_of(cells[i].node, &Tree::cell_of(&cells, i), &blocks))
         .collect();
     let mut out: Vec<BoundaryPolygon> = per_node.into_iter().flatten().collect();
     for p in &mut out {
@@ -184,29 +194,44 @@ impl Tree {
         }
     }
 
-    /// Every node reachable from the root with the half-spaces of its ancestors (the
-    /// node's cell), in depth-first order so the output order is fixed.
-    fn node_cells(&self) -> Vec<(u32, Vec<Plane>)> {
+    /// Every node reachable from the root, in depth-first order so the output order
+    /// is fixed, with the index (in this list) of its parent and the half-space of
+    /// the parent it lies in: following the parents gives the node's cell. Storing
+    /// parents instead of whole cells keeps memory linear however deep the tree.
+    /// Nodes deeper than [`MAX_DEPTH`] are left out: no compiler makes such trees, and
+    /// a corrupt map must not cost time quadratic in its node count.
+    fn node_cells(&self) -> Vec<CellNode> {
         let mut out = Vec::new();
         let Child::Node(root) = self.root else {
             return out;
         };
         // The loader checked the tree is acyclic, so this terminates.
-        let mut stack = vec![(root, Vec::new())];
-        while let Some((n, cell)) = stack.pop() {
+        let mut stack = vec![(root, None, 0usize)];
+        while let Some((n, parent, depth)) = stack.pop() {
+            let me = out.len() as u32;
+            out.push(CellNode { node: n, parent });
+            if depth >= MAX_DEPTH {
+                continue;
+            }
             let plane = self.planes[n as usize];
             let [front, back] = self.children[n as usize];
             if let Child::Node(b) = back {
-                let mut c: Vec<Plane> = cell.clone();
-                c.push(plane.flipped());
-                stack.push((b, c));
+                stack.push((b, Some((me, plane.flipped())), depth + 1));
             }
             if let Child::Node(f) = front {
-                let mut c = cell.clone();
-                c.push(plane);
-                stack.push((f, c));
+                stack.push((f, Some((me, plane)), depth + 1));
             }
-            out.push((n, cell));
+        }
+        out
+    }
+
+    /// The half-spaces bounding the cell of `cells[i]`.
+    fn cell_of(cells: &[CellNode], i: usize) -> Vec<Plane> {
+        let mut out = Vec::new();
+        let mut at = cells[i].parent;
+        while let Some((p, h)) = at {
+            out.push(h);
+            at = cells[p as usize].parent;
         }
         out
     }
