@@ -62,6 +62,8 @@ pub struct CheckReport {
     pub free_segments_inside: usize,
     pub false_negatives_inside: usize,
     pub seconds: f64,
+    /// Seconds of the three measurements (leak, coverage, visibility).
+    pub seconds_parts: [f64; 3],
 }
 
 impl CheckReport {
@@ -109,6 +111,9 @@ impl CheckReport {
             "free_segments_inside": self.free_segments_inside,
             "false_negatives_inside": self.false_negatives_inside,
             "seconds": self.seconds,
+            "seconds_leak": self.seconds_parts[0],
+            "seconds_coverage": self.seconds_parts[1],
+            "seconds_visible": self.seconds_parts[2],
             "passed": self.passed(),
         })
     }
@@ -143,11 +148,17 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         bytes,
         ..Default::default()
     };
+    let part = std::time::Instant::now();
     let (leak_points, leaked) = measure_leak(vdg, &oracle, options);
     (r.leak_points, r.leaked) = (leak_points, leaked);
+    r.seconds_parts[0] = part.elapsed().as_secs_f64();
+    let part = std::time::Instant::now();
     let (points, covered) = measure_coverage(bsp, vdg, &oracle, &walls, options);
     (r.coverage_points, r.covered) = (points, covered);
+    r.seconds_parts[1] = part.elapsed().as_secs_f64();
+    let part = std::time::Instant::now();
     measure_visibility(bsp, vdg, &oracle, options, &mut r);
+    r.seconds_parts[2] = part.elapsed().as_secs_f64();
     r.seconds = t.elapsed().as_secs_f64();
     r
 }

@@ -215,9 +215,12 @@ fn run_check(
             r.visible_fn_inside()
         );
         println!(
-            "  {} in {:.1} s",
+            "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
-            r.seconds
+            r.seconds,
+            r.seconds_parts[0],
+            r.seconds_parts[1],
+            r.seconds_parts[2]
         );
     }
     Ok(r.passed())
