@@ -41,8 +41,6 @@ pub(super) struct Builder<'a> {
     pub last: u32,
     /// State of the deterministic "stochastic" walk (xorshift32).
     pub walk_rng: u32,
-    /// Cavities with more boundary vertices than this are glued by the hash table.
-    pub matrix_glue_max: usize,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
     /// Set when a cell could not be allocated; the triangulation is then abandoned.
@@ -56,15 +54,6 @@ impl<'a> Builder<'a> {
     /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
     /// indices when the result is assembled.
     pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
-        Self::run_with(input, super::insert::MATRIX_GLUE_MAX)
-    }
-
-    /// [`Self::run`] with a chosen limit for the dense gluing table (tests force the hash
-    /// table path with 0).
-    pub fn run_with(
-        input: &[[f64; 3]],
-        matrix_glue_max: usize,
-    ) -> Result<Triangulation, DelaunayError> {
         if input.len() >= (MAX_TETS / 8) {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
@@ -72,15 +61,11 @@ impl<'a> Builder<'a> {
         let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
         let ids: Vec<u32> = (0..sorted.len() as u32).collect();
         let simplex = initial_simplex(&sorted, &ids)?;
-        let b = Builder::triangulate(&sorted, simplex, matrix_glue_max)?;
+        let b = Builder::triangulate(&sorted, simplex)?;
         Ok(b.finish(input, &order))
     }
 
-    fn triangulate(
-        pts: &'a [[f64; 3]],
-        simplex: [u32; 4],
-        matrix_glue_max: usize,
-    ) -> Result<Self, DelaunayError> {
+    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
         // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
@@ -89,7 +74,6 @@ impl<'a> Builder<'a> {
             free: Vec::new(),
             last: 0,
             walk_rng: 0x2545_F491,
-            matrix_glue_max,
             duplicates: Vec::new(),
             scratch: Default::default(),
             overflow: false,
@@ -265,21 +249,36 @@ fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], Delaunay
 mod tests {
     use super::Builder;
 
-    /// The hash-table gluing (normally only for huge cavities) builds the same valid
-    /// triangulation as the dense table.
+    /// A point at the centre of nearly cospherical points is joined to all of them; inserted
+    /// late, its cavity is most of the triangulation, glued by turning around hundreds of
+    /// boundary edges. `validate` checks the cells against the *input* coordinates, so it
+    /// also checks that vertex ids were mapped back from the builder's sorted copy.
     #[test]
-    fn hash_gluing_path_is_valid_and_equivalent() {
+    fn huge_cavity_is_glued_validly_and_ids_are_input_indices() {
         let mut pts = Vec::new();
-        for i in 0..1500u32 {
-            let h = i.wrapping_mul(2_654_435_761);
-            pts.push([(h % 97) as f64, (h / 97 % 89) as f64, (i % 7) as f64 * 3.0]);
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        for i in 0..400 {
+            // Fibonacci sphere, rounded to a grid: nearly (not exactly) cospherical.
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / 400.0;
+            let r = (1.0 - z * z).sqrt();
+            let a = golden * i as f64;
+            pts.push([
+                (r * a.cos() * 1e3).round(),
+                (r * a.sin() * 1e3).round(),
+                (z * 1e3).round(),
+            ]);
         }
-        let dense = Builder::run_with(&pts, super::super::insert::MATRIX_GLUE_MAX).unwrap();
-        let hashed = Builder::run_with(&pts, 0).unwrap();
-        hashed.validate().unwrap();
-        assert!(dense.cells().eq(hashed.cells()));
-        for t in 0..dense.num_cells() as u32 {
-            assert_eq!(dense.neighbors(t), hashed.neighbors(t));
+        pts.push([0.0, 0.0, 0.0]);
+        let tri = Builder::run(&pts).unwrap();
+        tri.validate().unwrap();
+        // Every point is a hull vertex or the centre: the centre has cells to all of them.
+        let centre = pts.len() as u32 - 1;
+        let mut touching = std::collections::BTreeSet::new();
+        for c in tri.cells() {
+            if c.contains(&centre) {
+                touching.extend(c.iter().copied().filter(|&v| v != centre));
+            }
         }
+        assert_eq!(touching.len(), pts.len() - tri.duplicates().len() - 1);
     }
 }
