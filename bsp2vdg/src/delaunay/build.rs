@@ -58,9 +58,7 @@ impl<'a> Builder<'a> {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
         let order = brio_order(input);
-        let mut sorted: Vec<[f64; 3]> = Vec::with_capacity(order.len());
-        advise_huge_pages(&sorted);
-        sorted.extend(order.iter().map(|&i| input[i as usize]));
+        let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
         let ids: Vec<u32> = (0..sorted.len() as u32).collect();
         let simplex = initial_simplex(&sorted, &ids)?;
         let b = Builder::triangulate(&sorted, simplex)?;
@@ -83,7 +81,6 @@ impl<'a> Builder<'a> {
         // Reserve the estimate if the allocator can; otherwise grow on demand (and fail
         // with an error, never an abort, if even that is impossible).
         let _ = b.cells.try_reserve_exact(cap);
-        advise_huge_pages(&b.cells);
         b.create_simplex(simplex);
         for q in 0..pts.len() as u32 {
             if simplex.contains(&q) {
@@ -110,7 +107,6 @@ impl<'a> Builder<'a> {
                     self.overflow = true;
                     return 0;
                 }
-                advise_huge_pages(&self.cells);
             }
             self.cells.push(Cell {
                 v: [DEAD; 4],
@@ -228,37 +224,6 @@ impl<'a> Builder<'a> {
         duplicates.sort_unstable();
         Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
     }
-}
-
-/// Ask the kernel to back `v`'s allocation (its whole capacity) with transparent huge pages
-/// where it is configured to on request (`madvise` mode, the common default).
-///
-/// Why: walks and cavity searches touch cells all over an array of hundreds of MB; with
-/// 4 KiB pages nearly every such touch also misses the TLB (and a page walk is dearer still
-/// under virtualization), with 2 MiB pages the whole array fits the TLB. Only the part of
-/// the range that is aligned to huge pages is affected, pages are still faulted in on first
-/// touch (so untouched capacity costs nothing), and failure is harmless: it is a hint.
-fn advise_huge_pages<T>(v: &Vec<T>) {
-    #[cfg(target_os = "linux")]
-    {
-        const PAGE: usize = 4096;
-        const MADV_HUGEPAGE: i32 = 14;
-        unsafe extern "C" {
-            fn madvise(addr: *mut std::ffi::c_void, len: usize, advice: i32) -> i32;
-        }
-        let bytes = v.capacity() * std::mem::size_of::<T>();
-        if bytes < (4 << 20) {
-            return; // too small to hold an aligned huge page worth the call
-        }
-        let start = v.as_ptr() as usize;
-        let aligned = start.next_multiple_of(PAGE);
-        let len = (start + bytes).saturating_sub(aligned) / PAGE * PAGE;
-        // SAFETY: the range lies inside this vector's own allocation, and MADV_HUGEPAGE
-        // changes no contents or permissions, only how later page faults are served.
-        unsafe { madvise(aligned as *mut std::ffi::c_void, len, MADV_HUGEPAGE) };
-    }
-    #[cfg(not(target_os = "linux"))]
-    let _ = v;
 }
 
 /// Four affinely independent points, the earliest possible in insertion order (the first
