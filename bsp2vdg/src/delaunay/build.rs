@@ -2,6 +2,8 @@
 //! ([`super::locate`]) and cavity insertion ([`super::insert`]), the initial simplex, and the
 //! final compaction into a [`Triangulation`].
 
+use rayon::prelude::*;
+
 use super::predicates::{collinear, orient_ids};
 use super::sort::brio_order;
 use super::triangulation::Triangulation;
@@ -58,7 +60,7 @@ impl<'a> Builder<'a> {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
         let order = brio_order(input);
-        let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
+        let sorted: Vec<[f64; 3]> = order.par_iter().map(|&i| input[i as usize]).collect();
         let ids: Vec<u32> = (0..sorted.len() as u32).collect();
         let simplex = initial_simplex(&sorted, &ids)?;
         let b = Builder::triangulate(&sorted, simplex)?;
@@ -211,11 +213,15 @@ impl<'a> Builder<'a> {
         drop(infinite);
         // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
         // doubling the peak memory for a few unused slots.
-        for c in &mut cells {
+        // Each cell is rewritten from itself and the two read-only maps: in parallel.
+        cells.par_iter_mut().for_each(|c| {
             debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
-            c.v = c.v.map(to_input);
-            c.n = c.n.map(|p| (remap[(p >> 2) as usize] << 2) | (p & 3));
-        }
+            for k in 0..4 {
+                c.v[k] = to_input(c.v[k]);
+                let p = c.n[k];
+                c.n[k] = (remap[(p >> 2) as usize] << 2) | (p & 3);
+            }
+        });
         drop(remap);
         let mut duplicates: Vec<(u32, u32)> = duplicates
             .into_iter()
@@ -248,6 +254,38 @@ fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], Delaunay
 #[cfg(test)]
 mod tests {
     use super::Builder;
+
+    /// The parallel parts (sort keys, round sorts, the final renumbering) must not make the
+    /// result depend on the number of threads.
+    #[test]
+    fn same_triangulation_on_one_and_two_threads() {
+        let mut rng = crate::util::SplitMix64::new(3);
+        let pts: Vec<[f64; 3]> = (0..30_000)
+            .map(|i| {
+                let mut c = || (rng.next_u64() % 64) as f64 * 0.5;
+                // Half on a grid (ties), half random.
+                if i % 2 == 0 {
+                    [c(), c(), c()]
+                } else {
+                    [0, 1, 2].map(|_| (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 32.0)
+                }
+            })
+            .collect();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| Builder::run(&pts).unwrap())
+        };
+        let (one, two) = (run(1), run(2));
+        assert!(one.cells().eq(two.cells()));
+        assert_eq!(one.num_finite_cells(), two.num_finite_cells());
+        assert_eq!(one.duplicates(), two.duplicates());
+        for t in 0..one.num_cells() as u32 {
+            assert_eq!(one.neighbors(t), two.neighbors(t));
+        }
+    }
 
     /// A point at the centre of nearly cospherical points is joined to all of them; inserted
     /// late, its cavity is most of the triangulation, glued by turning around hundreds of

@@ -8,6 +8,10 @@
 //! touched stays in cache. Rounds grow geometrically (each is 3× the size of all previous
 //! ones together, like CGAL's multiscale sort), so the first points form a coarse random
 //! sample of the whole domain. The shuffle uses a fixed seed: the order is deterministic.
+//! The keys are computed and the rounds sorted on all threads (rayon); the keys of distinct
+//! indices make every sort key unique, so the order does not depend on the thread count.
+
+use rayon::prelude::*;
 
 use crate::util::SplitMix64;
 /// Bits per axis of the Hilbert key (3 × 21 = 63 bits).
@@ -112,7 +116,7 @@ fn hilbert_keys(points: &[[f64; 3]]) -> Vec<u64> {
     let cells = ((1u32 << HILBERT_BITS) - 1) as f64;
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
     points
-        .iter()
+        .par_iter()
         .map(|p| {
             let q = |k: usize| (((p[k] - lo[k]) * scale) as u32).min(cells as u32);
             hilbert_key(q(0), q(1), q(2))
@@ -136,7 +140,7 @@ pub fn brio_order(points: &[[f64; 3]]) -> Vec<u32> {
         let start = if end / 4 < MIN_ROUND { 0 } else { end / 4 };
         scratch.clear();
         scratch.extend(order[start..end].iter().map(|&i| (keys[i as usize], i)));
-        scratch.sort_unstable();
+        scratch.par_sort_unstable();
         for (slot, &(_, i)) in order[start..end].iter_mut().zip(&scratch) {
             *slot = i;
         }
