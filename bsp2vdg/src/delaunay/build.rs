@@ -34,7 +34,7 @@ pub(super) struct Cell {
     pub n: [u32; 4],
 }
 
-/// Builder state: 32 bytes per cell (plus 8 per point for the gluing table's local ids).
+/// Builder state: 32 bytes per cell, plus small work lists reused by every insertion.
 pub(super) struct Builder<'a> {
     pub pts: &'a [[f64; 3]],
     pub cells: Vec<Cell>,
