@@ -61,10 +61,24 @@ impl<'a> Builder<'a> {
         }
         let order = brio_order(input);
         let sorted: Vec<[f64; 3]> = order.par_iter().map(|&i| input[i as usize]).collect();
-        let ids: Vec<u32> = (0..sorted.len() as u32).collect();
-        let simplex = initial_simplex(&sorted, &ids)?;
-        let b = Builder::triangulate(&sorted, simplex)?;
-        Ok(b.finish(input, &order))
+        let simplex = {
+            let ids: Vec<u32> = (0..sorted.len() as u32).collect();
+            initial_simplex(&sorted, &ids)?
+        };
+        let Builder {
+            cells, duplicates, ..
+        } = Builder::triangulate(&sorted, simplex)?;
+        // Free what is no longer needed before the renumbering table and the result's copy
+        // of the points are allocated: they do not add to the peak memory then.
+        drop(sorted);
+        let (cells, num_finite, duplicates) = finish(cells, duplicates, &order);
+        drop(order);
+        Ok(Triangulation::from_parts(
+            input.to_vec(),
+            cells,
+            num_finite,
+            duplicates,
+        ))
     }
 
     fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
@@ -171,65 +185,69 @@ impl<'a> Builder<'a> {
         }
         self.last = f;
     }
+}
 
-    /// Drop free slots and renumber in place: finite cells first, then infinite ones, each
-    /// in slot order (deterministic); map vertex ids back to input indices. In place, so the
-    /// peak memory is the cell array plus a 4-byte remap per slot.
-    fn finish(self, input: &[[f64; 3]], order: &[u32]) -> Triangulation {
-        let Builder {
-            mut cells,
-            duplicates,
-            ..
-        } = self;
-        let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
-        let live = |c: &Cell| c.v[0] != DEAD;
-        let mut remap = vec![u32::MAX; cells.len()];
-        let mut next = 0u32;
-        for (t, c) in cells.iter().enumerate() {
-            if live(c) && !c.v.contains(&INFINITE) {
-                remap[t] = next;
-                next += 1;
-            }
+/// Drop free slots and renumber in place: finite cells first, then infinite ones, each in
+/// slot order (deterministic); map vertex ids back to input indices. Returns the cells, the
+/// number of finite ones and the duplicates (as input indices). In place, so the peak
+/// memory is the cell array plus a 4-byte remap per slot and a copy of the infinite cells.
+fn finish(
+    mut cells: Vec<Cell>,
+    duplicates: Vec<(u32, u32)>,
+    order: &[u32],
+) -> (Vec<Cell>, usize, Vec<(u32, u32)>) {
+    let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
+    let live = |c: &Cell| c.v[0] != DEAD;
+    let mut remap = vec![u32::MAX; cells.len()];
+    let mut next = 0u32;
+    for (t, c) in cells.iter().enumerate() {
+        if live(c) && !c.v.contains(&INFINITE) {
+            remap[t] = next;
+            next += 1;
         }
-        let num_finite = next as usize;
-        let mut infinite = Vec::new();
-        for (t, c) in cells.iter().enumerate() {
-            if live(c) && c.v.contains(&INFINITE) {
-                remap[t] = next;
-                next += 1;
-                infinite.push(*c);
-            }
-        }
-        // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
-        // cell before it is moved.
-        for t in 0..cells.len() {
-            let r = remap[t] as usize;
-            if r < num_finite {
-                cells[r] = cells[t];
-            }
-        }
-        cells.truncate(num_finite);
-        cells.extend_from_slice(&infinite);
-        drop(infinite);
-        // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
-        // doubling the peak memory for a few unused slots.
-        // Each cell is rewritten from itself and the two read-only maps: in parallel.
-        cells.par_iter_mut().for_each(|c| {
-            debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
-            for k in 0..4 {
-                c.v[k] = to_input(c.v[k]);
-                let p = c.n[k];
-                c.n[k] = (remap[(p >> 2) as usize] << 2) | (p & 3);
-            }
-        });
-        drop(remap);
-        let mut duplicates: Vec<(u32, u32)> = duplicates
-            .into_iter()
-            .map(|(d, v)| (to_input(d), to_input(v)))
-            .collect();
-        duplicates.sort_unstable();
-        Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
     }
+    let num_finite = next as usize;
+    let num_infinite = cells
+        .iter()
+        .filter(|c| live(c) && c.v.contains(&INFINITE))
+        .count();
+    let mut infinite = Vec::with_capacity(num_infinite);
+    for (t, c) in cells.iter().enumerate() {
+        if live(c) && c.v.contains(&INFINITE) {
+            remap[t] = next;
+            next += 1;
+            infinite.push(*c);
+        }
+    }
+    // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
+    // cell before it is moved.
+    for t in 0..cells.len() {
+        let r = remap[t] as usize;
+        if r < num_finite {
+            cells[r] = cells[t];
+        }
+    }
+    cells.truncate(num_finite);
+    cells.extend_from_slice(&infinite);
+    drop(infinite);
+    // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
+    // doubling the peak memory for a few unused slots.
+    // Each cell is rewritten from itself and the two read-only maps: in parallel.
+    cells.par_iter_mut().for_each(|c| {
+        debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
+        for k in 0..4 {
+            c.v[k] = to_input(c.v[k]);
+            let p = c.n[k];
+            c.n[k] = (remap[(p >> 2) as usize] << 2) | (p & 3);
+        }
+    });
+    drop(remap);
+    let mut duplicates: Vec<(u32, u32)> = duplicates
+        .into_iter()
+        .map(|(d, v)| (to_input(d), to_input(v)))
+        .collect();
+    duplicates.sort_unstable();
+    (cells, num_finite, duplicates)
 }
 
 /// Four affinely independent points, the earliest possible in insertion order (the first
