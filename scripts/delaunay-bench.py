@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""Timing driver of scripts/bench-delaunay.sh: medians of RUNS runs of ours and qhull on
-every point file of OUT (argv[1]), printed as a table."""
+"""Timing driver of scripts/bench-delaunay.sh: medians of RUNS runs of ours, CGAL (when
+CGAL_BIN names the built peer) and qhull (unless SKIP_QHULL=1) on every point file of OUT
+(argv[1]), printed as a table. Ours and CGAL are run alternately, so both see the same
+machine load."""
 import json
 import os
 import re
@@ -47,20 +49,26 @@ def main():
     qruns_large = int(os.environ.get("QHULL_RUNS_LARGE", str(qruns)))
     qtimeout = float(os.environ.get("QHULL_TIMEOUT", "900"))
     only = re.compile(os.environ.get("ONLY", "."))
-    have_qhull = subprocess.run(["sh", "-c", "command -v qdelaunay"],
-                                capture_output=True).returncode == 0
+    have_qhull = os.environ.get("SKIP_QHULL", "0") != "1" and subprocess.run(
+        ["sh", "-c", "command -v qdelaunay"], capture_output=True).returncode == 0
+    cgal = os.environ.get("CGAL_BIN")
     rows = []
     for name in ORDER:
         path = os.path.join(out_dir, name + ".txt")
         if not os.path.exists(path) or not only.search(name):
             continue
-        ours = []
+        ours, cg = [], []
         for _ in range(runs):
             r = timed([OURS, path])
             if r is None:
                 break
             info = json.loads(r[0])
             ours.append((info["seconds"], r[1], r[2], info, r[3]))
+            if cgal:
+                r = timed([cgal, path])
+                if r is not None:
+                    c = json.loads(r[0])
+                    cg.append((c["seconds"], r[1], r[2], c, r[3]))
         if not ours:
             continue
         info = ours[0][3]
@@ -73,7 +81,14 @@ def main():
             "mb": max(o[2] for o in ours),
             "cpu_s": statistics.median(o[4] for o in ours),
             "q_tets": None, "q_s": None, "q_mb": None, "q_cpu_s": None,
+            "c_tets": None, "c_tri_s": None, "c_s": None, "c_mb": None, "c_cpu_s": None,
         }
+        if cg:
+            row["c_tets"] = cg[0][3]["tetrahedra"]
+            row["c_tri_s"] = statistics.median(c[0] for c in cg)
+            row["c_s"] = statistics.median(c[1] for c in cg)
+            row["c_mb"] = max(c[2] for c in cg)
+            row["c_cpu_s"] = statistics.median(c[4] for c in cg)
         if have_qhull:
             qs = []
             for _ in range(qruns if info["points"] <= 200000 else qruns_large):
@@ -91,24 +106,38 @@ def main():
                 row["q_runs"] = len(qs)
         rows.append(row)
         print_row(row, header=len(rows) == 1)
-    print("\nours: median of %d runs; tri = triangulation only (JSON 'seconds'), proc = whole "
-          "process incl. file parsing (/usr/bin/time), cpu = user+sys of the process; qhull: `qdelaunay Qt i`, median of up "
-          "to %d runs; ratio = ours proc / qhull proc" % (runs, qruns))
+    print("\nours and CGAL: median of %d runs each, alternating; tri = triangulation only (JSON "
+          "'seconds'), proc = whole process incl. file parsing (/usr/bin/time), cpu = user+sys "
+          "of the process, peak = max RSS; CGAL = Delaunay_triangulation_3, Epick, range insert "
+          "(spatial sort), g++ -O3; tri ratio = ours tri / CGAL tri, proc ratio = ours proc / "
+          "CGAL proc, cpu ratio = ours cpu / CGAL cpu; qhull: `qdelaunay Qt i`, median of up to %d runs; q ratio = ours proc / "
+          "qhull proc" % (runs, qruns))
 
 
 def print_row(r, header):
     if header:
         print("| input | points | ours tets | ours tri s | ours proc s | ours cpu s | ours peak MB "
-              "| qhull tets | qhull s | qhull cpu s | qhull peak MB | ratio |")
-        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+              "| CGAL tets | CGAL tri s | CGAL proc s | CGAL cpu s | CGAL peak MB | tri ratio "
+              "| proc ratio | cpu ratio "
+              "| qhull tets | qhull s | qhull cpu s | qhull peak MB | q ratio |")
+        print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     f = lambda v, fmt: "-" if v is None else fmt % v
     ratio = None if not r["q_s"] else r["proc_s"] / r["q_s"]
-    print("| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %s | %s | %s | %s | %s |" % (
-        r["input"], r["points"], r["tets"], r["tri_s"], r["proc_s"], r["cpu_s"], r["mb"],
-        f(r["q_tets"], "%d"),
-        (">%.0f (timeout)" % float(os.environ.get("QHULL_TIMEOUT", "900"))) if r.get("q_timeout") and r["q_s"] is None
-        else f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3 else " (%d run)" % r["q_runs"]),
-        f(r["q_cpu_s"], "%.2f"), f(r["q_mb"], "%.0f"), f(ratio, "%.4f")), flush=True)
+    c_tri = None if not r["c_tri_s"] else r["tri_s"] / r["c_tri_s"]
+    c_proc = None if not r["c_s"] else r["proc_s"] / r["c_s"]
+    c_cpu = None if not r["c_cpu_s"] else r["cpu_s"] / r["c_cpu_s"]
+    timeout = float(os.environ.get("QHULL_TIMEOUT", "900"))
+    q_s = (">%.0f (timeout)" % timeout) if r.get("q_timeout") and r["q_s"] is None else (
+        f(r["q_s"], "%.2f") + ("" if r["q_s"] is None or r["q_runs"] >= 3
+                               else " (%d run)" % r["q_runs"]))
+    print("| %s | %d | %d | %.3f | %.3f | %.3f | %.0f | %s | %s | %s | %s | %s | %s | %s | %s "
+          "| %s | %s | %s | %s | %s |" % (
+              r["input"], r["points"], r["tets"], r["tri_s"], r["proc_s"], r["cpu_s"], r["mb"],
+              f(r["c_tets"], "%d"), f(r["c_tri_s"], "%.3f"), f(r["c_s"], "%.3f"),
+              f(r["c_cpu_s"], "%.3f"), f(r["c_mb"], "%.0f"), f(c_tri, "%.2f"),
+              f(c_proc, "%.2f"), f(c_cpu, "%.2f"),
+              f(r["q_tets"], "%d"), q_s, f(r["q_cpu_s"], "%.2f"), f(r["q_mb"], "%.0f"),
+              f(ratio, "%.4f")), flush=True)
 
 
 if __name__ == "__main__":

@@ -2,6 +2,8 @@
 //! ([`super::locate`]) and cavity insertion ([`super::insert`]), the initial simplex, and the
 //! final compaction into a [`Triangulation`].
 
+use rayon::prelude::*;
+
 use super::predicates::{collinear, orient_ids};
 use super::sort::brio_order;
 use super::triangulation::Triangulation;
@@ -32,7 +34,7 @@ pub(super) struct Cell {
     pub n: [u32; 4],
 }
 
-/// Builder state: 32 bytes per cell (plus 8 per point for the gluing table's local ids).
+/// Builder state: 32 bytes per cell, plus small work lists reused by every insertion.
 pub(super) struct Builder<'a> {
     pub pts: &'a [[f64; 3]],
     pub cells: Vec<Cell>,
@@ -41,8 +43,6 @@ pub(super) struct Builder<'a> {
     pub last: u32,
     /// State of the deterministic "stochastic" walk (xorshift32).
     pub walk_rng: u32,
-    /// Cavities with more boundary vertices than this are glued by the hash table.
-    pub matrix_glue_max: usize,
     pub duplicates: Vec<(u32, u32)>,
     pub scratch: super::insert::Scratch,
     /// Set when a cell could not be allocated; the triangulation is then abandoned.
@@ -56,31 +56,32 @@ impl<'a> Builder<'a> {
     /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
     /// indices when the result is assembled.
     pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
-        Self::run_with(input, super::insert::MATRIX_GLUE_MAX)
-    }
-
-    /// [`Self::run`] with a chosen limit for the dense gluing table (tests force the hash
-    /// table path with 0).
-    pub fn run_with(
-        input: &[[f64; 3]],
-        matrix_glue_max: usize,
-    ) -> Result<Triangulation, DelaunayError> {
         if input.len() >= (MAX_TETS / 8) {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
         let order = brio_order(input);
-        let sorted: Vec<[f64; 3]> = order.iter().map(|&i| input[i as usize]).collect();
-        let ids: Vec<u32> = (0..sorted.len() as u32).collect();
-        let simplex = initial_simplex(&sorted, &ids)?;
-        let b = Builder::triangulate(&sorted, simplex, matrix_glue_max)?;
-        Ok(b.finish(input, &order))
+        let sorted: Vec<[f64; 3]> = order.par_iter().map(|&i| input[i as usize]).collect();
+        let simplex = {
+            let ids: Vec<u32> = (0..sorted.len() as u32).collect();
+            initial_simplex(&sorted, &ids)?
+        };
+        let Builder {
+            cells, duplicates, ..
+        } = Builder::triangulate(&sorted, simplex)?;
+        // Free what is no longer needed before the renumbering table and the result's copy
+        // of the points are allocated: they do not add to the peak memory then.
+        drop(sorted);
+        let (cells, num_finite, duplicates) = finish(cells, duplicates, &order);
+        drop(order);
+        Ok(Triangulation::from_parts(
+            input.to_vec(),
+            cells,
+            num_finite,
+            duplicates,
+        ))
     }
 
-    fn triangulate(
-        pts: &'a [[f64; 3]],
-        simplex: [u32; 4],
-        matrix_glue_max: usize,
-    ) -> Result<Self, DelaunayError> {
+    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
         // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
@@ -89,7 +90,6 @@ impl<'a> Builder<'a> {
             free: Vec::new(),
             last: 0,
             walk_rng: 0x2545_F491,
-            matrix_glue_max,
             duplicates: Vec::new(),
             scratch: Default::default(),
             overflow: false,
@@ -185,61 +185,69 @@ impl<'a> Builder<'a> {
         }
         self.last = f;
     }
+}
 
-    /// Drop free slots and renumber in place: finite cells first, then infinite ones, each
-    /// in slot order (deterministic); map vertex ids back to input indices. In place, so the
-    /// peak memory is the cell array plus a 4-byte remap per slot.
-    fn finish(self, input: &[[f64; 3]], order: &[u32]) -> Triangulation {
-        let Builder {
-            mut cells,
-            duplicates,
-            ..
-        } = self;
-        let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
-        let live = |c: &Cell| c.v[0] != DEAD;
-        let mut remap = vec![u32::MAX; cells.len()];
-        let mut next = 0u32;
-        for (t, c) in cells.iter().enumerate() {
-            if live(c) && !c.v.contains(&INFINITE) {
-                remap[t] = next;
-                next += 1;
-            }
+/// Drop free slots and renumber in place: finite cells first, then infinite ones, each in
+/// slot order (deterministic); map vertex ids back to input indices. Returns the cells, the
+/// number of finite ones and the duplicates (as input indices). In place, so the peak
+/// memory is the cell array plus a 4-byte remap per slot and a copy of the infinite cells.
+fn finish(
+    mut cells: Vec<Cell>,
+    duplicates: Vec<(u32, u32)>,
+    order: &[u32],
+) -> (Vec<Cell>, usize, Vec<(u32, u32)>) {
+    let to_input = |v: u32| if v == INFINITE { v } else { order[v as usize] };
+    let live = |c: &Cell| c.v[0] != DEAD;
+    let mut remap = vec![u32::MAX; cells.len()];
+    let mut next = 0u32;
+    for (t, c) in cells.iter().enumerate() {
+        if live(c) && !c.v.contains(&INFINITE) {
+            remap[t] = next;
+            next += 1;
         }
-        let num_finite = next as usize;
-        let mut infinite = Vec::new();
-        for (t, c) in cells.iter().enumerate() {
-            if live(c) && c.v.contains(&INFINITE) {
-                remap[t] = next;
-                next += 1;
-                infinite.push(*c);
-            }
-        }
-        // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
-        // cell before it is moved.
-        for t in 0..cells.len() {
-            let r = remap[t] as usize;
-            if r < num_finite {
-                cells[r] = cells[t];
-            }
-        }
-        cells.truncate(num_finite);
-        cells.extend_from_slice(&infinite);
-        drop(infinite);
-        // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
-        // doubling the peak memory for a few unused slots.
-        for c in &mut cells {
-            debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
-            c.v = c.v.map(to_input);
-            c.n = c.n.map(|p| (remap[(p >> 2) as usize] << 2) | (p & 3));
-        }
-        drop(remap);
-        let mut duplicates: Vec<(u32, u32)> = duplicates
-            .into_iter()
-            .map(|(d, v)| (to_input(d), to_input(v)))
-            .collect();
-        duplicates.sort_unstable();
-        Triangulation::from_parts(input.to_vec(), cells, num_finite, duplicates)
     }
+    let num_finite = next as usize;
+    let num_infinite = cells
+        .iter()
+        .filter(|c| live(c) && c.v.contains(&INFINITE))
+        .count();
+    let mut infinite = Vec::with_capacity(num_infinite);
+    for (t, c) in cells.iter().enumerate() {
+        if live(c) && c.v.contains(&INFINITE) {
+            remap[t] = next;
+            next += 1;
+            infinite.push(*c);
+        }
+    }
+    // Finite cells move down (remap[t] <= t), so a forward pass never overwrites a
+    // cell before it is moved.
+    for t in 0..cells.len() {
+        let r = remap[t] as usize;
+        if r < num_finite {
+            cells[r] = cells[t];
+        }
+    }
+    cells.truncate(num_finite);
+    cells.extend_from_slice(&infinite);
+    drop(infinite);
+    // No shrink_to_fit: with 32-byte alignment the system allocator's realloc copies,
+    // doubling the peak memory for a few unused slots.
+    // Each cell is rewritten from itself and the two read-only maps: in parallel.
+    cells.par_iter_mut().for_each(|c| {
+        debug_assert!(c.n[0] & IN_CAVITY == 0 && c.n[1] & TESTED == 0);
+        for k in 0..4 {
+            c.v[k] = to_input(c.v[k]);
+            let p = c.n[k];
+            c.n[k] = (remap[(p >> 2) as usize] << 2) | (p & 3);
+        }
+    });
+    drop(remap);
+    let mut duplicates: Vec<(u32, u32)> = duplicates
+        .into_iter()
+        .map(|(d, v)| (to_input(d), to_input(v)))
+        .collect();
+    duplicates.sort_unstable();
+    (cells, num_finite, duplicates)
 }
 
 /// Four affinely independent points, the earliest possible in insertion order (the first
@@ -265,21 +273,68 @@ fn initial_simplex(pts: &[[f64; 3]], order: &[u32]) -> Result<[u32; 4], Delaunay
 mod tests {
     use super::Builder;
 
-    /// The hash-table gluing (normally only for huge cavities) builds the same valid
-    /// triangulation as the dense table.
+    /// The parallel parts (sort keys, round sorts, the final renumbering) must not make the
+    /// result depend on the number of threads.
     #[test]
-    fn hash_gluing_path_is_valid_and_equivalent() {
+    fn same_triangulation_on_one_and_two_threads() {
+        let mut rng = crate::util::SplitMix64::new(3);
+        let pts: Vec<[f64; 3]> = (0..30_000)
+            .map(|i| {
+                let mut c = || (rng.next_u64() % 64) as f64 * 0.5;
+                // Half on a grid (ties), half random.
+                if i % 2 == 0 {
+                    [c(), c(), c()]
+                } else {
+                    [0, 1, 2].map(|_| (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 32.0)
+                }
+            })
+            .collect();
+        let run = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| Builder::run(&pts).unwrap())
+        };
+        let (one, two) = (run(1), run(2));
+        assert!(one.cells().eq(two.cells()));
+        assert_eq!(one.num_finite_cells(), two.num_finite_cells());
+        assert_eq!(one.duplicates(), two.duplicates());
+        for t in 0..one.num_cells() as u32 {
+            assert_eq!(one.neighbors(t), two.neighbors(t));
+        }
+    }
+
+    /// A point at the centre of nearly cospherical points is joined to all of them; inserted
+    /// late, its cavity is most of the triangulation, glued by turning around hundreds of
+    /// boundary edges. `validate` checks the cells against the *input* coordinates, so it
+    /// also checks that vertex ids were mapped back from the builder's sorted copy.
+    #[test]
+    fn huge_cavity_is_glued_validly_and_ids_are_input_indices() {
         let mut pts = Vec::new();
-        for i in 0..1500u32 {
-            let h = i.wrapping_mul(2_654_435_761);
-            pts.push([(h % 97) as f64, (h / 97 % 89) as f64, (i % 7) as f64 * 3.0]);
+        let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+        for i in 0..400 {
+            // Fibonacci sphere, rounded to a grid: nearly (not exactly) cospherical.
+            let z = 1.0 - 2.0 * (i as f64 + 0.5) / 400.0;
+            let r = (1.0 - z * z).sqrt();
+            let a = golden * i as f64;
+            pts.push([
+                (r * a.cos() * 1e3).round(),
+                (r * a.sin() * 1e3).round(),
+                (z * 1e3).round(),
+            ]);
         }
-        let dense = Builder::run_with(&pts, super::super::insert::MATRIX_GLUE_MAX).unwrap();
-        let hashed = Builder::run_with(&pts, 0).unwrap();
-        hashed.validate().unwrap();
-        assert!(dense.cells().eq(hashed.cells()));
-        for t in 0..dense.num_cells() as u32 {
-            assert_eq!(dense.neighbors(t), hashed.neighbors(t));
+        pts.push([0.0, 0.0, 0.0]);
+        let tri = Builder::run(&pts).unwrap();
+        tri.validate().unwrap();
+        // Every point is a hull vertex or the centre: the centre has cells to all of them.
+        let centre = pts.len() as u32 - 1;
+        let mut touching = std::collections::BTreeSet::new();
+        for c in tri.cells() {
+            if c.contains(&centre) {
+                touching.extend(c.iter().copied().filter(|&v| v != centre));
+            }
         }
+        assert_eq!(touching.len(), pts.len() - tri.duplicates().len() - 1);
     }
 }
