@@ -45,6 +45,7 @@ use crate::progress::Progress;
 use crate::voronoi::Graph;
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
+use remove::Refusal;
 
 /// What to reduce to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,6 +104,10 @@ pub struct ReduceStats {
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
     pub stop: StopReason,
+    /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
+    /// refusal reason (see [`refusals`]), how many of the vertices left it
+    /// refuses; empty otherwise.
+    pub refusals: Vec<(&'static str, usize)>,
 }
 
 /// A progress report, about once a second.
@@ -271,7 +276,67 @@ pub fn reduce_with_ticks(
     stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
     stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
+    if stats.stop == StopReason::NothingRemovable {
+        stats.refusals = histogram(&mesh);
+        if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
+            eprintln!(
+                "reduce: refusals of the {} vertices left:",
+                stats.vertices_after
+            );
+            for (name, n) in &stats.refusals {
+                eprintln!("  {name:<30} {n}");
+            }
+        }
+    }
     (out, stats)
+}
+
+/// Why the vertices of `graph` cannot be removed right now: per refusal
+/// reason (the first condition that fails for a vertex, see the `remove`
+/// module), the number of vertices, largest first; vertices that can be
+/// removed are counted as `"removable"`. A diagnostic for the reduction
+/// stopping early (issue 5); costs one removal attempt per vertex.
+///
+/// ```
+/// use bsp2vdg::reduce::refusals;
+/// use bsp2vdg::voronoi::Graph;
+/// // A single face is a connected component of its own: never removed.
+/// let g = Graph {
+///     vertices: vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]],
+///     clearance: vec![4.0; 3],
+///     faces: vec![[0, 1, 2]],
+/// };
+/// assert_eq!(refusals(&g), vec![("isolated_face", 3)]);
+/// ```
+pub fn refusals(graph: &Graph) -> Vec<(&'static str, usize)> {
+    histogram(&Mesh::new(graph))
+}
+
+fn histogram(mesh: &Mesh) -> Vec<(&'static str, usize)> {
+    let why: Vec<Option<Refusal>> = (0..mesh.pos.len() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut e = Edit::new(mesh);
+            remove::remove_vertex_why(&mut e, v).err()
+        })
+        .collect();
+    let mut n = [0usize; Refusal::COUNT];
+    let mut removable = 0;
+    for w in why {
+        match w {
+            Some(r) => n[r as usize] += 1,
+            None => removable += 1,
+        }
+    }
+    let mut out: Vec<(&'static str, usize)> = Refusal::ALL
+        .iter()
+        .filter(|&&r| r != Refusal::Dead)
+        .map(|&r| (r.as_str(), n[r as usize]))
+        .chain(std::iter::once(("removable", removable)))
+        .filter(|x| x.1 > 0)
+        .collect();
+    out.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    out
 }
 
 /// Vertices costed together per step of the main loop (see there).

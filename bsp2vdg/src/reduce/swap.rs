@@ -21,6 +21,7 @@
 //! volume this takes from their other faces is added to the cost.
 
 use super::mesh::{Edit, Op};
+use super::remove::Refusal;
 use super::volume::{add, dist, optimal_linear_reduction, perpendicular_feet, scale, sub};
 
 /// Safety distance (game units) kept below the exact bound, covering the
@@ -52,25 +53,32 @@ pub(crate) fn third(e: &Edit, f: u32, a: u32, b: u32) -> u32 {
 
 /// Plans swapping the edge `k1–k2`; `None` if a condition fails.
 pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
-    let (2, [fi, fj]) = e.edge_faces(k1, k2) else {
-        return None;
+    plan_why(e, k1, k2).ok()
+}
+
+/// [`plan`] naming the condition that fails.
+pub(crate) fn plan_why(e: &Edit, k1: u32, k2: u32) -> Result<Swap, Refusal> {
+    let [fi, fj] = match e.edge_faces(k1, k2) {
+        (2, f) => f,
+        (1, _) => return Err(Refusal::SwapBorderEdge),
+        _ => return Err(Refusal::SwapNonManifold),
     };
     let k3 = third(e, fi, k1, k2);
     let k4 = third(e, fj, k1, k2);
     if k3 == k4 || k3 == k1 || k4 == k1 {
-        return None;
+        return Err(Refusal::SwapDegenerate);
     }
     // The new edge must be new, except on a seam where sheets meet: there
     // the face `(k1,k3,k4)` may exist already (made by a swap in another
     // sheet) and the two merge; `(k2,k3,k4)` must still be new.
     let merge = e.has_edge(k3, k4);
     if merge && (!e.has_face(k1, k3, k4) || e.has_face(k2, k3, k4)) {
-        return None;
+        return Err(Refusal::SwapEdgeExists);
     }
     let (p1, p2, p3, p4) = (e.pos(k1), e.pos(k2), e.pos(k3), e.pos(k4));
-    let (tp, tq) = perpendicular_feet(p1, p2, p3, p4)?;
+    let (tp, tq) = perpendicular_feet(p1, p2, p3, p4).ok_or(Refusal::SwapParallel)?;
     if !(0.0..=1.0).contains(&tp) || !(0.0..=1.0).contains(&tq) {
-        return None;
+        return Err(Refusal::SwapFeetOutside);
     }
     let p = add(p1, scale(sub(p2, p1), tp));
     let q = add(p3, scale(sub(p4, p3), tq));
@@ -78,12 +86,13 @@ pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
     let (r1, r2, r3, r4) = (e.radius(k1), e.radius(k2), e.radius(k3), e.radius(k4));
     let cp = r1 + tp * (r2 - r1);
     if d >= cp {
-        return None; // the new edge misses the cylinder of the old one
+        return Err(Refusal::SwapMissesCylinder);
     }
     let bound = e.clearance_at(fi, q).min(e.clearance_at(fj, q)) - MARGIN;
-    let (n3, n4) = optimal_linear_reduction(r3, r4, tq, bound)?;
+    let (n3, n4) =
+        optimal_linear_reduction(r3, r4, tq, bound).ok_or(Refusal::SwapClearanceBound)?;
     if n3 <= 0.0 || n4 <= 0.0 {
-        return None;
+        return Err(Refusal::SwapClearanceBound);
     }
     let lowered = [(k3, n3), (k4, n4)];
     let old = e.volume(e.face(fi), &[]) + e.volume(e.face(fj), &[]);
@@ -94,7 +103,7 @@ pub(crate) fn plan(e: &Edit, k1: u32, k2: u32) -> Option<Swap> {
     };
     let new = kept + e.volume([k2, k3, k4], &lowered);
     let cost = old - new + e.lowering_cost(&lowered, &[fi, fj]);
-    Some(Swap {
+    Ok(Swap {
         k: [k1, k2, k3, k4],
         fi,
         fj,
@@ -150,6 +159,19 @@ impl Candidates {
             .map(|&n| (n, plan(e, k, n), plan_deps(e, k, n)))
             .collect();
         Candidates { k, plans }
+    }
+
+    /// Why no swap at `k` is admissible: the most frequent failed condition
+    /// among its edges (ties to the earlier [`Refusal`]).
+    pub fn why_none(&self, e: &Edit) -> Refusal {
+        let mut n = [0usize; Refusal::COUNT];
+        for (nb, _, _) in &self.plans {
+            if let Err(r) = plan_why(e, self.k, *nb) {
+                n[r as usize] += 1;
+            }
+        }
+        let best = (0..Refusal::COUNT).max_by_key(|&i| (n[i], usize::MAX - i));
+        Refusal::ALL[best.unwrap_or(0)]
     }
 
     pub fn best(&self) -> Option<Swap> {
