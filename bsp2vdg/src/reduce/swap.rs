@@ -77,7 +77,14 @@ pub(crate) fn plan_why(e: &Edit, k1: u32, k2: u32) -> Result<Swap, Refusal> {
     }
     let (p1, p2, p3, p4) = (e.pos(k1), e.pos(k2), e.pos(k3), e.pos(k4));
     let (tp, tq) = perpendicular_feet(p1, p2, p3, p4).ok_or(Refusal::SwapParallel)?;
-    if !(0.0..=1.0).contains(&tp) || !(0.0..=1.0).contains(&tq) {
+    // Only `q` must lie on the new edge (it is the split point of the
+    // condition-A argument above, which holds wherever `p` falls since the
+    // bound at `q` is the exact clearance of the old faces). The thesis
+    // also asks `t_p ∈ [0,1]` for its cylinder estimate; requiring it left
+    // about a quarter of the unremovable vertices (seam vertices whose seam
+    // bends slightly) on de_dust2.
+    let tp = tp.clamp(0.0, 1.0);
+    if !(0.0..=1.0).contains(&tq) {
         return Err(Refusal::SwapFeetOutside);
     }
     let p = add(p1, scale(sub(p2, p1), tp));
