@@ -3,9 +3,11 @@
 //! vertices carry their clearance to the nearest wall.
 //!
 //! The pipeline has one module per stage: [`bsp`] reads the map, `oracle` answers
-//! point-contents and segment queries, `sample` places points on the walls,
-//! `delaunay` tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
+//! point-contents and segment queries, `boundary` finds the walls in the BSP tree,
+//! `sample` places points on the walls, `delaunay` tetrahedralizes them, `voronoi`
+//! extracts the graph, `reduce` shrinks it.
 
+pub mod boundary;
 pub mod bsp;
 pub mod delaunay;
 pub mod log;

@@ -347,6 +347,7 @@ fn json_report(
                 "requested_spacing": s.requested_spacing,
                 "subfaces": s.subfaces,
                 "merged_samples": s.merged_samples,
+                "hidden_samples": s.hidden_samples,
                 "entity_models": s.entity_models,
                 "samples_file": s.samples_file.as_ref().map(|p| p.display().to_string()),
                 "tetrahedra": s.tetrahedra,

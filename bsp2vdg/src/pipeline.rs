@@ -1,6 +1,7 @@
 //! The compile pipeline: the stages of SPEC §3 run in order, each logged with its
 //! time, up to the stage the user asked for.
 
+use crate::boundary;
 use crate::bsp::{Bsp, BspError};
 use crate::delaunay::Triangulation;
 use crate::log::{Log, secs};
@@ -11,8 +12,8 @@ use crate::sample::{self, SampleOptions, Samples};
 use crate::voronoi::{self, FreeSpace, Graph, VoronoiOptions, VoronoiStats};
 use crate::walls::Walls;
 
-/// A map's free space: the BSP oracle for points and segments, its obstacle faces for
-/// exact wall distances.
+/// A map's free space: the BSP oracle for points and segments, the tree's obstacle
+/// boundary for exact wall distances.
 struct MapSpace<'a> {
     oracle: &'a Oracle,
     walls: Walls,
@@ -121,6 +122,8 @@ pub struct Stats {
     pub requested_spacing: f64,
     pub subfaces: usize,
     pub merged_samples: usize,
+    /// Samples on walls the BSP tree has but no face shows.
+    pub hidden_samples: usize,
     pub entity_models: usize,
     /// Seconds per stage, in order.
     pub seconds: Vec<(&'static str, f64)>,
@@ -270,16 +273,20 @@ pub fn compile(
             options.entity_classes.join(", ")
         ));
     }
-    let oracle = Oracle::new(
-        &bsp,
-        &OracleOptions {
-            liquids_are_solid: options.liquids_are_solid,
-            solid_models: sampling.models.clone(),
-        },
-    );
+    let oracle_options = OracleOptions {
+        liquids_are_solid: options.liquids_are_solid,
+        solid_models: sampling.models.clone(),
+    };
+    let oracle = Oracle::new(&bsp, &oracle_options);
+    let boundary = boundary::of_map(&bsp, &oracle_options);
     let mut faces = sample::collect_faces(&bsp, &sampling.models);
     sample::cull_by_contents(&mut faces, |p| oracle.is_free(p));
-    log.info(format!("Sampling from {} faces ...", faces.len()));
+    faces.extend(sample::hidden_faces(&boundary));
+    log.info(format!(
+        "Sampling from {} faces and {} pieces of the BSP's obstacle boundary ...",
+        faces.len() - boundary.len(),
+        boundary.len()
+    ));
     progress.start("Sampling", 1);
     let samples = sample::sample_faces(&faces, &sampling);
     progress.advance(1);
@@ -293,6 +300,7 @@ pub fn compile(
     stats.requested_spacing = samples.requested_spacing;
     stats.subfaces = samples.subfaces;
     stats.merged_samples = samples.merged;
+    stats.hidden_samples = samples.hidden_samples;
     stats.seconds.push(("sample", t.elapsed().as_secs_f64()));
     log.info(format!(
         "Sampled {} points from {} faces ({} subfaces) [{}]",
@@ -313,7 +321,7 @@ pub fn compile(
         stats.samples_file = Some(path);
     }
 
-    let walls = Walls::from_faces(&faces);
+    let walls = Walls::from_boundary(&boundary);
     let space = MapSpace {
         oracle: &oracle,
         walls,
@@ -501,6 +509,12 @@ fn log_samples(log: &Log, s: &Samples) {
         log.warn(format!(
             "more than the sample cap at spacing {:.1}: spacing raised to {:.2}",
             s.requested_spacing, s.spacing
+        ));
+    }
+    if s.hidden_samples > 0 {
+        log.info(format!(
+            "{} samples on walls the BSP tree has but no face shows (faces the compiler dropped)",
+            s.hidden_samples
         ));
     }
     let k = &s.skipped;

@@ -1,32 +1,30 @@
 //! Exact distance from a point to the map's obstacle faces: the ground truth for
 //! "clearance" in quality measurements (SPEC §8).
 //!
-//! The obstacle faces are the faces that bound free space (those the sampler keeps:
-//! walls and sky). A uniform grid over their bounding boxes answers "the nearest wall
-//! within r" by testing the few faces whose boxes come near, each exactly.
+//! The obstacles are bounded by the pieces of the BSP tree's boundary between free and
+//! obstacle leaves ([`boundary`]); the map's faces cover the same walls but miss those
+//! the compiler left faceless. A bounding-volume hierarchy over the polygons answers
+//! "the nearest wall within r" by testing the few whose boxes come near, each exactly.
 //!
 //! ```no_run
 //! use bsp2vdg::{bsp::Bsp, walls::Walls};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
-//! let walls = Walls::of_map(&bsp, &[]);
+//! let walls = Walls::of_map(&bsp, &Default::default());
 //! let d = walls.distance_within([0.0, 0.0, 64.0], 128.0); // None: no wall within 128
 //! # Ok::<(), bsp2vdg::bsp::BspError>(())
 //! ```
 
+use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
-use crate::oracle::{Oracle, OracleOptions};
+use crate::oracle::OracleOptions;
 use crate::sample::{self, classify::FaceClass};
-use std::collections::HashMap;
 
-/// Obstacle polygons with a grid for nearby-face lookups.
+/// Obstacle polygons in a bounding-volume hierarchy for nearest-wall queries.
 #[derive(Debug, Clone)]
 pub struct Walls {
+    /// In tree order: every leaf owns a contiguous range.
     polygons: Vec<Polygon>,
-    cell: f64,
-    grid: HashMap<[i64; 3], Vec<u32>>,
-    /// Polygons spanning many cells (sky planes, long floors): tested on every query,
-    /// mostly rejected by their lower bound.
-    large: Vec<u32>,
+    nodes: Vec<BvhNode>,
 }
 
 #[derive(Debug, Clone)]
@@ -43,26 +41,38 @@ impl Polygon {
     /// A lower bound of the distance from `p`: to the plane and to the bounding box.
     fn lower_bound(&self, p: [f64; 3]) -> f64 {
         let plane = (dot(p, self.normal) - self.offset).abs();
-        let b2: f64 = (0..3)
-            .map(|i| (self.lo[i] - p[i]).max(p[i] - self.hi[i]).max(0.0).powi(2))
-            .sum();
-        plane.max(b2.sqrt())
+        plane.max(box_distance2(p, self.lo, self.hi).sqrt())
     }
 }
 
+/// A node of the hierarchy: a box around polygons `first..first + count` when a leaf
+/// (`count > 0`); otherwise its children are the next node and node `first`.
+#[derive(Debug, Clone, Copy)]
+struct BvhNode {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    first: u32,
+    count: u32,
+}
+
+/// Polygons per leaf: a few exact tests are cheaper than another level of boxes.
+const LEAF_SIZE: usize = 4;
+
 impl Walls {
-    /// The faces of `bsp` (and of brush models `models`) that bound its free space.
-    pub fn of_map(bsp: &Bsp, models: &[usize]) -> Walls {
-        let oracle = Oracle::new(
-            bsp,
-            &OracleOptions {
-                solid_models: models.to_vec(),
-                ..Default::default()
-            },
-        );
-        let mut faces = sample::collect_faces(bsp, models);
-        sample::cull_by_contents(&mut faces, |p| oracle.is_free(p));
-        Walls::from_faces(&faces)
+    /// The boundary of `bsp`'s free space under `options`, taken from its BSP trees
+    /// (see [`boundary`]): the faces alone miss walls the compiler left faceless.
+    pub fn of_map(bsp: &Bsp, options: &OracleOptions) -> Walls {
+        Walls::from_boundary(&boundary::of_map(bsp, options))
+    }
+
+    /// Walls from the pieces of a BSP tree's obstacle boundary.
+    pub fn from_boundary(boundary: &[BoundaryPolygon]) -> Walls {
+        let polygons = boundary
+            .iter()
+            .filter(|b| b.vertices.len() >= 3)
+            .map(|b| (b.vertices.clone(), b.normal))
+            .collect();
+        Walls::new(polygons)
     }
 
     /// The faces the sampler keeps (those not classified as skipped).
@@ -72,14 +82,14 @@ impl Walls {
             .filter(|f| !matches!(f.class, FaceClass::Skip(_)) && f.polygon.len() >= 3)
             .map(|f| (f.polygon.clone(), f.normal))
             .collect::<Vec<_>>();
-        Walls::new(polygons, 64.0)
+        Walls::new(polygons)
     }
 
-    /// Walls from convex planar polygons with their unit normals; `cell` is the grid's
-    /// cell size (about the query radius works well).
-    pub fn new(polygons: Vec<(Vec<[f64; 3]>, [f64; 3])>, cell: f64) -> Walls {
-        let polygons: Vec<Polygon> = polygons
+    /// Walls from convex planar polygons with their unit normals.
+    pub fn new(polygons: Vec<(Vec<[f64; 3]>, [f64; 3])>) -> Walls {
+        let mut polygons: Vec<Polygon> = polygons
             .into_iter()
+            .filter(|(v, _)| !v.is_empty())
             .map(|(vertices, normal)| {
                 let (lo, hi) = bounds(&vertices);
                 let offset = dot(vertices[0], normal);
@@ -92,29 +102,11 @@ impl Walls {
                 }
             })
             .collect();
-        let mut grid: HashMap<[i64; 3], Vec<u32>> = HashMap::new();
-        let mut large = Vec::new();
-        for (i, p) in polygons.iter().enumerate() {
-            let (a, b) = (key(p.lo, cell), key(p.hi, cell));
-            let span: i64 = (0..3).map(|k| b[k] - a[k] + 1).product();
-            if span > 64 {
-                large.push(i as u32);
-                continue;
-            }
-            for x in a[0]..=b[0] {
-                for y in a[1]..=b[1] {
-                    for z in a[2]..=b[2] {
-                        grid.entry([x, y, z]).or_default().push(i as u32);
-                    }
-                }
-            }
+        let mut nodes = Vec::with_capacity(2 * polygons.len() / LEAF_SIZE + 1);
+        if !polygons.is_empty() {
+            build(&mut polygons, 0, &mut nodes);
         }
-        Walls {
-            polygons,
-            cell,
-            grid,
-            large,
-        }
+        Walls { polygons, nodes }
     }
 
     /// Number of obstacle polygons.
@@ -126,69 +118,129 @@ impl Walls {
         self.polygons.is_empty()
     }
 
-    /// The exact distance to the nearest obstacle face (infinite when there is none),
-    /// searching outwards in growing balls so nearby walls cost little.
+    /// The exact distance to the nearest obstacle face (infinite when there is none).
     pub fn distance(&self, p: [f64; 3]) -> f64 {
-        let mut r = self.cell * 0.5;
-        while r < 1e7 {
-            if let Some(d) = self.distance_within(p, r) {
-                return d;
-            }
-            r *= 2.0;
-        }
-        f64::INFINITY
+        self.distance_within(p, f64::INFINITY)
+            .unwrap_or(f64::INFINITY)
     }
 
     /// The exact distance to the nearest obstacle face if it is at most `radius`.
+    ///
+    /// Branch and bound over the hierarchy, nearer box first: a query touches the
+    /// few boxes that can still beat the best distance found, and allocates nothing.
     pub fn distance_within(&self, p: [f64; 3], radius: f64) -> Option<f64> {
-        let (a, b) = (
-            key(p.map(|c| c - radius), self.cell),
-            key(p.map(|c| c + radius), self.cell),
-        );
-        let mut candidates: Vec<u32> = Vec::new();
-        let cells: i64 = (0..3).map(|k| b[k] - a[k] + 1).product();
-        if cells > self.polygons.len() as i64 {
-            // A big ball: visiting its cells costs more than testing every polygon.
-            return self.nearest_of(p, radius, 0..self.polygons.len() as u32);
+        if self.nodes.is_empty() || radius.is_nan() {
+            return None;
         }
-        for x in a[0]..=b[0] {
-            for y in a[1]..=b[1] {
-                for z in a[2]..=b[2] {
-                    if let Some(v) = self.grid.get(&[x, y, z]) {
-                        candidates.extend_from_slice(v);
+        let mut best = radius;
+        let mut found = false;
+        // Depth is about log2(n / LEAF_SIZE) plus skew; 64 is ample for any map, and
+        // a deeper stack only grows the array.
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        let mut at = 0u32;
+        loop {
+            let node = &self.nodes[at as usize];
+            if node.count > 0 {
+                let range = node.first as usize..(node.first + node.count) as usize;
+                for poly in &self.polygons[range] {
+                    if poly.lower_bound(p) > best {
+                        continue;
                     }
+                    let d = point_polygon_distance(p, &poly.vertices, poly.normal);
+                    if d <= best {
+                        best = d;
+                        found = true;
+                    }
+                }
+            } else {
+                let (a, b) = (at + 1, node.first);
+                let da = self.box_distance(a, p);
+                let db = self.box_distance(b, p);
+                let (near, far, dn, df) = if da <= db {
+                    (a, b, da, db)
+                } else {
+                    (b, a, db, da)
+                };
+                if df <= best * best {
+                    stack.push(far);
+                }
+                if dn <= best * best {
+                    at = near;
+                    continue;
+                }
+            }
+            // Next pending node that can still hold something nearer.
+            loop {
+                match stack.pop() {
+                    None => return found.then_some(best),
+                    Some(n) if self.box_distance(n, p) <= best * best => {
+                        at = n;
+                        break;
+                    }
+                    Some(_) => {}
                 }
             }
         }
-        candidates.sort_unstable();
-        candidates.dedup();
-        candidates.extend_from_slice(&self.large);
-        self.nearest_of(p, radius, candidates.into_iter())
     }
 
-    /// The nearest of the given polygons if within `radius`, skipping polygons whose
-    /// lower bound (plane or box distance) cannot beat the best so far.
-    fn nearest_of(
-        &self,
-        p: [f64; 3],
-        radius: f64,
-        candidates: impl Iterator<Item = u32>,
-    ) -> Option<f64> {
-        let mut best = f64::INFINITY;
-        for i in candidates {
-            let poly = &self.polygons[i as usize];
-            let bound = poly.lower_bound(p);
-            if bound > radius || bound >= best {
-                continue;
-            }
-            best = best.min(point_polygon_distance(p, &poly.vertices, poly.normal));
-        }
-        (best <= radius).then_some(best)
+    fn box_distance(&self, node: u32, p: [f64; 3]) -> f64 {
+        let n = &self.nodes[node as usize];
+        box_distance2(p, n.lo, n.hi)
     }
 }
 
-fn key(p: [f64; 3], cell: f64) -> [i64; 3] {
-    p.map(|c| (c / cell).floor() as i64)
+/// Builds the subtree over `polys` (which it reorders), whose first polygon has index
+/// `offset` in the final order, appending nodes in depth-first order.
+fn build(polys: &mut [Polygon], offset: usize, nodes: &mut Vec<BvhNode>) {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let (mut clo, mut chi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in polys.iter() {
+        for i in 0..3 {
+            lo[i] = lo[i].min(p.lo[i]);
+            hi[i] = hi[i].max(p.hi[i]);
+            let c = 0.5 * (p.lo[i] + p.hi[i]);
+            clo[i] = clo[i].min(c);
+            chi[i] = chi[i].max(c);
+        }
+    }
+    let me = nodes.len();
+    nodes.push(BvhNode {
+        lo,
+        hi,
+        first: offset as u32,
+        count: polys.len() as u32,
+    });
+    if polys.len() <= LEAF_SIZE {
+        return;
+    }
+    // Median split along the widest spread of centres (select_nth is deterministic,
+    // so the tree, and any output built from it, is the same run to run).
+    let axis = (0..3)
+        .max_by(|&a, &b| (chi[a] - clo[a]).total_cmp(&(chi[b] - clo[b])))
+        .unwrap_or(0);
+    let mid = polys.len() / 2;
+    let centre = |p: &Polygon| p.lo[axis] + p.hi[axis];
+    polys.select_nth_unstable_by(mid, |a, b| {
+        centre(a)
+            .total_cmp(&centre(b))
+            .then(a.offset.total_cmp(&b.offset))
+    });
+    let (left, right) = polys.split_at_mut(mid);
+    build(left, offset, nodes);
+    let right_index = nodes.len() as u32;
+    build(right, offset + mid, nodes);
+    nodes[me].first = right_index;
+    nodes[me].count = 0;
+}
+
+/// Squared distance from `p` to the box `lo`–`hi` (0 inside).
+fn box_distance2(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    let mut s = 0.0;
+    for i in 0..3 {
+        let d = (lo[i] - p[i]).max(p[i] - hi[i]).max(0.0);
+        s += d * d;
+    }
+    s
 }
 
 fn bounds(v: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
@@ -265,10 +317,51 @@ mod tests {
         assert_eq!(point_polygon_distance([5.0, 5.0, 3.0], &sq, n), 3.0);
         assert_eq!(point_polygon_distance([13.0, 5.0, 4.0], &sq, n), 5.0);
         assert!((point_polygon_distance([-1.0, -1.0, 0.0], &sq, n) - 2f64.sqrt()).abs() < 1e-12);
-        let walls = Walls::new(vec![(sq.clone(), n)], 4.0);
+        let walls = Walls::new(vec![(sq.clone(), n)]);
         assert_eq!(walls.distance_within([5.0, 5.0, 3.0], 2.0), None);
         assert_eq!(walls.distance_within([5.0, 5.0, 3.0], 3.5), Some(3.0));
         assert_eq!(walls.distance_within([50.0, 5.0, 3.0], 10.0), None);
         assert!((walls.distance([50.0, 5.0, 3.0]) - 1609f64.sqrt()).abs() < 1e-12);
+    }
+
+    /// The hierarchy answers exactly what testing every polygon answers.
+    #[test]
+    fn hierarchy_matches_brute_force() {
+        let mut rng = crate::util::SplitMix64::new(5);
+        let mut polys = Vec::new();
+        for _ in 0..500 {
+            let c = [0, 1, 2].map(|_| rng.range(-1000.0, 1000.0));
+            let s = rng.range(1.0, 300.0);
+            let axis = (rng.next_f64() * 3.0) as usize % 3;
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let corner = |a: f64, b: f64| {
+                let mut p = c;
+                p[u] += a * s;
+                p[v] += b * s;
+                p
+            };
+            let mut n = [0.0; 3];
+            n[axis] = 1.0;
+            polys.push((
+                vec![
+                    corner(0.0, 0.0),
+                    corner(1.0, 0.0),
+                    corner(1.0, 0.7),
+                    corner(0.0, 1.0),
+                ],
+                n,
+            ));
+        }
+        let walls = Walls::new(polys.clone());
+        for _ in 0..2000 {
+            let p = [0, 1, 2].map(|_| rng.range(-1200.0, 1200.0));
+            let brute = polys
+                .iter()
+                .map(|(v, n)| point_polygon_distance(p, v, *n))
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(walls.distance(p), brute);
+            let r = rng.range(0.0, 150.0);
+            assert_eq!(walls.distance_within(p, r), (brute <= r).then_some(brute));
+        }
     }
 }

@@ -8,10 +8,12 @@
 
 mod common;
 
+use bsp2vdg::boundary;
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::oracle::{Oracle, OracleOptions};
 use bsp2vdg::sample::{self, SampleOptions, grid::PointGrid};
 use bsp2vdg::util::SplitMix64;
+use bsp2vdg::walls::Walls;
 use mapgen::world::World;
 use std::path::Path;
 
@@ -174,6 +176,77 @@ fn samples_cover_the_exact_walls_and_nothing_else() {
                 map.display()
             );
         }
+    }
+}
+
+/// The obstacle boundary found in the BSP tree is exactly the manifest's walls: the
+/// same area, every boundary point on a wall and every wall point on the boundary, and
+/// wall distances from it equal the exact clearance.
+#[test]
+fn tree_boundary_is_exactly_the_walls() {
+    for map in common::generated_maps() {
+        let (bsp, world) = load(&map);
+        let boundary = boundary::of_map(&bsp, &OracleOptions::default());
+        let walls = world.wall_polygons();
+        let exact_area: f64 = walls.iter().map(|w| w.area()).sum();
+        let area: f64 = boundary.iter().map(|b| b.area()).sum();
+        assert!(
+            (area - exact_area).abs() <= 1e-6 * exact_area,
+            "{}: boundary area {area} vs walls {exact_area}",
+            map.display()
+        );
+        let mut rng = SplitMix64::new(29);
+        for b in &boundary {
+            for _ in 0..20 {
+                let p = point_in_polygon(&b.vertices, &mut rng);
+                let d = walls
+                    .iter()
+                    .map(|w| point_polygon_distance(p, &w.vertices, w.normal))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    d < 1e-3,
+                    "{}: boundary point {p:?} is {d} off the walls",
+                    map.display()
+                );
+                // The normal points into free space.
+                let q = [0, 1, 2].map(|i| p[i] + 0.5 * b.normal[i]);
+                if world.distance_to_boundary(q) > 1e-3 {
+                    assert!(
+                        world.is_free(q),
+                        "{}: {q:?} in front of {p:?} is not free",
+                        map.display()
+                    );
+                }
+            }
+        }
+        let tree_walls = Walls::from_boundary(&boundary);
+        for w in walls {
+            for _ in 0..20 {
+                let p = point_in_polygon(&w.vertices, &mut rng);
+                assert!(
+                    tree_walls.distance_within(p, 1e-3).is_some(),
+                    "{}: wall point {p:?} is not on the boundary",
+                    map.display()
+                );
+            }
+        }
+        let b = world.free_bounds();
+        let (mut checked, mut k) = (0, 0);
+        while checked < 2000 && k < 200_000 {
+            k += 1;
+            let p = random_point(&mut rng, b.min, b.max);
+            if !world.is_free(p) {
+                continue;
+            }
+            checked += 1;
+            let (want, got) = (world.clearance(p), tree_walls.distance(p));
+            assert!(
+                (want - got).abs() < 1e-3,
+                "{}: clearance at {p:?}: exact {want}, from the tree {got}",
+                map.display()
+            );
+        }
+        assert!(checked == 2000, "{}: too few free points", map.display());
     }
 }
 

@@ -4,9 +4,11 @@
 
 mod common;
 
+use bsp2vdg::boundary;
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::oracle::{Oracle, OracleOptions};
 use bsp2vdg::sample::{self, SampleOptions, classify::FaceClass, grid::PointGrid};
+use bsp2vdg::walls::Walls;
 
 const SPAWNS: [&str; 4] = [
     "info_player_start",
@@ -141,4 +143,87 @@ fn edge_distance(poly: &[[f64; 3]], p: [f64; 3]) -> f64 {
                 .sqrt()
         })
         .fold(f64::INFINITY, f64::min)
+}
+
+/// The obstacle boundary taken from the BSP tree: free space in front of it and an
+/// obstacle behind (the oracle agrees), and every point of it within m of a sample,
+/// also where the compiler left no face (de_cbble's NULL-textured solid blocks).
+#[test]
+fn tree_boundary_bounds_free_space_and_is_sampled() {
+    let Some(maps) =
+        common::shared_maps(&["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"])
+    else {
+        return;
+    };
+    for path in &maps {
+        let bsp = Bsp::open(path).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let b = boundary::of_map(&bsp, &OracleOptions::default());
+        let (mut inner, mut agree) = (0usize, 0usize);
+        let mut rng = bsp2vdg::util::SplitMix64::new(3);
+        for poly in &b {
+            for _ in 0..4 {
+                let p = random_point_in(&poly.vertices, &mut rng);
+                if edge_distance(&poly.vertices, p) <= 1.0 {
+                    continue;
+                }
+                let n = poly.normal;
+                inner += 1;
+                // A tenth of a unit: some free leaves are thinner than half a unit.
+                let front = [0, 1, 2].map(|i| p[i] + 0.1 * n[i]);
+                let back = [0, 1, 2].map(|i| p[i] - 0.1 * n[i]);
+                agree += (oracle.is_free(front) && !oracle.is_free(back)) as usize;
+            }
+        }
+        if inner > 0 {
+            let share = agree as f64 / inner as f64;
+            assert!(
+                share >= 0.995,
+                "{}: only {share} of boundary points have free space in front and an obstacle behind",
+                path.display()
+            );
+        }
+        let n = path.to_string_lossy();
+        if !(n.contains("de_cbble") || n.contains("de_dust2") || n.contains("c1a0.bsp")) {
+            continue;
+        }
+        let s = sample::sample(&bsp, &SampleOptions::default());
+        if n.contains("de_cbble") {
+            assert!(
+                s.hidden_samples > 1000,
+                "{}: {} hidden samples",
+                path.display(),
+                s.hidden_samples
+            );
+        }
+        let grid = PointGrid::from_points(&s.points, s.spacing);
+        // Sky-textured faces are sampled at 2m even where the tree calls the leaf solid.
+        let mut faces = sample::collect_faces(&bsp, &[]);
+        faces.retain(|f| f.class == FaceClass::Sky);
+        let sky = Walls::from_faces(&faces);
+        for poly in &b {
+            let p = random_point_in(&poly.vertices, &mut rng);
+            let on_sky = sky.distance_within(p, 0.5).is_some();
+            let limit = if on_sky || poly.obstacle == bsp2vdg::bsp::contents::SKY {
+                2.0
+            } else {
+                1.0
+            } * s.spacing;
+            assert!(
+                grid.nearest_within(p, limit).is_some(),
+                "{}: boundary point {p:?} is farther than {limit} from every sample",
+                path.display()
+            );
+        }
+    }
+}
+
+fn random_point_in(v: &[[f64; 3]], rng: &mut bsp2vdg::util::SplitMix64) -> [f64; 3] {
+    let k = 1 + (rng.next_f64() * (v.len() - 2) as f64) as usize;
+    let k = k.min(v.len() - 2);
+    let (mut u, mut w) = (rng.next_f64(), rng.next_f64());
+    if u + w > 1.0 {
+        (u, w) = (1.0 - u, 1.0 - w);
+    }
+    [0, 1, 2].map(|i| v[0][i] + u * (v[k][i] - v[0][i]) + w * (v[k + 1][i] - v[0][i]))
 }

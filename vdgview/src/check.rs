@@ -130,7 +130,13 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
             ..Default::default()
         },
     );
-    let walls = Walls::of_map(bsp, &[]);
+    let walls = Walls::of_map(
+        bsp,
+        &OracleOptions {
+            liquids_are_solid: options.liquids_are_solid,
+            ..Default::default()
+        },
+    );
     let mut r = CheckReport {
         vertices: vdg.vertices().len(),
         faces: vdg.faces().len(),

@@ -19,9 +19,11 @@ pub mod classify;
 pub mod grid;
 pub mod subdivide;
 
+use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
 use crate::oracle::{Oracle, OracleOptions};
 use crate::util::SplitMix64;
+use crate::walls::Walls;
 use classify::{FaceClass, SkipReason, classify_texture};
 use grid::PointGrid;
 use rayon::prelude::*;
@@ -84,7 +86,7 @@ impl SkipCounts {
 pub struct Samples {
     /// The sample points, in a deterministic order.
     pub points: Vec<[f64; 3]>,
-    /// For each point, the face that produced it.
+    /// For each point, the face that produced it ([`NO_FACE`] for hidden walls).
     pub source_face: Vec<u32>,
     /// The spacing finally used (larger than asked when the cap was hit).
     pub spacing: f64,
@@ -100,6 +102,9 @@ pub struct Samples {
     pub subfaces: usize,
     /// Points dropped as (near) duplicates of others.
     pub merged: usize,
+    /// Points on walls the BSP tree has but no face shows (see [`hidden_faces`]);
+    /// their `source_face` is [`NO_FACE`].
+    pub hidden_samples: usize,
     pub skipped: SkipCounts,
     /// The merge tolerance used.
     pub merge_tolerance: f64,
@@ -113,6 +118,32 @@ pub struct SampledFace {
     /// Unit normal towards the side the face is seen from.
     pub normal: [f64; 3],
     pub class: FaceClass,
+    /// A piece of the BSP tree's obstacle boundary rather than a face of the map (see
+    /// [`hidden_faces`]): sampled only where no visible face lies, to fill the walls
+    /// the compiler left without faces.
+    pub hidden: bool,
+}
+
+/// Marks the index of samples that come from a hidden (faceless) wall.
+pub const NO_FACE: u32 = u32::MAX;
+
+/// The map's obstacle boundary as found in its BSP trees ([`boundary::of_map`]), as
+/// hidden faces to sample besides the visible ones.
+pub fn hidden_faces(boundary: &[BoundaryPolygon]) -> Vec<SampledFace> {
+    boundary
+        .iter()
+        .map(|b| SampledFace {
+            index: NO_FACE,
+            polygon: b.vertices.clone(),
+            normal: b.normal,
+            class: if b.obstacle == crate::bsp::contents::SKY {
+                FaceClass::Sky
+            } else {
+                FaceClass::Wall
+            },
+            hidden: true,
+        })
+        .collect()
 }
 
 /// The faces of the world and of the chosen brush models, with entity origins applied.
@@ -147,6 +178,7 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
                 polygon,
                 normal: bsp.face_normal(face).map(f64::from),
                 class: classify_texture(bsp.face_texture_name(face)),
+                hidden: false,
             });
         }
     }
@@ -154,23 +186,23 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
 }
 
 /// Samples the map's faces that bound its free space (by texture name and by the
-/// BSP's contents on either side, see [`classify::classify_by_contents`]).
+/// BSP's contents on either side, see [`classify::classify_by_contents`]), and the
+/// walls its BSP tree has where the compiler left no face.
 pub fn sample(bsp: &Bsp, options: &SampleOptions) -> Samples {
-    let oracle = Oracle::new(
-        bsp,
-        &OracleOptions {
-            solid_models: options.models.clone(),
-            ..Default::default()
-        },
-    );
+    let oracle_options = OracleOptions {
+        solid_models: options.models.clone(),
+        ..Default::default()
+    };
+    let oracle = Oracle::new(bsp, &oracle_options);
     let mut faces = collect_faces(bsp, &options.models);
     cull_by_contents(&mut faces, |p| oracle.is_free(p));
+    faces.extend(hidden_faces(&boundary::of_map(bsp, &oracle_options)));
     sample_faces(&faces, options)
 }
 
 /// Marks faces that do not separate free space from an obstacle as skipped.
 pub fn cull_by_contents(faces: &mut [SampledFace], is_free: impl Fn([f64; 3]) -> bool + Sync) {
-    faces.par_iter_mut().for_each(|f| {
+    faces.par_iter_mut().filter(|f| !f.hidden).for_each(|f| {
         let verdict = classify::classify_by_contents(&f.polygon, f.normal, &is_free);
         match (f.class, verdict) {
             (FaceClass::Wall | FaceClass::Sky, Some(r)) => f.class = FaceClass::Skip(r),
@@ -214,9 +246,21 @@ pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
     while estimate(&chosen, spacing, options.sky_factor) > 4.0 * max {
         spacing *= 1.25;
     }
+    // Hidden walls are sampled only where no visible face lies: the visible faces'
+    // distance answers that for each of their sample points.
+    let visible = chosen.iter().any(|f| f.hidden).then(|| {
+        Walls::new(
+            chosen
+                .iter()
+                .filter(|f| !f.hidden && f.polygon.len() >= 3)
+                .map(|f| (f.polygon.clone(), f.normal))
+                .collect(),
+        )
+    });
     loop {
         match sample_at(
             &chosen,
+            visible.as_ref(),
             spacing,
             options.sky_factor,
             16 * options.max_samples.max(1),
@@ -226,7 +270,7 @@ pub fn sample_faces(faces: &[SampledFace], options: &SampleOptions) -> Samples {
             Some(s) if s.points.len() <= options.max_samples => {
                 return Samples {
                     requested_spacing: options.spacing,
-                    faces: faces.len(),
+                    faces: faces.iter().filter(|f| !f.hidden).count(),
                     skipped,
                     ..s
                 };
@@ -258,8 +302,19 @@ fn polygon_perimeter(p: &[[f64; 3]]) -> f64 {
         .sum()
 }
 
-/// One sampling pass at spacing `m`.
-fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> Option<Samples> {
+/// A hidden wall's sample this close to a visible face lies on that face (the two
+/// come from the same f32 planes, so they agree to far less than this).
+const ON_VISIBLE_FACE: f64 = 0.5;
+
+/// One sampling pass at spacing `m`; `visible` are the visible faces' walls when
+/// hidden ones are to be sampled too.
+fn sample_at(
+    faces: &[&SampledFace],
+    visible: Option<&Walls>,
+    m: f64,
+    sky_factor: f64,
+    budget: usize,
+) -> Option<Samples> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     let tolerance = (m / 64.0).min(0.5);
     let produced = AtomicUsize::new(0);
@@ -274,7 +329,10 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> 
             } else {
                 m
             };
-            let r = sample_polygon(&f.polygon, spacing - tolerance, budget);
+            let mut r = sample_polygon(&f.polygon, spacing - tolerance, budget);
+            if let (true, Some(walls)) = (f.hidden, visible) {
+                r.0.retain(|&p| walls.distance_within(p, ON_VISIBLE_FACE).is_none());
+            }
             produced.fetch_add(r.0.len(), Ordering::Relaxed);
             r
         })
@@ -284,7 +342,7 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> 
     }
     let mut grid = PointGrid::new(tolerance.max(1e-6));
     let mut source_face = Vec::new();
-    let (mut subfaces, mut merged) = (0, 0);
+    let (mut subfaces, mut merged, mut hidden) = (0, 0, 0);
     for (f, (points, tris)) in faces.iter().zip(&per_face) {
         subfaces += tris;
         for &p in points {
@@ -293,6 +351,7 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> 
             } else {
                 grid.insert(p);
                 source_face.push(f.index);
+                hidden += f.hidden as usize;
             }
         }
     }
@@ -302,8 +361,12 @@ fn sample_at(faces: &[&SampledFace], m: f64, sky_factor: f64, budget: usize) -> 
         spacing: m,
         requested_spacing: m,
         faces: faces.len(),
-        sampled_faces: faces.len(),
-        sky_faces: faces.iter().filter(|f| f.class == FaceClass::Sky).count(),
+        sampled_faces: faces.iter().filter(|f| !f.hidden).count(),
+        sky_faces: faces
+            .iter()
+            .filter(|f| !f.hidden && f.class == FaceClass::Sky)
+            .count(),
+        hidden_samples: hidden,
         subfaces,
         merged,
         skipped: SkipCounts::default(),
@@ -434,6 +497,7 @@ mod tests {
             ],
             normal: [0.0, 0.0, 1.0],
             class: FaceClass::Wall,
+            hidden: false,
         }
     }
 
@@ -452,6 +516,7 @@ mod tests {
             ],
             normal: [1.0, 0.0, 0.0],
             class: FaceClass::Wall,
+            hidden: false,
         };
         a.index = 0;
         let faces = vec![a, b];
@@ -515,6 +580,7 @@ mod tests {
             polygon: vec![[0.0, 0.0, 0.0], [1e30, 0.0, 0.0], [1e30, 1e-3, 0.0]],
             normal: [0.0, 0.0, 1.0],
             class: FaceClass::Wall,
+            hidden: false,
         };
         let s = sample_faces(
             &[sliver],
