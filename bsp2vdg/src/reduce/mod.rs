@@ -177,9 +177,16 @@ pub fn reduce_with_ticks(
     let mut last_tick = Instant::now();
     let mut ops = [0u64; Op::COUNT];
     stats.stop = StopReason::LimitReached;
-    // Marks the vertices changed within the current batch (by stamp).
-    let mut marks = vec![0u32; mesh.pos.len()];
-    let mut stamp = 0u32;
+    // Removals applied so far, and per vertex the removal that last changed
+    // its faces or clearance: a result computed after removal `e` is still
+    // valid while nothing within two rings of its vertex changed after `e`.
+    let mut epoch = 0u32;
+    let mut changed_at = vec![0u32; mesh.pos.len()];
+    // Results of vertices put back into the queue because their fresh cost
+    // exceeded the next key: when popped again with an unchanged
+    // neighbourhood they are applied without costing them again.
+    let mut saved: Vec<Option<Box<Costed>>> = Vec::new();
+    saved.resize_with(mesh.pos.len(), || None);
     'outer: while live > stats.target {
         // Speculative batch: the cheapest BATCH vertices are costed in
         // parallel against the same mesh, then handled one by one in heap
@@ -197,9 +204,28 @@ pub fn reduce_with_ticks(
             stats.stop = StopReason::NothingRemovable;
             break;
         }
-        let results: Vec<Option<(f64, Changes)>> =
-            batch.par_iter().map(|&(v, _)| simulate(&mesh, v)).collect();
-        stamp += 1;
+        let mut results: Vec<Option<Box<Costed>>> = batch
+            .iter()
+            .map(|&(v, _)| {
+                saved[v as usize]
+                    .take()
+                    .filter(|c| unchanged_since(&mesh, v, &changed_at, c.epoch))
+            })
+            .collect();
+        let batch_epoch = epoch;
+        let fresh: Vec<Option<Box<Costed>>> = batch
+            .par_iter()
+            .zip(&results)
+            .map(|(&(v, _), r)| match r {
+                Some(_) => None,
+                None => costed(&mesh, v, epoch),
+            })
+            .collect();
+        for (r, f) in results.iter_mut().zip(fresh) {
+            if r.is_none() {
+                *r = f;
+            }
+        }
         let keys: Vec<u64> = batch.iter().map(|x| x.1).collect();
         for (i, (&(v, key), res)) in batch.iter().zip(results).enumerate() {
             if live <= stats.target {
@@ -208,25 +234,31 @@ pub fn reduce_with_ticks(
                 }
                 break 'outer;
             }
-            let res = if near_marked(&mesh, v, &marks, stamp) {
-                simulate(&mesh, v)
-            } else {
-                res
+            let res = match res {
+                Some(c) if unchanged_since(&mesh, v, &changed_at, c.epoch) => Some(c),
+                Some(_) => costed(&mesh, v, epoch),
+                None if unchanged_since(&mesh, v, &changed_at, batch_epoch) => None,
+                None => costed(&mesh, v, epoch),
             };
-            let Some((cost, ch)) = res else {
+            let Some(c) = res else {
                 continue; // not removable now; re-costed when its neighbourhood changes
             };
             // Lazy re-evaluation: the stored cost may be stale (only the
             // direct neighbours are marked after a removal).
-            let now = CostQueue::key_of(cost);
+            let now = CostQueue::key_of(c.cost);
             let next = keys[i + 1..].iter().copied().chain(queue.peek_key()).min();
             if now > key && next.is_some_and(|top| now > top) {
-                queue.push_back(v, cost);
+                queue.push_back(v, c.cost);
+                saved[v as usize] = Some(c);
                 continue;
             }
+            let Costed {
+                cost, changes: ch, ..
+            } = *c;
             let touched = ch.touched();
+            epoch += 1;
             for &t in &touched {
-                marks[t as usize] = stamp;
+                changed_at[t as usize] = epoch;
             }
             let before: usize = touched
                 .iter()
@@ -251,6 +283,7 @@ pub fn reduce_with_ticks(
             for &t in &touched {
                 if mesh.vfaces[t as usize].is_empty() {
                     queue.set(t, None);
+                    saved[t as usize] = None;
                 } else {
                     queue.mark_dirty(t);
                 }
@@ -351,29 +384,40 @@ fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {
     remove::remove_vertex(&mut e, v)
 }
 
-/// Removes `v` on an overlay of the mesh: its cost and changes.
-fn simulate(mesh: &Mesh, v: u32) -> Option<(f64, Changes)> {
-    let mut e = Edit::new(mesh);
-    let cost = remove::remove_vertex(&mut e, v)?;
-    Some((cost, e.into_changes()))
+/// A removal costed on an overlay of the mesh as it was after removal
+/// `epoch` of the main loop.
+struct Costed {
+    epoch: u32,
+    cost: f64,
+    changes: Changes,
 }
 
-/// Whether a vertex within two rings of `v` (whose face lists and
-/// clearances a removal of `v` reads) was changed in this batch.
-fn near_marked(mesh: &Mesh, v: u32, marks: &[u32], stamp: u32) -> bool {
-    if marks[v as usize] == stamp {
-        return true;
-    }
-    mesh.vfaces[v as usize].iter().any(|&f| {
-        mesh.faces[f as usize].iter().any(|&u| {
-            marks[u as usize] == stamp
-                || mesh.vfaces[u as usize].iter().any(|&g| {
-                    mesh.faces[g as usize]
+/// Removes `v` on an overlay of the mesh: its cost and changes.
+fn costed(mesh: &Mesh, v: u32, epoch: u32) -> Option<Box<Costed>> {
+    let mut e = Edit::new(mesh);
+    let cost = remove::remove_vertex(&mut e, v)?;
+    Some(Box::new(Costed {
+        epoch,
+        cost,
+        changes: e.into_changes(),
+    }))
+}
+
+/// Whether no vertex within two rings of `v` (whose face lists and
+/// clearances a removal of `v` reads) changed after removal `epoch`.
+/// The rings of the current mesh suffice: if they differ from the rings
+/// at `epoch`, a face list within one ring changed and with it a vertex.
+fn unchanged_since(mesh: &Mesh, v: u32, changed_at: &[u32], epoch: u32) -> bool {
+    let fresh = |u: u32| changed_at[u as usize] <= epoch;
+    fresh(v)
+        && mesh.vfaces[v as usize].iter().all(|&f| {
+            mesh.faces[f as usize].iter().all(|&u| {
+                fresh(u)
+                    && mesh.vfaces[u as usize]
                         .iter()
-                        .any(|&w| marks[w as usize] == stamp)
-                })
+                        .all(|&g| mesh.faces[g as usize].iter().all(|&w| fresh(w)))
+            })
         })
-    })
 }
 
 #[cfg(test)]

@@ -134,7 +134,7 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
     if nb.len() > 3 {
         let mut candidates = swap::Candidates::new(e, k, &nb);
         while nb.len() > 3 {
-            let Some(s) = candidates.best() else {
+            let Some(s) = candidates.best(e) else {
                 return Err(candidates.why_none(e));
             };
             let [_, _, k3, k4] = s.k;
@@ -146,7 +146,10 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
             swap::apply(e, &s);
             cost += s.cost;
             candidates.after(e, &s, &lowered);
-            nb = e.neighbours(k);
+            // The swap took away the edge k–k2 and no other (k3, k4 were
+            // neighbours already).
+            nb.retain(|&v| v != s.k[1]);
+            debug_assert_eq!(nb, e.neighbours(k));
         }
     }
     match nb.len() {
@@ -176,7 +179,7 @@ fn one_face(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
             }
         }
     }
-    let v = e.volume(e.face(f), &[]);
+    let v = e.face_volume(f);
     e.remove_face(f);
     e.count(Op::OneFace);
     Ok(v)
@@ -198,7 +201,7 @@ fn degree_three(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
 /// with the new face split at `q` into three triangles, one per old face).
 fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
     let old: Vec<u32> = e.faces_of(k).to_vec();
-    let old_volume: f64 = old.iter().map(|&f| e.volume(e.face(f), &[])).sum();
+    let old_volume: f64 = old.iter().map(|&f| e.face_volume(f)).sum();
     let [a, b, c] = [nb[0], nb[1], nb[2]];
     if e.has_face(a, b, c) {
         for &f in &old {
@@ -284,7 +287,7 @@ fn two_faces(e: &mut Edit, k1: u32) -> Result<f64, Refusal> {
         return Err(Refusal::TwoFacesBound);
     }
     let lowered = [(k3, n3), (k4, n4)];
-    let old = e.volume(ti, &[]) + e.volume(e.face(fj), &[]);
+    let old = e.face_volume(fi) + e.face_volume(fj);
     let cost = old - e.volume([k2, k3, k4], &lowered) + e.lowering_cost(&lowered, &[fi, fj]);
     e.remove_face(fi);
     e.remove_face(fj);

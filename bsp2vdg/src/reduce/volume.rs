@@ -52,12 +52,32 @@ pub(crate) fn dist(a: P3, b: P3) -> f64 {
 /// are used because an inner edge is shared by two faces, so the pair
 /// describes one cylinder around it.
 pub(crate) fn face_volume(p: [P3; 3], r: [f64; 3]) -> f64 {
+    shape_volume(&face_shape(p), r)
+}
+
+/// What [`face_volume`] needs of a face's geometry: twice its area and its
+/// edge lengths `|p0p1|, |p1p2|, |p2p0|`. Positions never change during
+/// the reduction, so the mesh keeps this per face.
+pub(crate) type Shape = [f64; 4];
+
+pub(crate) fn face_shape(p: [P3; 3]) -> Shape {
+    [
+        norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))),
+        dist(p[0], p[1]),
+        dist(p[1], p[2]),
+        dist(p[2], p[0]),
+    ]
+}
+
+/// [`face_volume`] of a face of shape `s` with clearances `r`.
+#[inline]
+pub(crate) fn shape_volume(s: &Shape, r: [f64; 3]) -> f64 {
     let mean = (r[0] + r[1] + r[2]) / 3.0;
-    let slab = norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) * mean;
+    let slab = s[0] * mean;
     let mut cylinders = 0.0;
-    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+    for (i, (a, b)) in [(0, 1), (1, 2), (2, 0)].into_iter().enumerate() {
         let rr = 0.5 * (r[a] + r[b]);
-        cylinders += 0.5 * dist(p[a], p[b]) * PI * rr * rr;
+        cylinders += 0.5 * s[1 + i] * PI * rr * rr;
     }
     slab + cylinders + 4.0 / 3.0 * PI * mean * mean * mean
 }
