@@ -7,7 +7,7 @@
 use super::mesh::{Edit, Op};
 use super::swap::{self, MARGIN, third};
 use super::volume::{
-    add, closest_on_triangle, dist, optimal_linear_reduction, optimal_planar_reduction,
+    add, closest_on_triangle, dist, loss, optimal_linear_reduction, optimal_planar_reduction,
     perpendicular_feet, scale, sub,
 };
 
@@ -226,7 +226,7 @@ fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
         return Err(Refusal::ThreeFacesBound);
     }
     let lowered = [(a, nr[0]), (b, nr[1]), (c, nr[2])];
-    let cost = old_volume - e.volume([a, b, c], &lowered) + e.lowering_cost(&lowered, &old);
+    let cost = loss(old_volume, e.volume([a, b, c], &lowered)) + e.lowering_cost(&lowered, &old);
     for &f in &old {
         e.remove_face(f);
     }
@@ -288,7 +288,7 @@ fn two_faces(e: &mut Edit, k1: u32) -> Result<f64, Refusal> {
     }
     let lowered = [(k3, n3), (k4, n4)];
     let old = e.face_volume(fi) + e.face_volume(fj);
-    let cost = old - e.volume([k2, k3, k4], &lowered) + e.lowering_cost(&lowered, &[fi, fj]);
+    let cost = loss(old, e.volume([k2, k3, k4], &lowered)) + e.lowering_cost(&lowered, &[fi, fj]);
     e.remove_face(fi);
     e.remove_face(fj);
     for (v, r) in lowered {
