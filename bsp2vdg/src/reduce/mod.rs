@@ -164,6 +164,61 @@ pub fn reduce_with_ticks(
     progress: &dyn Progress,
     tick: &mut dyn FnMut(&Tick),
 ) -> (Graph, ReduceStats) {
+    // The main loop forks a small parallel batch several hundred thousand
+    // times; from a thread outside the pool each fork wakes a worker and
+    // puts the caller to sleep (a tenth of the time at one thread). So the
+    // loop runs on a worker, and its ticks come back to this thread.
+    let (mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
+        run(graph, options, progress, tick)
+    } else {
+        let (tx, rx) = std::sync::mpsc::channel::<Tick>();
+        std::thread::scope(|s| {
+            let worker = s.spawn(move || {
+                rayon::scope(|_| {
+                    run(graph, options, progress, &mut |t| {
+                        let _ = tx.send(*t);
+                    })
+                })
+            });
+            for t in rx {
+                tick(&t);
+            }
+            worker
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e))
+        })
+    };
+    let out = mesh.to_graph();
+    stats.vertices_after = out.vertices.len();
+    stats.faces_after = out.faces.len();
+    stats.swaps = ops[Op::Swap as usize] as usize;
+    stats.one_face = ops[Op::OneFace as usize] as usize;
+    stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
+    stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
+    stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
+    if stats.stop == StopReason::NothingRemovable {
+        stats.refusals = histogram(&mesh);
+        if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
+            eprintln!(
+                "reduce: refusals of the {} vertices left:",
+                stats.vertices_after
+            );
+            for (name, n) in &stats.refusals {
+                eprintln!("  {name:<30} {n}");
+            }
+        }
+    }
+    (out, stats)
+}
+
+/// The reduction proper: the mesh at the end, the statistics so far and
+/// the operation counts.
+fn run(
+    graph: &Graph,
+    options: &ReduceOptions,
+    progress: &dyn Progress,
+    tick: &mut dyn FnMut(&Tick),
+) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
     let mut live = mesh.live_vertices();
@@ -328,27 +383,7 @@ pub fn reduce_with_ticks(
         }
     }
     progress.finish();
-    let out = mesh.to_graph();
-    stats.vertices_after = out.vertices.len();
-    stats.faces_after = out.faces.len();
-    stats.swaps = ops[Op::Swap as usize] as usize;
-    stats.one_face = ops[Op::OneFace as usize] as usize;
-    stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
-    stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
-    stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
-    if stats.stop == StopReason::NothingRemovable {
-        stats.refusals = histogram(&mesh);
-        if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
-            eprintln!(
-                "reduce: refusals of the {} vertices left:",
-                stats.vertices_after
-            );
-            for (name, n) in &stats.refusals {
-                eprintln!("  {name:<30} {n}");
-            }
-        }
-    }
-    (out, stats)
+    (mesh, stats, ops)
 }
 
 /// Why the vertices of `graph` cannot be removed right now: per refusal
