@@ -46,8 +46,6 @@ pub(crate) enum Refusal {
     ThreeFacesMissBall,
     /// 4.6.2: no radius reduction meets the bound.
     ThreeFacesBound,
-    /// 4.6.1: t_p ≥ 1 (left for k2).
-    TwoFacesLeftForNeighbour,
     /// 4.6.1 concave case: k3 = k4 or the edge k3–k4 exists.
     TwoFacesEdgeExists,
     /// 4.6.1 concave case: k3–k4 misses the ball of k1.
@@ -56,12 +54,10 @@ pub(crate) enum Refusal {
     TwoFacesBound,
     /// 4.6.1 with t_p ∈ ]0,1[: the swap is refused, or the one face left is.
     TwoFacesSwap,
-    /// Parallel edges (no perpendicular feet) in 4.6.1.
-    TwoFacesParallel,
 }
 
 impl Refusal {
-    pub const COUNT: usize = 21;
+    pub const COUNT: usize = 19;
     pub const ALL: [Refusal; Refusal::COUNT] = [
         Refusal::Dead,
         Refusal::DegreeWait,
@@ -78,12 +74,10 @@ impl Refusal {
         Refusal::ConnectingFace,
         Refusal::ThreeFacesMissBall,
         Refusal::ThreeFacesBound,
-        Refusal::TwoFacesLeftForNeighbour,
         Refusal::TwoFacesEdgeExists,
         Refusal::TwoFacesMissBall,
         Refusal::TwoFacesBound,
         Refusal::TwoFacesSwap,
-        Refusal::TwoFacesParallel,
     ];
 
     /// Short snake-case name.
@@ -104,12 +98,10 @@ impl Refusal {
             Refusal::ConnectingFace => "connecting_face",
             Refusal::ThreeFacesMissBall => "three_faces_miss_ball",
             Refusal::ThreeFacesBound => "three_faces_bound",
-            Refusal::TwoFacesLeftForNeighbour => "two_faces_left_for_neighbour",
             Refusal::TwoFacesEdgeExists => "two_faces_edge_exists",
             Refusal::TwoFacesMissBall => "two_faces_miss_ball",
             Refusal::TwoFacesBound => "two_faces_bound",
             Refusal::TwoFacesSwap => "two_faces_swap",
-            Refusal::TwoFacesParallel => "two_faces_parallel",
         }
     }
 }
@@ -244,8 +236,13 @@ fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
 /// `t_p ∈ ]0,1[` the edge `k1–k2` is swapped and `k1` is left with one face;
 /// with `t_p ≤ 0` (`k1` a concave corner) both faces become `(k2,k3,k4)` if
 /// the new edge `k3–k4` passes through the ball of `k1`, with the
-/// clearances of `k3`, `k4` corrected as for a swap; with `t_p ≥ 1` the
-/// vertex is left for `k2` (as in the thesis).
+/// clearances of `k3`, `k4` corrected as for a swap. The thesis leaves `k1`
+/// for `k2` when `t_p ≥ 1`; but the replacement keeps condition A for any
+/// `t_p` (split `(k2,k3,k4)` at `q` into `(k2,k3,q) ⊂ vol(fi)` and
+/// `(k2,q,k4) ⊂ vol(fj)`: `k2`, `k3`, `k4` are corners of the old faces and
+/// the radius at `q` is bounded by both old clearances), and `k2` may never
+/// go (a seam vertex), so it is used there too, and when the swap of the
+/// middle case is refused or the edges are parallel.
 fn two_faces(e: &mut Edit, k1: u32) -> Result<f64, Refusal> {
     let [fi, fj] = e.faces_of(k1)[..] else {
         return Err(Refusal::NoCase);
@@ -259,15 +256,15 @@ fn two_faces(e: &mut Edit, k1: u32) -> Result<f64, Refusal> {
     let k3 = third(e, fi, k1, k2);
     let k4 = third(e, fj, k1, k2);
     let (p1, p2, p3, p4) = (e.pos(k1), e.pos(k2), e.pos(k3), e.pos(k4));
-    let (tp, _) = perpendicular_feet(p1, p2, p3, p4).ok_or(Refusal::TwoFacesParallel)?;
-    if tp > 0.0 && tp < 1.0 {
-        let s = swap::plan(e, k1, k2).ok_or(Refusal::TwoFacesSwap)?;
+    let feet = perpendicular_feet(p1, p2, p3, p4);
+    if let Some((tp, _)) = feet
+        && tp > 0.0
+        && tp < 1.0
+        && let Some(s) = swap::plan(e, k1, k2)
+    {
         swap::apply(e, &s);
         let nb = e.neighbours(k1);
         return Ok(s.cost + one_face(e, k1, &nb).map_err(|_| Refusal::TwoFacesSwap)?);
-    }
-    if tp >= 1.0 {
-        return Err(Refusal::TwoFacesLeftForNeighbour);
     }
     if k3 == k4 || e.has_edge(k3, k4) {
         return Err(Refusal::TwoFacesEdgeExists);
