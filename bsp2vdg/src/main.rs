@@ -366,6 +366,15 @@ fn json_report(
                 "reduced_vertices": s.reduce.as_ref().map(|r| r.vertices_after),
                 "reduced_faces": s.reduce.as_ref().map(|r| r.faces_after),
                 "reduce_stop_reason": s.reduce.as_ref().map(|r| r.stop.as_str()),
+                "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
+                "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
+                "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
+                "reduce_refusals": s.reduce.as_ref().map(|r| {
+                    r.refusals
+                        .iter()
+                        .map(|(k, n)| (k.to_string(), json!(n)))
+                        .collect::<serde_json::Map<String, serde_json::Value>>()
+                }),
                 "output": s.output.as_ref().map(|p| p.display().to_string()),
                 "threads": rayon::current_num_threads(),
                 "stop_after": format!("{:?}", cli.stop_after).to_lowercase(),

@@ -8,7 +8,7 @@
 //! code path, committed with [`Mesh::apply`], performs the removal. That is
 //! what keeps the result identical for any thread count.
 
-use super::volume::{P3, face_volume};
+use super::volume::{P3, Shape, face_shape, face_volume, shape_volume};
 use crate::voronoi::Graph;
 
 /// The graph being reduced: positions, clearances, faces (with a tombstone
@@ -21,6 +21,11 @@ pub(crate) struct Mesh {
     pub faces: Vec<[u32; 3]>,
     pub alive: Vec<bool>,
     pub vfaces: Vec<Vec<u32>>,
+    /// Model volume (4.3) of each face with the current clearances: the
+    /// costing reads the volumes of unchanged faces over and over.
+    pub volume: Vec<f64>,
+    /// The shape of each face (see [`Shape`]).
+    pub shape: Vec<Shape>,
 }
 
 impl Mesh {
@@ -55,13 +60,32 @@ impl Mesh {
                 vfaces[v as usize].push(i as u32);
             }
         }
-        Mesh {
+        let mut mesh = Mesh {
             pos: graph.vertices.clone(),
             clearance: graph.clearance.clone(),
             alive: vec![true; faces.len()],
+            volume: Vec::with_capacity(faces.len()),
+            shape: Vec::with_capacity(faces.len()),
             faces,
             vfaces,
-        }
+        };
+        mesh.shape = mesh
+            .faces
+            .iter()
+            .map(|t| face_shape(t.map(|v| mesh.pos[v as usize])))
+            .collect();
+        mesh.volume = (0..mesh.faces.len())
+            .map(|f| mesh.compute_volume(f as u32))
+            .collect();
+        mesh
+    }
+
+    fn compute_volume(&self, f: u32) -> f64 {
+        let t = self.faces[f as usize];
+        shape_volume(
+            &self.shape[f as usize],
+            t.map(|v| self.clearance[v as usize]),
+        )
     }
 
     /// Vertices that still have a face.
@@ -109,8 +133,22 @@ impl Mesh {
         for (v, list) in ch.lists {
             self.vfaces[v as usize] = list;
         }
-        for (v, r) in ch.radii {
+        for &(v, r) in &ch.radii {
             self.clearance[v as usize] = r;
+        }
+        for t in &ch.new_faces {
+            self.shape.push(face_shape(t.map(|v| self.pos[v as usize])));
+        }
+        for i in 0..ch.new_faces.len() {
+            let f = base + i as u32;
+            let v = self.compute_volume(f);
+            self.volume.push(v);
+        }
+        for &(v, _) in &ch.radii {
+            for i in 0..self.vfaces[v as usize].len() {
+                let f = self.vfaces[v as usize][i];
+                self.volume[f as usize] = self.compute_volume(f);
+            }
         }
     }
 
@@ -293,12 +331,43 @@ impl<'m> Edit<'m> {
     /// Model volume (4.3) of a face with the edit's clearances, or with the
     /// clearances overridden by `with`.
     pub fn volume(&self, tri: [u32; 3], with: &[(u32, f64)]) -> f64 {
-        let r = tri.map(|v| {
+        face_volume(tri.map(|v| self.pos(v)), self.radii_with(tri, with))
+    }
+
+    /// The clearances of `tri` in the edit, or as overridden by `with`.
+    #[inline]
+    fn radii_with(&self, tri: [u32; 3], with: &[(u32, f64)]) -> [f64; 3] {
+        tri.map(|v| {
             with.iter()
                 .find(|x| x.0 == v)
                 .map_or_else(|| self.radius(v), |x| x.1)
-        });
-        face_volume(tri.map(|v| self.pos(v)), r)
+        })
+    }
+
+    /// [`Edit::volume`] of the existing face `f`.
+    #[inline]
+    pub fn face_volume_with(&self, f: u32, with: &[(u32, f64)]) -> f64 {
+        let t = self.face(f);
+        let r = self.radii_with(t, with);
+        if (f as usize) < self.base.faces.len() {
+            shape_volume(&self.base.shape[f as usize], r)
+        } else {
+            shape_volume(&face_shape(t.map(|v| self.pos(v))), r)
+        }
+    }
+
+    /// [`Edit::volume`] of face `f`, from the mesh's cache when the edit
+    /// changed none of its clearances.
+    #[inline]
+    pub fn face_volume(&self, f: u32) -> f64 {
+        let t = self.face(f);
+        if (f as usize) < self.base.faces.len()
+            && !self.ch.radii.iter().any(|&(v, _)| t.contains(&v))
+        {
+            self.base.volume[f as usize]
+        } else {
+            self.face_volume_with(f, &[])
+        }
     }
 
     /// Exact clearance of `p` for face `f` (its volume contains `p` iff > 0).
@@ -310,9 +379,11 @@ impl<'m> Edit<'m> {
         let i = match self.ch.lists.iter().position(|x| x.0 == v) {
             Some(i) => i,
             None => {
-                self.ch
-                    .lists
-                    .push((v, self.base.vfaces[v as usize].clone()));
+                // Room for the faces a swap or two add.
+                let base = &self.base.vfaces[v as usize];
+                let mut list = Vec::with_capacity(base.len() + 4);
+                list.extend_from_slice(base);
+                self.ch.lists.push((v, list));
                 self.ch.lists.len() - 1
             }
         };
@@ -350,20 +421,37 @@ impl<'m> Edit<'m> {
         if lowered.iter().all(|&(v, r)| r >= self.radius(v)) {
             return 0.0;
         }
-        let mut faces: Vec<u32> = Vec::with_capacity(16);
+        // The faces of the lowered vertices, each once, in id order.
+        let mut buf = [0u32; 64];
+        let mut n = 0;
+        let mut more: Vec<u32> = Vec::new();
         for &(v, r) in lowered {
             if r < self.radius(v) {
-                faces.extend(self.faces_of(v).iter().filter(|f| !exclude.contains(f)));
+                for &f in self.faces_of(v) {
+                    if exclude.contains(&f) {
+                        continue;
+                    }
+                    if n < buf.len() {
+                        buf[n] = f;
+                        n += 1;
+                    } else {
+                        more.push(f);
+                    }
+                }
             }
         }
+        let faces: &mut [u32] = if more.is_empty() {
+            &mut buf[..n]
+        } else {
+            more.extend_from_slice(&buf[..n]);
+            &mut more
+        };
         faces.sort_unstable();
-        faces.dedup();
+        let mut prev = u32::MAX;
         faces
             .iter()
-            .map(|&f| {
-                let t = self.face(f);
-                self.volume(t, &[]) - self.volume(t, lowered)
-            })
+            .filter(|&&f| std::mem::replace(&mut prev, f) != f)
+            .map(|&f| self.face_volume(f) - self.face_volume_with(f, lowered))
             .sum()
     }
 }

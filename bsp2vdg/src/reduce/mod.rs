@@ -18,8 +18,12 @@
 //! whose two-ring an earlier one changed is recomputed). A lazy-deletion
 //! heap holds the costs; after a removal the changed neighbours are only
 //! marked, and a popped vertex whose fresh cost exceeds the next key goes
-//! back into the heap. Ties break by vertex id and the batch size is fixed,
-//! so the output is byte-identical for any thread count.
+//! back into the heap (with its result, reused if its two-ring is still
+//! unchanged when it comes up again). Within a removal the candidate swaps
+//! are evaluated by branch and bound (see `swap::Candidates::best`), and
+//! face shapes and volumes are cached. Ties break by vertex id and the
+//! batch size is fixed, so the output is byte-identical for any thread
+//! count.
 //!
 //! Deviations from the thesis, all conservative: the clearance bound at the
 //! foot point `q` is the exact face clearance (never less than the thesis'
@@ -27,7 +31,12 @@
 //! into an existing face on a seam of sheets; an isolated face is kept (it
 //! is a connected component); vertices with more than 20 neighbours wait
 //! until their degree drops; nearly parallel edge pairs are skipped instead
-//! of "jerking" a vertex.
+//! of "jerking" a vertex. Not conservative but deliberate: the face volume
+//! is the thesis formula as printed (a full cylinder per edge and face) and
+//! the cost of an operation is the magnitude of the model volume change,
+//! never negative (see `volume::loss`). Before stopping for want of
+//! removable vertices all vertices are costed once more (a change two
+//! rings away can make a vertex removable without re-queuing it).
 
 #[cfg(debug_assertions)]
 mod check;
@@ -45,6 +54,7 @@ use crate::progress::Progress;
 use crate::voronoi::Graph;
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
+use remove::Refusal;
 
 /// What to reduce to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -103,6 +113,10 @@ pub struct ReduceStats {
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
     pub stop: StopReason,
+    /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
+    /// refusal reason (see [`refusals`]), how many of the vertices left it
+    /// refuses; empty otherwise.
+    pub refusals: Vec<(&'static str, usize)>,
 }
 
 /// A progress report, about once a second.
@@ -150,6 +164,61 @@ pub fn reduce_with_ticks(
     progress: &dyn Progress,
     tick: &mut dyn FnMut(&Tick),
 ) -> (Graph, ReduceStats) {
+    // The main loop forks a small parallel batch several hundred thousand
+    // times; from a thread outside the pool each fork wakes a worker and
+    // puts the caller to sleep (a tenth of the time at one thread). So the
+    // loop runs on a worker, and its ticks come back to this thread.
+    let (mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
+        run(graph, options, progress, tick)
+    } else {
+        let (tx, rx) = std::sync::mpsc::channel::<Tick>();
+        std::thread::scope(|s| {
+            let worker = s.spawn(move || {
+                rayon::scope(|_| {
+                    run(graph, options, progress, &mut |t| {
+                        let _ = tx.send(*t);
+                    })
+                })
+            });
+            for t in rx {
+                tick(&t);
+            }
+            worker
+                .join()
+                .unwrap_or_else(|e| std::panic::resume_unwind(e))
+        })
+    };
+    let out = mesh.to_graph();
+    stats.vertices_after = out.vertices.len();
+    stats.faces_after = out.faces.len();
+    stats.swaps = ops[Op::Swap as usize] as usize;
+    stats.one_face = ops[Op::OneFace as usize] as usize;
+    stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
+    stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
+    stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
+    if stats.stop == StopReason::NothingRemovable {
+        stats.refusals = histogram(&mesh);
+        if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
+            eprintln!(
+                "reduce: refusals of the {} vertices left:",
+                stats.vertices_after
+            );
+            for (name, n) in &stats.refusals {
+                eprintln!("  {name:<30} {n}");
+            }
+        }
+    }
+    (out, stats)
+}
+
+/// The reduction proper: the mesh at the end, the statistics so far and
+/// the operation counts.
+fn run(
+    graph: &Graph,
+    options: &ReduceOptions,
+    progress: &dyn Progress,
+    tick: &mut dyn FnMut(&Tick),
+) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
     let mut live = mesh.live_vertices();
@@ -172,9 +241,17 @@ pub fn reduce_with_ticks(
     let mut last_tick = Instant::now();
     let mut ops = [0u64; Op::COUNT];
     stats.stop = StopReason::LimitReached;
-    // Marks the vertices changed within the current batch (by stamp).
-    let mut marks = vec![0u32; mesh.pos.len()];
-    let mut stamp = 0u32;
+    // Removals applied so far, and per vertex the removal that last changed
+    // its faces or clearance: a result computed after removal `e` is still
+    // valid while nothing within two rings of its vertex changed after `e`.
+    let mut epoch = 0u32;
+    let mut changed_at = vec![0u32; mesh.pos.len()];
+    // Results of vertices put back into the queue because their fresh cost
+    // exceeded the next key: when popped again with an unchanged
+    // neighbourhood they are applied without costing them again.
+    let mut saved: Vec<Option<Box<Costed>>> = Vec::new();
+    saved.resize_with(mesh.pos.len(), || None);
+    let mut removals_at_sweep = usize::MAX;
     'outer: while live > stats.target {
         // Speculative batch: the cheapest BATCH vertices are costed in
         // parallel against the same mesh, then handled one by one in heap
@@ -189,12 +266,48 @@ pub fn reduce_with_ticks(
             }
         }
         if batch.is_empty() {
-            stats.stop = StopReason::NothingRemovable;
-            break;
+            // Only vertices whose own faces or clearance changed are
+            // re-queued, but a change two rings away can make a refused
+            // vertex removable: before giving up, cost every vertex again.
+            if stats.removals == removals_at_sweep {
+                stats.stop = StopReason::NothingRemovable;
+                break;
+            }
+            removals_at_sweep = stats.removals;
+            let costs: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
+                .into_par_iter()
+                .map(|v| cost_of(&mesh, v))
+                .collect();
+            for (v, c) in costs.into_iter().enumerate() {
+                if c.is_some() {
+                    queue.set(v as u32, c);
+                    saved[v] = None;
+                }
+            }
+            continue;
         }
-        let results: Vec<Option<(f64, Changes)>> =
-            batch.par_iter().map(|&(v, _)| simulate(&mesh, v)).collect();
-        stamp += 1;
+        let mut results: Vec<Option<Box<Costed>>> = batch
+            .iter()
+            .map(|&(v, _)| {
+                saved[v as usize]
+                    .take()
+                    .filter(|c| unchanged_since(&mesh, v, &changed_at, c.epoch))
+            })
+            .collect();
+        let batch_epoch = epoch;
+        let fresh: Vec<Option<Box<Costed>>> = batch
+            .par_iter()
+            .zip(&results)
+            .map(|(&(v, _), r)| match r {
+                Some(_) => None,
+                None => costed(&mesh, v, epoch),
+            })
+            .collect();
+        for (r, f) in results.iter_mut().zip(fresh) {
+            if r.is_none() {
+                *r = f;
+            }
+        }
         let keys: Vec<u64> = batch.iter().map(|x| x.1).collect();
         for (i, (&(v, key), res)) in batch.iter().zip(results).enumerate() {
             if live <= stats.target {
@@ -203,25 +316,31 @@ pub fn reduce_with_ticks(
                 }
                 break 'outer;
             }
-            let res = if near_marked(&mesh, v, &marks, stamp) {
-                simulate(&mesh, v)
-            } else {
-                res
+            let res = match res {
+                Some(c) if unchanged_since(&mesh, v, &changed_at, c.epoch) => Some(c),
+                Some(_) => costed(&mesh, v, epoch),
+                None if unchanged_since(&mesh, v, &changed_at, batch_epoch) => None,
+                None => costed(&mesh, v, epoch),
             };
-            let Some((cost, ch)) = res else {
+            let Some(c) = res else {
                 continue; // not removable now; re-costed when its neighbourhood changes
             };
             // Lazy re-evaluation: the stored cost may be stale (only the
             // direct neighbours are marked after a removal).
-            let now = CostQueue::key_of(cost);
+            let now = CostQueue::key_of(c.cost);
             let next = keys[i + 1..].iter().copied().chain(queue.peek_key()).min();
             if now > key && next.is_some_and(|top| now > top) {
-                queue.push_back(v, cost);
+                queue.push_back(v, c.cost);
+                saved[v as usize] = Some(c);
                 continue;
             }
+            let Costed {
+                cost, changes: ch, ..
+            } = *c;
             let touched = ch.touched();
+            epoch += 1;
             for &t in &touched {
-                marks[t as usize] = stamp;
+                changed_at[t as usize] = epoch;
             }
             let before: usize = touched
                 .iter()
@@ -246,6 +365,7 @@ pub fn reduce_with_ticks(
             for &t in &touched {
                 if mesh.vfaces[t as usize].is_empty() {
                     queue.set(t, None);
+                    saved[t as usize] = None;
                 } else {
                     queue.mark_dirty(t);
                 }
@@ -263,15 +383,55 @@ pub fn reduce_with_ticks(
         }
     }
     progress.finish();
-    let out = mesh.to_graph();
-    stats.vertices_after = out.vertices.len();
-    stats.faces_after = out.faces.len();
-    stats.swaps = ops[Op::Swap as usize] as usize;
-    stats.one_face = ops[Op::OneFace as usize] as usize;
-    stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
-    stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
-    stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
-    (out, stats)
+    (mesh, stats, ops)
+}
+
+/// Why the vertices of `graph` cannot be removed right now: per refusal
+/// reason (the first condition that fails for a vertex, see the `remove`
+/// module), the number of vertices, largest first; vertices that can be
+/// removed are counted as `"removable"`. A diagnostic for the reduction
+/// stopping early (issue 5); costs one removal attempt per vertex.
+///
+/// ```
+/// use bsp2vdg::reduce::refusals;
+/// use bsp2vdg::voronoi::Graph;
+/// // A single face is a connected component of its own: never removed.
+/// let g = Graph {
+///     vertices: vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]],
+///     clearance: vec![4.0; 3],
+///     faces: vec![[0, 1, 2]],
+/// };
+/// assert_eq!(refusals(&g), vec![("isolated_face", 3)]);
+/// ```
+pub fn refusals(graph: &Graph) -> Vec<(&'static str, usize)> {
+    histogram(&Mesh::new(graph))
+}
+
+fn histogram(mesh: &Mesh) -> Vec<(&'static str, usize)> {
+    let why: Vec<Option<Refusal>> = (0..mesh.pos.len() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut e = Edit::new(mesh);
+            remove::remove_vertex_why(&mut e, v).err()
+        })
+        .collect();
+    let mut n = [0usize; Refusal::COUNT];
+    let mut removable = 0;
+    for w in why {
+        match w {
+            Some(r) => n[r as usize] += 1,
+            None => removable += 1,
+        }
+    }
+    let mut out: Vec<(&'static str, usize)> = Refusal::ALL
+        .iter()
+        .filter(|&&r| r != Refusal::Dead)
+        .map(|&r| (r.as_str(), n[r as usize]))
+        .chain(std::iter::once(("removable", removable)))
+        .filter(|x| x.1 > 0)
+        .collect();
+    out.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(b.0)));
+    out
 }
 
 /// Vertices costed together per step of the main loop (see there).
@@ -286,29 +446,40 @@ fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {
     remove::remove_vertex(&mut e, v)
 }
 
-/// Removes `v` on an overlay of the mesh: its cost and changes.
-fn simulate(mesh: &Mesh, v: u32) -> Option<(f64, Changes)> {
-    let mut e = Edit::new(mesh);
-    let cost = remove::remove_vertex(&mut e, v)?;
-    Some((cost, e.into_changes()))
+/// A removal costed on an overlay of the mesh as it was after removal
+/// `epoch` of the main loop.
+struct Costed {
+    epoch: u32,
+    cost: f64,
+    changes: Changes,
 }
 
-/// Whether a vertex within two rings of `v` (whose face lists and
-/// clearances a removal of `v` reads) was changed in this batch.
-fn near_marked(mesh: &Mesh, v: u32, marks: &[u32], stamp: u32) -> bool {
-    if marks[v as usize] == stamp {
-        return true;
-    }
-    mesh.vfaces[v as usize].iter().any(|&f| {
-        mesh.faces[f as usize].iter().any(|&u| {
-            marks[u as usize] == stamp
-                || mesh.vfaces[u as usize].iter().any(|&g| {
-                    mesh.faces[g as usize]
+/// Removes `v` on an overlay of the mesh: its cost and changes.
+fn costed(mesh: &Mesh, v: u32, epoch: u32) -> Option<Box<Costed>> {
+    let mut e = Edit::new(mesh);
+    let cost = remove::remove_vertex(&mut e, v)?;
+    Some(Box::new(Costed {
+        epoch,
+        cost,
+        changes: e.into_changes(),
+    }))
+}
+
+/// Whether no vertex within two rings of `v` (whose face lists and
+/// clearances a removal of `v` reads) changed after removal `epoch`.
+/// The rings of the current mesh suffice: if they differ from the rings
+/// at `epoch`, a face list within one ring changed and with it a vertex.
+fn unchanged_since(mesh: &Mesh, v: u32, changed_at: &[u32], epoch: u32) -> bool {
+    let fresh = |u: u32| changed_at[u as usize] <= epoch;
+    fresh(v)
+        && mesh.vfaces[v as usize].iter().all(|&f| {
+            mesh.faces[f as usize].iter().all(|&u| {
+                fresh(u)
+                    && mesh.vfaces[u as usize]
                         .iter()
-                        .any(|&w| marks[w as usize] == stamp)
-                })
+                        .all(|&g| mesh.faces[g as usize].iter().all(|&w| fresh(w)))
+            })
         })
-    })
 }
 
 #[cfg(test)]
@@ -406,6 +577,22 @@ mod tests {
         match s.stop {
             StopReason::LimitReached => assert!(s.vertices_after <= s.target + 2),
             StopReason::NothingRemovable => assert!(s.vertices_after > s.target),
+        }
+    }
+
+    #[test]
+    fn stops_only_when_no_vertex_is_removable() {
+        for seed in 1..=12 {
+            let g = sheet(16, seed);
+            let (r, s) = reduce(&g, &ReduceOptions { limit: 0.0 }, &NoProgress);
+            assert_eq!(s.stop, StopReason::NothingRemovable);
+            assert!(
+                !s.refusals.iter().any(|x| x.0 == "removable"),
+                "{:?}",
+                s.refusals
+            );
+            assert!(!refusals(&r).iter().any(|x| x.0 == "removable"));
+            assert!(s.lost_volume >= 0.0);
         }
     }
 

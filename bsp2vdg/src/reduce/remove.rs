@@ -7,7 +7,7 @@
 use super::mesh::{Edit, Op};
 use super::swap::{self, MARGIN, third};
 use super::volume::{
-    add, closest_on_triangle, dist, optimal_linear_reduction, optimal_planar_reduction,
+    add, closest_on_triangle, dist, loss, optimal_linear_reduction, optimal_planar_reduction,
     perpendicular_feet, scale, sub,
 };
 
@@ -17,19 +17,118 @@ use super::volume::{
 /// them would dominate the run time. (Not in the thesis; a speed guard.)
 pub(crate) const MAX_DEGREE: usize = 20;
 
+/// Why a vertex cannot be removed now (the refusal histogram of
+/// [`super::refusals`]): the first condition that failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Refusal {
+    /// No faces left (not a live vertex).
+    Dead,
+    /// More than [`MAX_DEGREE`] neighbours (waits).
+    DegreeWait,
+    /// Degree > 3 and no swap admissible; the most frequent reason among
+    /// its edges is one of the `Swap*` ones.
+    SwapBorderEdge,
+    SwapNonManifold,
+    SwapDegenerate,
+    SwapEdgeExists,
+    SwapParallel,
+    SwapFeetOutside,
+    SwapMissesCylinder,
+    SwapClearanceBound,
+    /// Degree ≤ 3 but the edge/face counts fit no case (e.g. non-manifold
+    /// fan, degree 3 with 1 or more than 3 faces).
+    NoCase,
+    /// One face that is isolated (a component of its own).
+    IsolatedFace,
+    /// One face connecting two parts (its edge k2–k3 is used by no other face).
+    ConnectingFace,
+    /// 4.6.2: the new face misses the ball of k1.
+    ThreeFacesMissBall,
+    /// 4.6.2: no radius reduction meets the bound.
+    ThreeFacesBound,
+    /// 4.6.1 concave case: k3 = k4 or the edge k3–k4 exists.
+    TwoFacesEdgeExists,
+    /// 4.6.1 concave case: k3–k4 misses the ball of k1.
+    TwoFacesMissBall,
+    /// 4.6.1 concave case: no radius reduction meets the bound.
+    TwoFacesBound,
+    /// 4.6.1 with t_p ∈ ]0,1[: the swap is refused, or the one face left is.
+    TwoFacesSwap,
+}
+
+impl Refusal {
+    pub const COUNT: usize = 19;
+    pub const ALL: [Refusal; Refusal::COUNT] = [
+        Refusal::Dead,
+        Refusal::DegreeWait,
+        Refusal::SwapBorderEdge,
+        Refusal::SwapNonManifold,
+        Refusal::SwapDegenerate,
+        Refusal::SwapEdgeExists,
+        Refusal::SwapParallel,
+        Refusal::SwapFeetOutside,
+        Refusal::SwapMissesCylinder,
+        Refusal::SwapClearanceBound,
+        Refusal::NoCase,
+        Refusal::IsolatedFace,
+        Refusal::ConnectingFace,
+        Refusal::ThreeFacesMissBall,
+        Refusal::ThreeFacesBound,
+        Refusal::TwoFacesEdgeExists,
+        Refusal::TwoFacesMissBall,
+        Refusal::TwoFacesBound,
+        Refusal::TwoFacesSwap,
+    ];
+
+    /// Short snake-case name.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Refusal::Dead => "dead",
+            Refusal::DegreeWait => "degree_wait",
+            Refusal::SwapBorderEdge => "swap_border_edge",
+            Refusal::SwapNonManifold => "swap_non_manifold",
+            Refusal::SwapDegenerate => "swap_degenerate",
+            Refusal::SwapEdgeExists => "swap_edge_exists",
+            Refusal::SwapParallel => "swap_parallel",
+            Refusal::SwapFeetOutside => "swap_feet_outside",
+            Refusal::SwapMissesCylinder => "swap_misses_cylinder",
+            Refusal::SwapClearanceBound => "swap_clearance_bound",
+            Refusal::NoCase => "no_case",
+            Refusal::IsolatedFace => "isolated_face",
+            Refusal::ConnectingFace => "connecting_face",
+            Refusal::ThreeFacesMissBall => "three_faces_miss_ball",
+            Refusal::ThreeFacesBound => "three_faces_bound",
+            Refusal::TwoFacesEdgeExists => "two_faces_edge_exists",
+            Refusal::TwoFacesMissBall => "two_faces_miss_ball",
+            Refusal::TwoFacesBound => "two_faces_bound",
+            Refusal::TwoFacesSwap => "two_faces_swap",
+        }
+    }
+}
+
 pub(crate) fn remove_vertex(e: &mut Edit, k: u32) -> Option<f64> {
+    remove_vertex_why(e, k).ok()
+}
+
+/// [`remove_vertex`] naming the first condition that refused.
+pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
     let mut cost = 0.0;
+    if e.faces_of(k).is_empty() {
+        return Err(Refusal::Dead);
+    }
     if e.faces_of(k).len() > 2 * MAX_DEGREE {
-        return None;
+        return Err(Refusal::DegreeWait);
     }
     let mut nb = e.neighbours(k);
     if nb.len() > MAX_DEGREE {
-        return None;
+        return Err(Refusal::DegreeWait);
     }
     if nb.len() > 3 {
         let mut candidates = swap::Candidates::new(e, k, &nb);
         while nb.len() > 3 {
-            let s = candidates.best()?;
+            let Some(s) = candidates.best(e) else {
+                return Err(candidates.why_none(e));
+            };
             let [_, _, k3, k4] = s.k;
             let lowered: Vec<u32> = [(k3, s.r3), (k4, s.r4)]
                 .into_iter()
@@ -39,13 +138,16 @@ pub(crate) fn remove_vertex(e: &mut Edit, k: u32) -> Option<f64> {
             swap::apply(e, &s);
             cost += s.cost;
             candidates.after(e, &s, &lowered);
-            nb = e.neighbours(k);
+            // The swap took away the edge k–k2 and no other (k3, k4 were
+            // neighbours already).
+            nb.retain(|&v| v != s.k[1]);
+            debug_assert_eq!(nb, e.neighbours(k));
         }
     }
     match nb.len() {
-        2 => Some(cost + one_face(e, k, &nb)?),
-        3 => Some(cost + degree_three(e, k, &nb)?),
-        _ => None,
+        2 => Ok(cost + one_face(e, k, &nb)?),
+        3 => Ok(cost + degree_three(e, k, &nb)?),
+        _ => Err(Refusal::NoCase),
     }
 }
 
@@ -54,29 +156,32 @@ pub(crate) fn remove_vertex(e: &mut Edit, k: u32) -> Option<f64> {
 /// `k2` or `k3` has no other face, `f` hangs off the graph by one vertex and
 /// goes. If both have other faces, `f` goes only if `k2–k3` stays an edge
 /// (another face uses it), otherwise it is a connecting face.
-fn one_face(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
-    let [f] = e.faces_of(k)[..] else { return None };
+fn one_face(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
+    let [f] = e.faces_of(k)[..] else {
+        return Err(Refusal::NoCase);
+    };
     let (a, b) = (nb[0], nb[1]);
     let alone = |v: u32| e.faces_of(v).len() == 1;
-    let removable = match (alone(a), alone(b)) {
-        (true, true) => false,
-        (true, false) | (false, true) => true,
-        (false, false) => e.edge_faces(a, b).0 >= 2,
-    };
-    if !removable {
-        return None;
+    match (alone(a), alone(b)) {
+        (true, true) => return Err(Refusal::IsolatedFace),
+        (true, false) | (false, true) => {}
+        (false, false) => {
+            if e.edge_faces(a, b).0 < 2 {
+                return Err(Refusal::ConnectingFace);
+            }
+        }
     }
-    let v = e.volume(e.face(f), &[]);
+    let v = e.face_volume(f);
     e.remove_face(f);
     e.count(Op::OneFace);
-    Some(v)
+    Ok(v)
 }
 
-fn degree_three(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
+fn degree_three(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
     match e.faces_of(k).len() {
         3 => three_faces(e, k, nb),
         2 => two_faces(e, k),
-        _ => None,
+        _ => Err(Refusal::NoCase),
     }
 }
 
@@ -86,21 +191,21 @@ fn degree_three(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
 /// `q` must not exceed the old clearance there (lowering the radii of
 /// `k2,k3,k4` optimally if it does; the same corner argument as for swaps,
 /// with the new face split at `q` into three triangles, one per old face).
-fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
+fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Result<f64, Refusal> {
     let old: Vec<u32> = e.faces_of(k).to_vec();
-    let old_volume: f64 = old.iter().map(|&f| e.volume(e.face(f), &[])).sum();
+    let old_volume: f64 = old.iter().map(|&f| e.face_volume(f)).sum();
     let [a, b, c] = [nb[0], nb[1], nb[2]];
     if e.has_face(a, b, c) {
         for &f in &old {
             e.remove_face(f);
         }
         e.count(Op::ThreeFacesExisting);
-        return Some(old_volume);
+        return Ok(old_volume);
     }
     let pk = e.pos(k);
     let (q, w) = closest_on_triangle(pk, e.pos(a), e.pos(b), e.pos(c));
     if dist(q, pk) >= e.radius(k) {
-        return None;
+        return Err(Refusal::ThreeFacesMissBall);
     }
     let bound = old
         .iter()
@@ -108,12 +213,12 @@ fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
         .fold(f64::INFINITY, f64::min)
         - MARGIN;
     let r = [a, b, c].map(|v| e.radius(v));
-    let nr = optimal_planar_reduction(r, w, bound)?;
+    let nr = optimal_planar_reduction(r, w, bound).ok_or(Refusal::ThreeFacesBound)?;
     if nr.iter().any(|&x| x <= 0.0) {
-        return None;
+        return Err(Refusal::ThreeFacesBound);
     }
     let lowered = [(a, nr[0]), (b, nr[1]), (c, nr[2])];
-    let cost = old_volume - e.volume([a, b, c], &lowered) + e.lowering_cost(&lowered, &old);
+    let cost = loss(old_volume, e.volume([a, b, c], &lowered)) + e.lowering_cost(&lowered, &old);
     for &f in &old {
         e.remove_face(f);
     }
@@ -124,36 +229,45 @@ fn three_faces(e: &mut Edit, k: u32, nb: &[u32]) -> Option<f64> {
     }
     e.add_face([a, b, c]);
     e.count(Op::ThreeFaces);
-    Some(cost)
+    Ok(cost)
 }
 
 /// 4.6.1: two faces `fi = (k1,k2,k3)`, `fj = (k1,k2,k4)`. With the foot
 /// `t_p ∈ ]0,1[` the edge `k1–k2` is swapped and `k1` is left with one face;
 /// with `t_p ≤ 0` (`k1` a concave corner) both faces become `(k2,k3,k4)` if
 /// the new edge `k3–k4` passes through the ball of `k1`, with the
-/// clearances of `k3`, `k4` corrected as for a swap; with `t_p ≥ 1` the
-/// vertex is left for `k2` (as in the thesis).
-fn two_faces(e: &mut Edit, k1: u32) -> Option<f64> {
+/// clearances of `k3`, `k4` corrected as for a swap. The thesis leaves `k1`
+/// for `k2` when `t_p ≥ 1`; but the replacement keeps condition A for any
+/// `t_p` (split `(k2,k3,k4)` at `q` into `(k2,k3,q) ⊂ vol(fi)` and
+/// `(k2,q,k4) ⊂ vol(fj)`: `k2`, `k3`, `k4` are corners of the old faces and
+/// the radius at `q` is bounded by both old clearances), and `k2` may never
+/// go (a seam vertex), so it is used there too, and when the swap of the
+/// middle case is refused or the edges are parallel.
+fn two_faces(e: &mut Edit, k1: u32) -> Result<f64, Refusal> {
     let [fi, fj] = e.faces_of(k1)[..] else {
-        return None;
+        return Err(Refusal::NoCase);
     };
     let ti = e.face(fi);
     let k2 = e
         .face(fj)
         .into_iter()
-        .find(|&v| v != k1 && ti.contains(&v))?;
+        .find(|&v| v != k1 && ti.contains(&v))
+        .ok_or(Refusal::NoCase)?;
     let k3 = third(e, fi, k1, k2);
     let k4 = third(e, fj, k1, k2);
     let (p1, p2, p3, p4) = (e.pos(k1), e.pos(k2), e.pos(k3), e.pos(k4));
-    let (tp, _) = perpendicular_feet(p1, p2, p3, p4)?;
-    if tp > 0.0 && tp < 1.0 {
-        let s = swap::plan(e, k1, k2)?;
+    let feet = perpendicular_feet(p1, p2, p3, p4);
+    if let Some((tp, _)) = feet
+        && tp > 0.0
+        && tp < 1.0
+        && let Some(s) = swap::plan(e, k1, k2)
+    {
         swap::apply(e, &s);
         let nb = e.neighbours(k1);
-        return Some(s.cost + one_face(e, k1, &nb)?);
+        return Ok(s.cost + one_face(e, k1, &nb).map_err(|_| Refusal::TwoFacesSwap)?);
     }
-    if tp >= 1.0 || k3 == k4 || e.has_edge(k3, k4) {
-        return None;
+    if k3 == k4 || e.has_edge(k3, k4) {
+        return Err(Refusal::TwoFacesEdgeExists);
     }
     // Point of k3–k4 nearest to k1.
     let v = sub(p4, p3);
@@ -161,16 +275,17 @@ fn two_faces(e: &mut Edit, k1: u32) -> Option<f64> {
         .clamp(0.0, 1.0);
     let q = add(p3, scale(v, tq));
     if dist(q, p1) >= e.radius(k1) {
-        return None;
+        return Err(Refusal::TwoFacesMissBall);
     }
     let bound = e.clearance_at(fi, q).min(e.clearance_at(fj, q)) - MARGIN;
-    let (n3, n4) = optimal_linear_reduction(e.radius(k3), e.radius(k4), tq, bound)?;
+    let (n3, n4) = optimal_linear_reduction(e.radius(k3), e.radius(k4), tq, bound)
+        .ok_or(Refusal::TwoFacesBound)?;
     if n3 <= 0.0 || n4 <= 0.0 {
-        return None;
+        return Err(Refusal::TwoFacesBound);
     }
     let lowered = [(k3, n3), (k4, n4)];
-    let old = e.volume(ti, &[]) + e.volume(e.face(fj), &[]);
-    let cost = old - e.volume([k2, k3, k4], &lowered) + e.lowering_cost(&lowered, &[fi, fj]);
+    let old = e.face_volume(fi) + e.face_volume(fj);
+    let cost = loss(old, e.volume([k2, k3, k4], &lowered)) + e.lowering_cost(&lowered, &[fi, fj]);
     e.remove_face(fi);
     e.remove_face(fj);
     for (v, r) in lowered {
@@ -180,5 +295,5 @@ fn two_faces(e: &mut Edit, k1: u32) -> Option<f64> {
     }
     e.add_face([k2, k3, k4]);
     e.count(Op::TwoFacesConcave);
-    Some(cost)
+    Ok(cost)
 }
