@@ -235,7 +235,7 @@ fn run(cli: &Cli) -> Result<bool> {
                 log.info(format!("ERROR: {e}"));
             }
         }
-        save_log(map, &options.output, &log);
+        save_log(&options.output, &log);
         (map.clone(), result)
     };
     let results: Vec<_> = if batch {
@@ -300,23 +300,22 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
     }
 }
 
-/// Appends the log to MAP.log beside the map, or beside the output when the map's
-/// folder is read-only. A log that cannot be written never fails the compile.
-fn save_log(map: &Path, output: &Path, log: &Log) {
+/// Appends the log beside the output (`MAP.log` for the default output `MAP.vdg`,
+/// as map compile tools do). With `-o` elsewhere the map's folder stays untouched:
+/// shared or read-only map folders are common in build farms. A log that cannot be
+/// written never fails the compile.
+fn save_log(output: &Path, log: &Log) {
     let header = format!(
         "bsp2vdg {} {}",
         env!("CARGO_PKG_VERSION"),
         std::env::args().skip(1).collect::<Vec<_>>().join(" ")
     );
-    let beside_map = map.with_extension("log");
-    if log.append_to(&beside_map, &header).is_err() {
-        let beside_output = output.with_extension("log");
-        if let Err(e) = log.append_to(&beside_output, &header) {
-            log.detail(format!(
-                "could not write the log file {}: {e}",
-                beside_output.display()
-            ));
-        }
+    let path = output.with_extension("log");
+    if let Err(e) = log.append_to(&path, &header) {
+        log.detail(format!(
+            "could not write the log file {}: {e}",
+            path.display()
+        ));
     }
 }
 

@@ -256,3 +256,36 @@ fn unreduced_graph_is_written_identically_for_any_thread_count() {
         .collect();
     assert!(names.iter().all(|n| !n.contains("tmp")), "{names:?}");
 }
+
+/// The log goes beside the output: MAP.log for the default output, and with `-o`
+/// elsewhere the map's folder is left untouched.
+#[test]
+fn the_log_goes_beside_the_output() {
+    let Some(map) = some_map() else { return };
+    let o = bsp2vdg(&["-quiet", "--stop-after", "samples", map.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        map.with_extension("log").is_file(),
+        "no MAP.log beside the map"
+    );
+    std::fs::remove_file(map.with_extension("log")).unwrap();
+
+    let out = tempdir("logout").join("elsewhere.vdg");
+    let o = bsp2vdg(&[
+        "-quiet",
+        "--stop-after",
+        "samples",
+        "-o",
+        out.to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        out.with_extension("log").is_file(),
+        "no log beside the output"
+    );
+    assert!(
+        !map.with_extension("log").exists(),
+        "the map's folder got a log"
+    );
+}
