@@ -20,6 +20,8 @@
 //! # Ok::<(), bsp2vdg::bsp::BspError>(())
 //! ```
 
+use crate::sample::polygon_area as area;
+use crate::util::{cross, dot};
 use rayon::prelude::*;
 
 use crate::bsp::{Bsp, contents};
@@ -407,31 +409,6 @@ fn clip_to_front(poly: &[P], plane: Plane) -> Vec<P> {
         }
     }
     if out.len() < 3 { Vec::new() } else { out }
-}
-
-fn area(poly: &[P]) -> f64 {
-    let mut s = [0.0; 3];
-    for i in 1..poly.len().saturating_sub(1) {
-        let c = cross(sub(poly[i], poly[0]), sub(poly[i + 1], poly[0]));
-        s = [s[0] + c[0], s[1] + c[1], s[2] + c[2]];
-    }
-    0.5 * dot(s, s).sqrt()
-}
-
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: P, b: P) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: P, b: P) -> P {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn normalize(a: P) -> P {

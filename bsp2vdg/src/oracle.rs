@@ -17,6 +17,7 @@
 //! ```
 
 use crate::bsp::{Bsp, contents};
+use crate::util::sub;
 
 /// Which contents count as obstacles.
 #[derive(Debug, Clone, Default)]
@@ -242,10 +243,6 @@ impl Oracle {
                         .segment_clear(sub(a, m.origin), sub(b, m.origin), |c| c == contents::SOLID)
             })
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 fn inside_box(p: [f64; 3], mins: [f64; 3], maxs: [f64; 3]) -> bool {

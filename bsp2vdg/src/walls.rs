@@ -18,6 +18,7 @@ use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
 use crate::oracle::OracleOptions;
 use crate::sample::{self, classify::FaceClass};
+use crate::util::{cross, dot, sub};
 
 /// Obstacle polygons in a bounding-volume hierarchy for nearest-wall queries.
 #[derive(Debug, Clone)]
@@ -253,22 +254,6 @@ fn bounds(v: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Exact distance from `p` to a convex planar polygon with unit normal `n`.

@@ -167,7 +167,7 @@ fn samples_cover_the_exact_walls_and_nothing_else() {
                     x <= 0.0
                 })
                 .map_or(&walls[0], |(w, _)| w);
-            let p = point_in_polygon(&w.vertices, &mut rng);
+            let p = common::point_in_polygon(&w.vertices, &mut rng);
             let sky = w.class.texture() == "sky";
             let limit = if sky { 2.0 } else { 1.0 } * s.spacing;
             assert!(
@@ -198,7 +198,7 @@ fn tree_boundary_is_exactly_the_walls() {
         let mut rng = SplitMix64::new(29);
         for b in &boundary {
             for _ in 0..20 {
-                let p = point_in_polygon(&b.vertices, &mut rng);
+                let p = common::point_in_polygon(&b.vertices, &mut rng);
                 let d = walls
                     .iter()
                     .map(|w| point_polygon_distance(p, &w.vertices, w.normal))
@@ -222,7 +222,7 @@ fn tree_boundary_is_exactly_the_walls() {
         let tree_walls = Walls::from_boundary(&boundary);
         for w in walls {
             for _ in 0..20 {
-                let p = point_in_polygon(&w.vertices, &mut rng);
+                let p = common::point_in_polygon(&w.vertices, &mut rng);
                 assert!(
                     tree_walls.distance_within(p, 1e-3).is_some(),
                     "{}: wall point {p:?} is not on the boundary",
@@ -292,29 +292,4 @@ fn point_polygon_distance(p: [f64; 3], v: &[[f64; 3]], n: [f64; 3]) -> f64 {
             dot(d, d).sqrt()
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-fn point_in_polygon(v: &[[f64; 3]], rng: &mut SplitMix64) -> [f64; 3] {
-    // Area-weighted fan triangle, then uniform barycentric coordinates.
-    let tri_area = |i: usize| {
-        let (a, b) = (sub(v[i], v[0]), sub(v[i + 1], v[0]));
-        let c = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        dot(c, c).sqrt()
-    };
-    let total: f64 = (1..v.len() - 1).map(tri_area).sum();
-    let mut x = rng.next_f64() * total;
-    let mut k = 1;
-    while k < v.len() - 2 && x > tri_area(k) {
-        x -= tri_area(k);
-        k += 1;
-    }
-    let (mut u, mut w) = (rng.next_f64(), rng.next_f64());
-    if u + w > 1.0 {
-        (u, w) = (1.0 - u, 1.0 - w);
-    }
-    [0, 1, 2].map(|i| v[0][i] + u * (v[k][i] - v[0][i]) + w * (v[k + 1][i] - v[0][i]))
 }

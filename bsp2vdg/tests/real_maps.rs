@@ -163,7 +163,7 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
         let mut rng = bsp2vdg::util::SplitMix64::new(3);
         for poly in &b {
             for _ in 0..4 {
-                let p = random_point_in(&poly.vertices, &mut rng);
+                let p = common::point_in_polygon(&poly.vertices, &mut rng);
                 if edge_distance(&poly.vertices, p) <= 1.0 {
                     continue;
                 }
@@ -202,7 +202,7 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
         faces.retain(|f| f.class == FaceClass::Sky);
         let sky = Walls::from_faces(&faces);
         for poly in &b {
-            let p = random_point_in(&poly.vertices, &mut rng);
+            let p = common::point_in_polygon(&poly.vertices, &mut rng);
             let on_sky = sky.distance_within(p, 0.5).is_some();
             let limit = if on_sky || poly.obstacle == bsp2vdg::bsp::contents::SKY {
                 2.0
@@ -216,14 +216,4 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
             );
         }
     }
-}
-
-fn random_point_in(v: &[[f64; 3]], rng: &mut bsp2vdg::util::SplitMix64) -> [f64; 3] {
-    let k = 1 + (rng.next_f64() * (v.len() - 2) as f64) as usize;
-    let k = k.min(v.len() - 2);
-    let (mut u, mut w) = (rng.next_f64(), rng.next_f64());
-    if u + w > 1.0 {
-        (u, w) = (1.0 - u, 1.0 - w);
-    }
-    [0, 1, 2].map(|i| v[0][i] + u * (v[k][i] - v[0][i]) + w * (v[k + 1][i] - v[0][i]))
 }

@@ -23,6 +23,7 @@ use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
 use crate::oracle::{Oracle, OracleOptions};
 use crate::util::SplitMix64;
+use crate::util::{cross, sub};
 use crate::walls::Walls;
 use classify::{FaceClass, SkipReason, classify_texture};
 use grid::PointGrid;
@@ -402,18 +403,6 @@ pub fn polygon_area(p: &[[f64; 3]]) -> f64 {
         n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
     }
     0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 fn centroid(p: &[[f64; 3]]) -> [f64; 3] {

@@ -8,11 +8,9 @@
 //! obtuse (the circumcentre lies inside), otherwise the distance from the obtuse
 //! corner's bisector feet on the longest edge.
 
-type P = [f64; 3];
+use crate::util::sub;
 
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
+type P = [f64; 3];
 
 fn len2(a: P) -> f64 {
     a[0] * a[0] + a[1] * a[1] + a[2] * a[2]

@@ -3,6 +3,7 @@
 //! that cospherical samples produce; the 2D Delaunay triangulation of the corners
 //! maximises the smallest angle, and for a convex polygon it covers exactly the polygon.
 
+use crate::util::{cross, dot, sub};
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation as _};
 
 struct Corner {
@@ -24,22 +25,6 @@ pub fn triangulate(ids: &[u32], positions: &[[f64; 3]]) -> Vec<[u32; 3]> {
         3 => vec![[ids[0], ids[1], ids[2]]],
         _ => delaunay_2d(ids, positions),
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn normalise(a: [f64; 3]) -> Option<[f64; 3]> {

@@ -40,3 +40,25 @@ pub fn generated_maps() -> Vec<PathBuf> {
     maps.sort();
     maps
 }
+
+/// A uniform random point of a convex polygon (area-weighted fan triangle, then
+/// uniform barycentric coordinates).
+pub fn point_in_polygon(v: &[[f64; 3]], rng: &mut bsp2vdg::util::SplitMix64) -> [f64; 3] {
+    use bsp2vdg::util::{cross, dot, sub};
+    let tri_area = |i: usize| {
+        let c = cross(sub(v[i], v[0]), sub(v[i + 1], v[0]));
+        dot(c, c).sqrt()
+    };
+    let total: f64 = (1..v.len() - 1).map(tri_area).sum();
+    let mut x = rng.next_f64() * total;
+    let mut k = 1;
+    while k < v.len() - 2 && x > tri_area(k) {
+        x -= tri_area(k);
+        k += 1;
+    }
+    let (mut u, mut w) = (rng.next_f64(), rng.next_f64());
+    if u + w > 1.0 {
+        (u, w) = (1.0 - u, 1.0 - w);
+    }
+    [0, 1, 2].map(|i| v[0][i] + u * (v[k][i] - v[0][i]) + w * (v[k + 1][i] - v[0][i]))
+}
