@@ -148,19 +148,22 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         bytes,
         ..Default::default()
     };
-    let part = std::time::Instant::now();
-    let (leak_points, leaked) = measure_leak(vdg, &oracle, options);
+    let ((leak_points, leaked), s_leak) = timed(|| measure_leak(vdg, &oracle, options));
     (r.leak_points, r.leaked) = (leak_points, leaked);
-    r.seconds_parts[0] = part.elapsed().as_secs_f64();
-    let part = std::time::Instant::now();
-    let (points, covered) = measure_coverage(bsp, vdg, &oracle, &walls, options);
+    let ((points, covered), s_coverage) =
+        timed(|| measure_coverage(bsp, vdg, &oracle, &walls, options));
     (r.coverage_points, r.covered) = (points, covered);
-    r.seconds_parts[1] = part.elapsed().as_secs_f64();
-    let part = std::time::Instant::now();
-    measure_visibility(bsp, vdg, &oracle, options, &mut r);
-    r.seconds_parts[2] = part.elapsed().as_secs_f64();
+    let ((), s_visible) = timed(|| measure_visibility(bsp, vdg, &oracle, options, &mut r));
+    r.seconds_parts = [s_leak, s_coverage, s_visible];
     r.seconds = t.elapsed().as_secs_f64();
     r
+}
+
+/// Runs `f` and returns its result with the seconds it took.
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = std::time::Instant::now();
+    let out = f();
+    (out, t.elapsed().as_secs_f64())
 }
 
 /// Rounds to the f32 grid the graph's queries see, so both sides judge the same point.
