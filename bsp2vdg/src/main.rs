@@ -368,6 +368,7 @@ fn json_report(
                 "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
                 "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
                 "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
+                "reduce_raise": s.reduce.as_ref().map(|r| [r.raised as f64, r.raised_by, r.raise_seconds]),
                 "reduce_refusals": s.reduce.as_ref().map(|r| {
                     r.refusals
                         .iter()

@@ -42,6 +42,7 @@
 mod check;
 mod mesh;
 mod queue;
+mod raise;
 mod remove;
 mod swap;
 mod volume;
@@ -112,6 +113,12 @@ pub struct ReduceStats {
     pub two_faces_concave: usize,
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
+    /// Vertices whose clearance was raised back after the reduction (see
+    /// the `raise` module), and the sum of the raises (units).
+    pub raised: usize,
+    pub raised_by: f64,
+    /// Seconds the raise took (part of the reduction's time).
+    pub raise_seconds: f64,
     pub stop: StopReason,
     /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
     /// refusal reason (see [`refusals`]), how many of the vertices left it
@@ -168,7 +175,7 @@ pub fn reduce_with_ticks(
     // times; from a thread outside the pool each fork wakes a worker and
     // puts the caller to sleep (a tenth of the time at one thread). So the
     // loop runs on a worker, and its ticks come back to this thread.
-    let (mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
+    let (mut mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
         run(graph, options, progress, tick)
     } else {
         let (tx, rx) = std::sync::mpsc::channel::<Tick>();
@@ -188,9 +195,6 @@ pub fn reduce_with_ticks(
                 .unwrap_or_else(|e| std::panic::resume_unwind(e))
         })
     };
-    let out = mesh.to_graph();
-    stats.vertices_after = out.vertices.len();
-    stats.faces_after = out.faces.len();
     stats.swaps = ops[Op::Swap as usize] as usize;
     stats.one_face = ops[Op::OneFace as usize] as usize;
     stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
@@ -201,13 +205,21 @@ pub fn reduce_with_ticks(
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
             eprintln!(
                 "reduce: refusals of the {} vertices left:",
-                stats.vertices_after
+                mesh.live_vertices()
             );
             for (name, n) in &stats.refusals {
                 eprintln!("  {name:<30} {n}");
             }
         }
     }
+    let t = Instant::now();
+    let raised = raise::raise(graph, &mut mesh);
+    stats.raised = raised.raised;
+    stats.raised_by = raised.total;
+    stats.raise_seconds = t.elapsed().as_secs_f64();
+    let out = mesh.to_graph();
+    stats.vertices_after = out.vertices.len();
+    stats.faces_after = out.faces.len();
     (out, stats)
 }
 
