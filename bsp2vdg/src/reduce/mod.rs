@@ -37,6 +37,11 @@
 //! never negative (see `volume::loss`). Before stopping for want of
 //! removable vertices all vertices are costed once more (a change two
 //! rings away can make a vertex removable without re-queuing it).
+//!
+//! Not in the thesis: after the loop the clearances the operations lowered
+//! are raised again as far as condition A against the unreduced volume
+//! allows (the `raise` module; the per-operation proofs lower more than
+//! needed, and the lowerings compound).
 
 #[cfg(debug_assertions)]
 mod check;
