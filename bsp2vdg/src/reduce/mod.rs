@@ -601,14 +601,15 @@ mod tests {
     fn stops_only_when_no_vertex_is_removable() {
         for seed in 1..=12 {
             let g = sheet(16, seed);
-            let (r, s) = reduce(&g, &ReduceOptions { limit: 0.0 }, &NoProgress);
+            let (_, s) = reduce(&g, &ReduceOptions { limit: 0.0 }, &NoProgress);
             assert_eq!(s.stop, StopReason::NothingRemovable);
+            // Taken when the loop stopped: the raise afterwards (the
+            // `raise` module) can give a vertex room for a swap again.
             assert!(
                 !s.refusals.iter().any(|x| x.0 == "removable"),
                 "{:?}",
                 s.refusals
             );
-            assert!(!refusals(&r).iter().any(|x| x.0 == "removable"));
             assert!(s.lost_volume >= 0.0);
         }
     }
