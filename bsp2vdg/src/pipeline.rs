@@ -179,6 +179,10 @@ fn reduce_graph(
         rs.swaps,
         secs(t.elapsed().as_secs_f64())
     ));
+    log.detail(format!(
+        "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost",
+        rs.batches, rs.costed, rs.requeued
+    ));
     (reduced, (rs, t.elapsed().as_secs_f64()))
 }
 
