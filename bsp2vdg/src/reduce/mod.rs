@@ -119,6 +119,12 @@ pub struct ReduceStats {
     pub batches: usize,
     pub costed: usize,
     pub requeued: usize,
+    /// Seconds spent on the initial costs, on costing batches (with the
+    /// next batch picked at the same time) and on the rest of the main
+    /// loop (committing, queue upkeep, final sweeps): where the time goes.
+    pub seconds_initial: f64,
+    pub seconds_batches: f64,
+    pub seconds_rest: f64,
     pub stop: StopReason,
     /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
     /// refusal reason (see [`refusals`]), how many of the vertices left it
@@ -227,7 +233,7 @@ fn run(
     tick: &mut dyn FnMut(&Tick),
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
-    let mut mesh = Mesh::new(graph);
+    let mut mesh = Mesh::new(&in_hilbert_order(graph));
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
     let mut stats = ReduceStats {
@@ -244,6 +250,7 @@ fn run(
     for (v, c) in initial.into_iter().enumerate() {
         queue.set(v as u32, c);
     }
+    stats.seconds_initial = start.elapsed().as_secs_f64();
     progress.start("Reduce", live.saturating_sub(stats.target) as u64);
     let mut last_tick = Instant::now();
     let mut ops = [0u64; Op::COUNT];
@@ -306,6 +313,7 @@ fn run(
         let batch_epoch = epoch;
         stats.batches += 1;
         stats.costed += results.iter().filter(|r| r.is_none()).count();
+        let costing = Instant::now();
         let (fresh, next_batch) = rayon::join(
             || {
                 batch
@@ -320,6 +328,7 @@ fn run(
             || claims.select(&mut queue, &mesh),
         );
         following = next_batch;
+        stats.seconds_batches += costing.elapsed().as_secs_f64();
         for (r, f) in results.iter_mut().zip(fresh) {
             if r.is_none() {
                 *r = f;
@@ -403,7 +412,35 @@ fn run(
         }
     }
     progress.finish();
+    stats.seconds_rest =
+        start.elapsed().as_secs_f64() - stats.seconds_initial - stats.seconds_batches;
     (mesh, stats, ops)
+}
+
+/// `graph` with its vertices in Hilbert order and its faces by their first
+/// vertex: a removal reads a few hundred vertices and faces around one
+/// spot, and with neighbours close in memory it waits for far fewer cache
+/// misses (the input order, from the tetrahedra, scatters a tenth of the
+/// edges across the whole array).
+fn in_hilbert_order(graph: &Graph) -> Graph {
+    let keys = crate::delaunay::sort::hilbert_keys(&graph.vertices);
+    let mut order: Vec<u32> = (0..graph.vertices.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&v| (keys[v as usize], v));
+    let mut id = vec![0u32; order.len()];
+    for (i, &v) in order.iter().enumerate() {
+        id[v as usize] = i as u32;
+    }
+    let mut faces: Vec<[u32; 3]> = graph
+        .faces
+        .iter()
+        .map(|f| f.map(|v| id.get(v as usize).copied().unwrap_or(u32::MAX)))
+        .collect();
+    faces.par_sort_by_key(|f| (f.iter().min().copied(), *f));
+    Graph {
+        vertices: order.iter().map(|&v| graph.vertices[v as usize]).collect(),
+        clearance: order.iter().map(|&v| graph.clearance[v as usize]).collect(),
+        faces,
+    }
 }
 
 /// Why the vertices of `graph` cannot be removed right now: per refusal
