@@ -189,13 +189,13 @@ impl Mesh {
 #[derive(Debug, Default)]
 pub(crate) struct Changes {
     /// Replaced face lists of vertices.
-    pub lists: Vec<(u32, FaceList)>,
+    pub lists: SmallVec<[(u32, FaceList); 8]>,
     /// Faces created, with ids `mesh.faces.len() + index`.
-    pub new_faces: Vec<[u32; 3]>,
+    pub new_faces: SmallVec<[[u32; 3]; 8]>,
     /// Face ids removed (old ones, and new ones removed again).
-    pub removed: Vec<u32>,
+    pub removed: SmallVec<[u32; 16]>,
     /// Lowered clearances.
-    pub radii: Vec<(u32, f64)>,
+    pub radii: SmallVec<[(u32, f64); 4]>,
     /// Operations performed, by kind (see [`Op`]).
     pub ops: [u32; Op::COUNT],
     /// `mesh.faces.len()` when the edit was made: the first new face id.
@@ -295,8 +295,8 @@ impl<'m> Edit<'m> {
     }
 
     /// The distinct vertices sharing a face with `v`, sorted.
-    pub fn neighbours(&self, v: u32) -> Vec<u32> {
-        let mut n = Vec::with_capacity(16);
+    pub fn neighbours(&self, v: u32) -> SmallVec<[u32; 24]> {
+        let mut n = SmallVec::new();
         for &f in self.faces_of(v) {
             n.extend(self.face(f).into_iter().filter(|&x| x != v));
         }
