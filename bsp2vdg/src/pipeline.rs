@@ -179,6 +179,16 @@ fn reduce_graph(
         rs.swaps,
         secs(t.elapsed().as_secs_f64())
     ));
+    log.detail(format!(
+        "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost; \
+         {} initial costs, {} batches, {} the rest",
+        rs.batches,
+        rs.costed,
+        rs.requeued,
+        secs(rs.seconds_initial),
+        secs(rs.seconds_batches),
+        secs(rs.seconds_rest)
+    ));
     (reduced, (rs, t.elapsed().as_secs_f64()))
 }
 

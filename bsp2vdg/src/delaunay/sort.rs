@@ -103,7 +103,7 @@ fn hilbert_key_reference(x: u32, y: u32, z: u32) -> u64 {
 }
 
 /// Hilbert keys of all points on a common cubic grid over their bounding box.
-fn hilbert_keys(points: &[[f64; 3]]) -> Vec<u64> {
+pub(crate) fn hilbert_keys(points: &[[f64; 3]]) -> Vec<u64> {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {

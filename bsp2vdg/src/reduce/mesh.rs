@@ -8,8 +8,16 @@
 //! code path, committed with [`Mesh::apply`], performs the removal. That is
 //! what keeps the result identical for any thread count.
 
+use smallvec::SmallVec;
+
 use super::volume::{P3, Shape, face_shape, face_volume, shape_volume};
 use crate::voronoi::Graph;
+
+/// The faces of a vertex. Most vertices have at most eight, kept inline:
+/// the reduction reads face lists more than anything else, and one memory
+/// access instead of two (list header, then the heap) is what costing and
+/// batch picking wait for.
+pub(crate) type FaceList = SmallVec<[u32; 8]>;
 
 /// The graph being reduced: positions, clearances, faces (with a tombstone
 /// per face) and for each vertex the ids of its live faces, in insertion
@@ -20,7 +28,7 @@ pub(crate) struct Mesh {
     pub clearance: Vec<f64>,
     pub faces: Vec<[u32; 3]>,
     pub alive: Vec<bool>,
-    pub vfaces: Vec<Vec<u32>>,
+    pub vfaces: Vec<FaceList>,
     /// Model volume (4.3) of each face with the current clearances: the
     /// costing reads the volumes of unchanged faces over and over.
     pub volume: Vec<f64>,
@@ -51,9 +59,9 @@ impl Mesh {
                 count[v as usize] += 1;
             }
         }
-        let mut vfaces: Vec<Vec<u32>> = count
+        let mut vfaces: Vec<FaceList> = count
             .iter()
-            .map(|&c| Vec::with_capacity(c as usize))
+            .map(|&c| FaceList::with_capacity(c as usize))
             .collect();
         for (i, f) in faces.iter().enumerate() {
             for &v in f {
@@ -181,13 +189,13 @@ impl Mesh {
 #[derive(Debug, Default)]
 pub(crate) struct Changes {
     /// Replaced face lists of vertices.
-    pub lists: Vec<(u32, Vec<u32>)>,
+    pub lists: SmallVec<[(u32, FaceList); 8]>,
     /// Faces created, with ids `mesh.faces.len() + index`.
-    pub new_faces: Vec<[u32; 3]>,
+    pub new_faces: SmallVec<[[u32; 3]; 8]>,
     /// Face ids removed (old ones, and new ones removed again).
-    pub removed: Vec<u32>,
+    pub removed: SmallVec<[u32; 16]>,
     /// Lowered clearances.
-    pub radii: Vec<(u32, f64)>,
+    pub radii: SmallVec<[(u32, f64); 4]>,
     /// Operations performed, by kind (see [`Op`]).
     pub ops: [u32; Op::COUNT],
     /// `mesh.faces.len()` when the edit was made: the first new face id.
@@ -287,8 +295,8 @@ impl<'m> Edit<'m> {
     }
 
     /// The distinct vertices sharing a face with `v`, sorted.
-    pub fn neighbours(&self, v: u32) -> Vec<u32> {
-        let mut n = Vec::with_capacity(16);
+    pub fn neighbours(&self, v: u32) -> SmallVec<[u32; 24]> {
+        let mut n = SmallVec::new();
         for &f in self.faces_of(v) {
             n.extend(self.face(f).into_iter().filter(|&x| x != v));
         }
@@ -375,14 +383,11 @@ impl<'m> Edit<'m> {
         vdgformat::triangle_clearance(self.balls(f), p)
     }
 
-    fn list_mut(&mut self, v: u32) -> &mut Vec<u32> {
+    fn list_mut(&mut self, v: u32) -> &mut FaceList {
         let i = match self.ch.lists.iter().position(|x| x.0 == v) {
             Some(i) => i,
             None => {
-                // Room for the faces a swap or two add.
-                let base = &self.base.vfaces[v as usize];
-                let mut list = Vec::with_capacity(base.len() + 4);
-                list.extend_from_slice(base);
+                let list = FaceList::from_slice(&self.base.vfaces[v as usize]);
                 self.ch.lists.push((v, list));
                 self.ch.lists.len() - 1
             }
@@ -392,7 +397,7 @@ impl<'m> Edit<'m> {
 
     pub fn remove_face(&mut self, f: u32) {
         for v in self.face(f) {
-            self.list_mut(v).retain(|&x| x != f);
+            self.list_mut(v).retain(|x| *x != f);
         }
         self.ch.removed.push(f);
     }

@@ -130,7 +130,7 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
                 return Err(candidates.why_none(e));
             };
             let [_, _, k3, k4] = s.k;
-            let lowered: Vec<u32> = [(k3, s.r3), (k4, s.r4)]
+            let lowered: smallvec::SmallVec<[u32; 2]> = [(k3, s.r3), (k4, s.r4)]
                 .into_iter()
                 .filter(|&(v, r)| r < e.radius(v))
                 .map(|x| x.0)
@@ -140,7 +140,7 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
             candidates.after(e, &s, &lowered);
             // The swap took away the edge k–k2 and no other (k3, k4 were
             // neighbours already).
-            nb.retain(|&v| v != s.k[1]);
+            nb.retain(|v| *v != s.k[1]);
             debug_assert_eq!(nb, e.neighbours(k));
         }
     }

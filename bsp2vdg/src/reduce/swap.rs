@@ -22,7 +22,10 @@
 
 use super::mesh::{Edit, Op};
 use super::remove::Refusal;
-use super::volume::{add, dist, loss, optimal_linear_reduction, perpendicular_feet, scale, sub};
+use super::volume::{
+    Shape, add, dist, face_shape, loss, optimal_linear_reduction, perpendicular_feet, scale,
+    shape_volume, sub,
+};
 
 /// Safety distance (game units) kept below the exact bound, covering the
 /// rounding of positions and clearances to f32 in the file.
@@ -86,6 +89,8 @@ pub(crate) struct Screened {
     q: super::volume::P3,
     old: f64,
     bound: f64,
+    /// Shapes of `(k1,k3,k4)` and `(k2,k3,k4)`: positions do not change.
+    shapes: [Shape; 2],
 }
 
 /// The cheap conditions of a swap of `k1–k2` (see the module docs).
@@ -128,14 +133,16 @@ pub(crate) fn screen(e: &Edit, k1: u32, k2: u32) -> Result<Screened, Refusal> {
         return Err(Refusal::SwapMissesCylinder);
     }
     let old = e.face_volume(fi) + e.face_volume(fj);
+    let shapes = [face_shape([p1, p3, p4]), face_shape([p2, p3, p4])];
+    let (r3, r4) = (e.radius(k3), e.radius(k4));
     let kept = if merge {
         0.0
     } else {
-        e.volume([k1, k3, k4], &[])
+        shape_volume(&shapes[0], [r1, r3, r4])
     };
     // Lowering clearances only shrinks the new faces, so `old − new` only
     // grows with it: its value without lowering bounds the loss from below.
-    let bound = (old - (kept + e.volume([k2, k3, k4], &[]))).max(0.0);
+    let bound = (old - (kept + shape_volume(&shapes[1], [r2, r3, r4]))).max(0.0);
     Ok(Screened {
         k: [k1, k2, k3, k4],
         fi,
@@ -145,6 +152,7 @@ pub(crate) fn screen(e: &Edit, k1: u32, k2: u32) -> Result<Screened, Refusal> {
         q,
         old,
         bound,
+        shapes,
     })
 }
 
@@ -158,13 +166,12 @@ pub(crate) fn finish(e: &Edit, s: &Screened) -> Result<Swap, Refusal> {
     if n3 <= 0.0 || n4 <= 0.0 {
         return Err(Refusal::SwapClearanceBound);
     }
-    let lowered = [(k3, n3), (k4, n4)];
     let kept = if s.merge {
         0.0
     } else {
-        e.volume([k1, k3, k4], &lowered)
+        shape_volume(&s.shapes[0], [e.radius(k1), n3, n4])
     };
-    let new = kept + e.volume([k2, k3, k4], &lowered);
+    let new = kept + shape_volume(&s.shapes[1], [e.radius(k2), n3, n4]);
     Ok(Swap {
         k: s.k,
         fi: s.fi,
@@ -212,7 +219,7 @@ pub(crate) struct Candidates {
     k: u32,
     /// Per neighbour (sorted): the plan (its cost without the lowering
     /// cost), the vertices it read, and its full cost once computed.
-    plans: Vec<Candidate>,
+    plans: smallvec::SmallVec<[Candidate; 12]>,
 }
 
 struct Candidate {
