@@ -231,7 +231,9 @@ pub fn reduce_with_ticks(
         }
     }
     let t = Instant::now();
-    let raised = raise::raise(graph, &mut mesh);
+    // The loop ran on the vertices in Hilbert order (see `run`); the raise
+    // needs the unreduced graph with the same vertex ids.
+    let raised = raise::raise(&in_hilbert_order(graph), &mut mesh);
     stats.raised = raised.raised;
     stats.raised_by = raised.total;
     stats.raise_seconds = t.elapsed().as_secs_f64();
