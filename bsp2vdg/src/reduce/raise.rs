@@ -281,19 +281,18 @@ impl<'g> Unreduced<'g> {
     /// The unreduced face of (locally) largest clearance at `x`, found by
     /// climbing from `seed` over faces sharing a vertex. A face whose
     /// bounding sphere shows it cannot beat the best so far is skipped.
-    fn best(&self, x: P3, seed: u32, seen: &mut Vec<u32>) -> (u32, f64) {
+    fn best(&self, x: P3, seed: u32, seen: &mut Seen) -> (u32, f64) {
         let mut best = (seed, self.lower(seed, x));
-        seen.clear();
-        seen.push(seed);
+        seen.clear(self.graph.faces.len());
+        seen.insert(seed);
         loop {
             let from = best.0;
             let tri = self.graph.faces[from as usize];
             for v in tri {
                 for &f in self.faces_of(v) {
-                    if seen.contains(&f) {
+                    if !seen.insert(f) {
                         continue;
                     }
-                    seen.push(f);
                     let (c, rho, top) = self.sphere[f as usize];
                     // `top − (|x − c| − ρ) < best`, without the root.
                     let reach = top + rho - best.1;
@@ -312,6 +311,40 @@ impl<'g> Unreduced<'g> {
             }
         }
     }
+}
+
+/// The unreduced faces a climb has looked at: a stamp per face, so a long
+/// climb does not search a growing list (one per thread, reused).
+#[derive(Default)]
+struct Seen {
+    stamp: Vec<u32>,
+    now: u32,
+}
+
+impl Seen {
+    /// Forgets every face (sizing the stamps for `faces` faces).
+    fn clear(&mut self, faces: usize) {
+        if self.stamp.len() < faces {
+            self.stamp.resize(faces, 0);
+        }
+        self.now = self.now.wrapping_add(1);
+        if self.now == 0 {
+            self.stamp.fill(0);
+            self.now = 1;
+        }
+    }
+
+    /// Whether `f` is new (it is marked seen either way).
+    fn insert(&mut self, f: u32) -> bool {
+        let s = &mut self.stamp[f as usize];
+        let new = *s != self.now;
+        *s = self.now;
+        new
+    }
+}
+
+thread_local! {
+    static SEEN: std::cell::RefCell<Seen> = std::cell::RefCell::new(Seen::default());
 }
 
 /// What one reduced face allows: its cells and, per cell, the clearances of
@@ -378,14 +411,13 @@ fn face_cells(mesh: &Mesh, unreduced: &Graph, un: &Unreduced, face: u32) -> Face
     // Best unreduced face per node of the finest grid, found when needed,
     // climbing from the best face of a node found before.
     let mut best = vec![(u32::MAX, 0.0f64); (n + 1) * (n + 1)];
-    let mut seen = Vec::with_capacity(64);
     let mut last = un.faces_of(t[0]).first().copied();
     let mut node = |k: (u16, u16), last: &mut Option<u32>| -> (u32, f64) {
         let i = usize::from(k.1) * (n + 1) + usize::from(k.0);
         if best[i].0 == u32::MAX
             && let Some(s) = *last
         {
-            best[i] = un.best(at(bary(n, k)), s, &mut seen);
+            best[i] = SEEN.with_borrow_mut(|seen| un.best(at(bary(n, k)), s, seen));
         }
         if best[i].0 != u32::MAX {
             *last = Some(best[i].0);
