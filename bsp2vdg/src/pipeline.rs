@@ -179,6 +179,12 @@ fn reduce_graph(
         rs.swaps,
         secs(t.elapsed().as_secs_f64())
     ));
+    log.info(format!(
+        "Raised {} vertices back towards their unreduced clearance (by {:.1} units on average) [{}]",
+        rs.raised,
+        rs.raised_by / rs.raised.max(1) as f64,
+        secs(rs.raise_seconds)
+    ));
     log.detail(format!(
         "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost; \
          {} initial costs, {} batches, {} the rest",
