@@ -7,6 +7,7 @@
 //!
 //! `cargo run --release -p vdgview --example coverage_loss -- MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS]`
 
+use anyhow::{Context, bail};
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::oracle::{Oracle, OracleOptions};
 use bsp2vdg::util::SplitMix64;
@@ -31,14 +32,25 @@ fn quantiles(v: &mut [f64]) -> String {
     )
 }
 
-fn main() {
+fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let n: usize = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(100_000);
-    let bsp = Bsp::open(std::path::Path::new(&args[0])).unwrap();
+    let [map, unreduced, reduced] = match args.get(..3) {
+        Some([a, b, c]) => [a, b, c],
+        _ => bail!("usage: coverage_loss MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS]"),
+    };
+    let n: usize = match args.get(3) {
+        Some(a) => a
+            .parse()
+            .with_context(|| format!("POINTS must be a count, not {a:?}"))?,
+        None => 100_000,
+    };
+    let bsp = Bsp::open(std::path::Path::new(map)).with_context(|| format!("cannot read {map}"))?;
     let oracle = Oracle::new(&bsp, &OracleOptions::default());
     let walls = Walls::of_map(&bsp, &OracleOptions::default());
-    let full_file = vdgformat::VdgFile::open(&args[1]).unwrap();
-    let red_file = vdgformat::VdgFile::open(&args[2]).unwrap();
+    let full_file =
+        vdgformat::VdgFile::open(unreduced).with_context(|| format!("cannot read {unreduced}"))?;
+    let red_file =
+        vdgformat::VdgFile::open(reduced).with_context(|| format!("cannot read {reduced}"))?;
     let (full, red) = (full_file.graph(), red_file.graph());
 
     // The reduced graph with the vertices' unreduced clearances.
@@ -61,7 +73,7 @@ fn main() {
     for f in red.faces() {
         b.add_face(*f);
     }
-    let raised_file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    let raised_file = vdgformat::VdgFile::from_bytes(&b.to_bytes()?)?;
     let raised = raised_file.graph();
     println!(
         "reduced vertices {}, lowered {} by: {}",
@@ -128,4 +140,5 @@ fn main() {
     for (k, v) in c.iter().take(12) {
         println!("  {:?} {}", k.map(|x| x * 512), v);
     }
+    Ok(())
 }
