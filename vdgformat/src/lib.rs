@@ -69,16 +69,35 @@ pub use read::{ReadError, Vdg, VdgFile};
 /// assert!((c - 6.0).abs() < 1e-9);
 /// ```
 pub fn triangle_clearance(balls: [([f64; 3], f64); 3], p: [f64; 3]) -> f64 {
-    let ball = |(c, r): ([f64; 3], f64)| geom::Ball {
-        c: geom::V3(c[0], c[1], c[2]),
-        r,
-    };
     geom::face_clearance(
-        ball(balls[0]),
-        ball(balls[1]),
-        ball(balls[2]),
+        f64_ball(balls[0]),
+        f64_ball(balls[1]),
+        f64_ball(balls[2]),
         geom::V3(p[0], p[1], p[2]),
     )
+}
+
+/// Exact clearance of `p` for the volume of the segment between two balls
+/// `(centre, radius)` with the radius interpolated linearly ("round cone"):
+/// the clearance a triangle with this edge has at least at `p`.
+///
+/// ```
+/// let c = vdgformat::segment_clearance([([0.0, 0.0, 0.0], 10.0), ([100.0, 0.0, 0.0], 10.0)], [50.0, 4.0, 0.0]);
+/// assert!((c - 6.0).abs() < 1e-9);
+/// ```
+pub fn segment_clearance(balls: [([f64; 3], f64); 2], p: [f64; 3]) -> f64 {
+    geom::edge_clearance(
+        f64_ball(balls[0]),
+        f64_ball(balls[1]),
+        geom::V3(p[0], p[1], p[2]),
+    )
+}
+
+fn f64_ball((c, r): ([f64; 3], f64)) -> geom::Ball {
+    geom::Ball {
+        c: geom::V3(c[0], c[1], c[2]),
+        r,
+    }
 }
 
 #[doc(hidden)]

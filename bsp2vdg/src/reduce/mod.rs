@@ -193,6 +193,8 @@ pub fn reduce_with_ticks(
     // a thread outside the pool each fork wakes a worker and puts the caller
     // to sleep. So the loop runs on a worker, and its ticks come back to
     // this thread.
+    let ordered = in_hilbert_order(graph);
+    let graph = &ordered;
     let (mut mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
         run(graph, options, progress, tick)
     } else {
@@ -231,9 +233,8 @@ pub fn reduce_with_ticks(
         }
     }
     let t = Instant::now();
-    // The loop ran on the vertices in Hilbert order (see `run`); the raise
-    // needs the unreduced graph with the same vertex ids.
-    let raised = raise::raise(&in_hilbert_order(graph), &mut mesh);
+    // The raise needs the unreduced graph with the mesh's vertex ids.
+    let raised = raise::raise(graph, &mut mesh);
     stats.raised = raised.raised;
     stats.raised_by = raised.total;
     stats.raise_seconds = t.elapsed().as_secs_f64();
@@ -243,7 +244,8 @@ pub fn reduce_with_ticks(
     (out, stats)
 }
 
-/// The reduction proper: the mesh at the end, the statistics so far and
+/// The reduction proper, on `graph` in Hilbert order (see
+/// [`in_hilbert_order`]): the mesh at the end, the statistics so far and
 /// the operation counts.
 fn run(
     graph: &Graph,
@@ -252,7 +254,7 @@ fn run(
     tick: &mut dyn FnMut(&Tick),
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
-    let mut mesh = Mesh::new(&in_hilbert_order(graph));
+    let mut mesh = Mesh::new(graph);
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
     let mut stats = ReduceStats {
@@ -628,6 +630,29 @@ fn unchanged_since(mesh: &Mesh, v: u32, changed_at: &[u32], epoch: u32) -> bool 
         })
 }
 
+/// An `n`×`n` grid of vertices (row by row; `at(x, y)` gives position and
+/// clearance) cut into two triangles per square: the sheets the tests
+/// reduce.
+#[cfg(test)]
+pub(crate) fn grid_sheet(n: usize, mut at: impl FnMut(usize, usize) -> ([f64; 3], f64)) -> Graph {
+    let mut g = Graph::default();
+    for y in 0..n {
+        for x in 0..n {
+            let (p, c) = at(x, y);
+            g.vertices.push(p);
+            g.clearance.push(c);
+        }
+    }
+    let id = |x: usize, y: usize| (y * n + x) as u32;
+    for y in 0..n.saturating_sub(1) {
+        for x in 0..n - 1 {
+            g.faces.push([id(x, y), id(x + 1, y), id(x, y + 1)]);
+            g.faces.push([id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
+        }
+    }
+    g
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -638,25 +663,11 @@ mod tests {
     /// sheets), varying clearances: swaps, merges and all removal cases occur.
     fn sheet(n: usize, seed: u64) -> Graph {
         let mut rng = SplitMix64::new(seed);
-        let mut g = Graph {
-            vertices: vec![],
-            clearance: vec![],
-            faces: vec![],
-        };
-        for y in 0..n {
-            for x in 0..n {
-                let z = (x as f64 * 0.7).sin() * 3.0 + rng.range(-0.5, 0.5);
-                g.vertices.push([x as f64 * 10.0, y as f64 * 10.0, z]);
-                g.clearance.push(rng.range(6.0, 12.0));
-            }
-        }
+        let mut g = grid_sheet(n, |x, y| {
+            let z = (x as f64 * 0.7).sin() * 3.0 + rng.range(-0.5, 0.5);
+            ([x as f64 * 10.0, y as f64 * 10.0, z], rng.range(6.0, 12.0))
+        });
         let id = |x: usize, y: usize| (y * n + x) as u32;
-        for y in 0..n - 1 {
-            for x in 0..n - 1 {
-                g.faces.push([id(x, y), id(x + 1, y), id(x, y + 1)]);
-                g.faces.push([id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
         // The fin: a strip above the line x = 5.
         let base = g.vertices.len() as u32;
         for y in 0..n {

@@ -149,31 +149,6 @@ impl Geom {
     }
 }
 
-/// `r(q) − |x − q|` at the point `q` of the segment `a–b` (radii `ra`, `rb`
-/// linear along it) where it is largest (`vdgformat`'s edge clearance); a
-/// lower bound of the clearance of any face with that edge.
-fn edge_value(a: P3, b: P3, ra: f64, rb: f64, x: P3) -> f64 {
-    let d = sub(b, a);
-    let len2 = dot(d, d);
-    let ax = sub(x, a);
-    if len2 <= f64::MIN_POSITIVE {
-        return ra.max(rb) - norm(ax);
-    }
-    let len = len2.sqrt();
-    let along = dot(ax, d) / len;
-    let h = (dot(ax, ax) - along * along).max(0.0).sqrt();
-    let k = (rb - ra) / len;
-    let s = if k >= 1.0 {
-        len
-    } else if k <= -1.0 {
-        0.0
-    } else {
-        (along + k * h / (1.0 - k * k).sqrt()).clamp(0.0, len)
-    };
-    let t = s / len;
-    ra + (rb - ra) * t - dist(x, add(a, scale(d, t)))
-}
-
 impl<'g> Unreduced<'g> {
     fn new(graph: &'g Graph) -> Unreduced<'g> {
         let n = graph.vertices.len();
@@ -263,7 +238,7 @@ impl<'g> Unreduced<'g> {
         let r = t.map(|v| self.graph.clearance[v as usize]);
         let edge = |i: usize| {
             let (u, v) = ((i + 1) % 3, (i + 2) % 3);
-            edge_value(p[u], p[v], r[u], r[v], x)
+            vdgformat::segment_clearance([(p[u], r[u]), (p[v], r[v])], x)
         };
         // Beyond the edge opposite the corner with a negative coordinate;
         // with two negative, beyond the third corner: its two edges.
@@ -595,29 +570,15 @@ mod tests {
     /// with the spacing (like a curved medial sheet in a hall): every swap
     /// on it lowers clearances (the new edge passes off the old faces).
     fn roof(n: usize) -> Graph {
-        let mut g = Graph {
-            vertices: vec![],
-            clearance: vec![],
-            faces: vec![],
-        };
-        for y in 0..n {
-            for x in 0..n {
-                let (fx, fy) = (x as f64 * 12.0, y as f64 * 12.0);
-                let (cx, cy) = (fx - 6.0 * n as f64, fy - 6.0 * n as f64);
-                let z = 0.01 * (cx * cx + cy * cy);
-                g.vertices.push([fx, fy, z]);
-                g.clearance
-                    .push(40.0 + 10.0 * (fx * 0.03).cos() + 6.0 * (fy * 0.04).sin());
-            }
-        }
-        let id = |x: usize, y: usize| (y * n + x) as u32;
-        for y in 0..n - 1 {
-            for x in 0..n - 1 {
-                g.faces.push([id(x, y), id(x + 1, y), id(x, y + 1)]);
-                g.faces.push([id(x + 1, y), id(x + 1, y + 1), id(x, y + 1)]);
-            }
-        }
-        g
+        crate::reduce::grid_sheet(n, |x, y| {
+            let (fx, fy) = (x as f64 * 12.0, y as f64 * 12.0);
+            let (cx, cy) = (fx - 6.0 * n as f64, fy - 6.0 * n as f64);
+            let z = 0.01 * (cx * cx + cy * cy);
+            (
+                [fx, fy, z],
+                40.0 + 10.0 * (fx * 0.03).cos() + 6.0 * (fy * 0.04).sin(),
+            )
+        })
     }
 
     fn clearance(g: &Graph, p: P3) -> f64 {
