@@ -174,7 +174,7 @@ fn run() -> Result<(), String> {
     let warmup = ((1.0 / args.dt).ceil() as usize).min(args.frames / 2);
     let mut times = Vec::with_capacity(args.frames);
     let (mut visible, mut cuts, mut outside) = (0usize, 0usize, 0usize);
-    let (mut vis_tests, mut reach) = (0u64, 0u64);
+    let (mut vis_tests, mut reach, mut settled) = (0u64, 0u64, 0u64);
     camera.reset(&g, &target_at(&route, 0.0));
     let mut allocs_before = 0;
     for i in 0..args.frames {
@@ -204,6 +204,7 @@ fn run() -> Result<(), String> {
             outside += usize::from(pose.status == vdgformat::camera::Status::TargetOutside);
             vis_tests += u64::from(camera.debug().visibility_tests);
             reach += u64::from(camera.debug().reachable);
+            settled += u64::from(camera.debug().field_settled);
         }
     }
     let allocations = ALLOCATIONS.load(Ordering::Relaxed) - allocs_before;
@@ -246,9 +247,10 @@ fn run() -> Result<(), String> {
             100.0 * visible as f64 / measured as f64
         );
         println!(
-            "  per update: {:.1} visibility tests, {:.1} reachable vertices",
+            "  per update: {:.1} visibility tests, {:.1} reachable vertices, {:.1} vertices settled by the distance field",
             vis_tests as f64 / measured as f64,
-            reach as f64 / measured as f64
+            reach as f64 / measured as f64,
+            settled as f64 / measured as f64
         );
     }
     Ok(())

@@ -216,6 +216,8 @@ pub struct FrameDebug {
     pub moved: f32,
     /// Line-of-sight tests made (the dominant cost of an update).
     pub visibility_tests: u32,
+    /// Vertices the distance field settled for this update's VDistances.
+    pub field_settled: u32,
 }
 
 impl FrameDebug {
@@ -261,6 +263,8 @@ struct State {
     look: V3,
     /// Seconds the target has been invisible (Δn_vis).
     hidden: f64,
+    /// Whether the target was visible at the end of the last update.
+    visible: bool,
     target_face: u32,
     target_prev: V3,
     /// Where the last global face search for an outside target ran.
@@ -288,6 +292,8 @@ struct Scene {
     novis: f64,
     /// The target's face came from a global search this frame.
     searched: bool,
+    /// `t_vis` lies in the volume of `face` (with the visibility margin).
+    t_vis_in_face: bool,
 }
 
 /// Scratch for the reachable vertices of one frame (sized once per graph).
@@ -321,6 +327,19 @@ pub struct Camera {
 /// near-plane margin (more than the trace's own margin, so it can always
 /// move, towards more room).
 const MARGIN_SLACK: f64 = 0.02;
+
+/// Clearance a point needs to count as inside a face volume in the camera's
+/// one-face visibility shortcut (the line-of-sight certificate's margin).
+const INSIDE: f64 = 1e-4;
+
+/// The distance field is steered towards the camera: the questions of one
+/// update come from within about this radius of it (its reachable vertices
+/// and clamped candidates).
+const FIELD_RADIUS: f32 = 48.0;
+
+/// How close (units) the camera's clamps and steps go to the boundary of
+/// the volume they are certified in.
+const CLAMP_TOL: f64 = 0.125;
 
 /// A line of sight crossing more face volumes than this counts as blocked
 /// (a camera's sight lines span a few faces; the bound caps the worst case
@@ -534,6 +553,7 @@ impl Camera {
             inertia_scale,
             novis,
             searched,
+            t_vis_in_face: g.fc(face, t_vis) > INSIDE,
         }
     }
 
@@ -593,7 +613,14 @@ impl Camera {
             let mut best = f64::INFINITY;
             for dir in cut_directions(scene.a_n) {
                 let goal = start + dir * d_mu;
-                let a = g.advance(scene.face, start.to_f32(), goal.to_f32(), margin, 64);
+                let a = g.advance_tol(
+                    scene.face,
+                    start.to_f32(),
+                    goal.to_f32(),
+                    margin,
+                    64,
+                    CLAMP_TOL,
+                );
                 let p = V3::from_f32(a.point);
                 let cost = self.dist_cost(scene, p) + self.angle_cost(scene, p);
                 if cost < best {
@@ -610,12 +637,16 @@ impl Camera {
             speed: 0.0,
             look,
             hidden: 0.0,
+            visible: false,
             target_face: scene.face,
             target_prev: scene.t,
             outside_search: None,
             heading,
         });
-        let visible = pos == scene.t_vis || self.sees(g, face, pos, scene.t_vis);
+        let visible = pos == scene.t_vis || self.sees(g, face, pos, scene);
+        if let Some(s) = self.state.as_mut() {
+            s.visible = visible;
+        }
         self.finish(pos, face, look, true, visible, scene.inside)
     }
 
@@ -632,15 +663,26 @@ impl Camera {
         if scene.dt <= 0.0 {
             // Re-aim only.
             self.state = Some(s);
-            let visible = self.sees(g, s.face, s.pos, scene.t_vis);
+            let visible = self.sees(g, s.face, s.pos, scene);
+            if let Some(st) = self.state.as_mut() {
+                st.visible = visible;
+            }
             return self.finish(s.pos, s.face, s.look, false, visible, scene.inside);
         }
         if self.params.distance_field {
-            self.field.reset(g, scene.face, scene.t.to_f32());
+            // Every VDistance of this update is asked near the camera.
+            let near = s.pos.to_f32();
+            let radius = FIELD_RADIUS;
+            self.field
+                .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
         }
         let here_clear = g.fc(s.face, s.pos);
         let margin = self.margin_at(here_clear);
-        let current = self.costs_at(g, scene, &s, s.pos, s.face, here_clear, None);
+        // The current position's visibility: last update's answer (the
+        // target moved a few units since) in our variant, a trace in the
+        // thesis'.
+        let known = (self.params.max_substeps > 0).then_some(s.visible);
+        let current = self.costs_at(g, scene, &s, s.pos, s.face, here_clear, known);
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
 
         // Step rule (thesis 5.3), frac = 1 − e^(−Δt/τ).
@@ -672,8 +714,9 @@ impl Camera {
         s.speed = v;
         s.pos = new_pos;
         s.face = new_face;
-        let visible = self.sees(g, s.face, s.pos, scene.t_vis);
+        let visible = self.sees(g, s.face, s.pos, scene);
         s.hidden = if visible { 0.0 } else { s.hidden + scene.dt };
+        s.visible = visible;
         s.look = if self.params.look_tau > 0.0 {
             let k = 1.0 - (-scene.dt / f64::from(self.params.look_tau)).exp();
             s.look + (scene.t - s.look) * k
@@ -682,6 +725,7 @@ impl Camera {
         };
         self.state = Some(s);
         self.debug.current = current;
+        self.debug.field_settled = self.field.settled();
         self.debug.speed = v as f32;
         self.debug.moved = moved as f32;
         let _ = best_cost;
@@ -720,13 +764,20 @@ impl Camera {
             step = step * (allowed / len);
         }
         let from = s.pos.to_f32();
-        let a = g.advance(s.face, from, (s.pos + step).to_f32(), margin, hops);
+        let a = g.advance_tol(
+            s.face,
+            from,
+            (s.pos + step).to_f32(),
+            margin,
+            hops,
+            CLAMP_TOL,
+        );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
         if !a.reached {
             let left = allowed - (p - s.pos).norm();
             if left > 1e-6 {
                 let goal = s.pos + dir * allowed;
-                let b = g.advance(s.face, from, goal.to_f32(), margin, hops);
+                let b = g.advance_tol(s.face, from, goal.to_f32(), margin, hops, CLAMP_TOL);
                 let q = V3::from_f32(b.point);
                 if (q - s.pos).norm() > (p - s.pos).norm() {
                     (p, f) = (q, b.face);
@@ -824,12 +875,13 @@ impl Camera {
                 s.face,
             )
         } else {
-            let a = g.advance(
+            let a = g.advance_tol(
                 s.face,
                 s.pos.to_f32(),
                 k.to_f32(),
                 margin,
                 self.params.max_substeps,
+                CLAMP_TOL,
             );
             (V3::from_f32(a.point), a.face)
         };
@@ -942,7 +994,7 @@ impl Camera {
     ) -> Costs {
         let visible = match visible {
             Some(v) => v,
-            None => k == scene.t_vis || self.sees(g, face, k, scene.t_vis),
+            None => k == scene.t_vis || self.sees(g, face, k, scene),
         };
         let vis = if visible {
             0.0
@@ -980,10 +1032,16 @@ impl Camera {
         if d.is_finite() { d } else { 1e6 }
     }
 
-    /// Visible(k, t) from face `face` (counted in the debug view).
-    fn sees(&mut self, g: &Vdg<'_>, face: u32, k: V3, t: V3) -> bool {
+    /// Visible(k, t) from face `face` (counted in the debug view). When
+    /// `k` lies in the volume of the target's face, which holds `t` too,
+    /// the segment does (the volume is convex): one evaluation instead of a
+    /// trace.
+    fn sees(&mut self, g: &Vdg<'_>, face: u32, k: V3, scene: &Scene) -> bool {
+        if scene.t_vis_in_face && g.fc(scene.face, k) > INSIDE {
+            return true;
+        }
         self.debug.visibility_tests += 1;
-        g.visible_from_within(face, k.to_f32(), t.to_f32(), VISIBILITY_HOPS)
+        g.visible_from_within(face, k.to_f32(), scene.t_vis.to_f32(), VISIBILITY_HOPS)
     }
 
     fn vis_cost(&self, vd: f64) -> f64 {

@@ -58,6 +58,9 @@ pub struct DistanceField {
     settled: u32,
     budget: u32,
     active: bool,
+    /// Where the questions will come from, and how far around it: the
+    /// search is steered there (A* with a consistent heuristic).
+    goal: Option<(V3, f64)>,
 }
 
 impl Default for DistanceField {
@@ -80,6 +83,7 @@ impl DistanceField {
             settled: 0,
             budget: DEFAULT_SETTLE_BUDGET,
             active: false,
+            goal: None,
         }
     }
 
@@ -111,6 +115,29 @@ impl DistanceField {
     /// face `face`: the graph is entered at the face's three vertices, as in
     /// `VDistance`. Panics if `face` is out of range.
     pub fn reset(&mut self, g: &Vdg<'_>, face: u32, source: [f32; 3]) {
+        self.start(g, face, source, None);
+    }
+
+    /// [`Self::reset`] for questions that will come from within about
+    /// `radius` of `near` (e.g. a camera's candidates): the search grows
+    /// towards there first (A* with the heuristic
+    /// `max(0, |P(v) − near| − radius)`, which is consistent, so every
+    /// settled distance is still exact and questions from anywhere else are
+    /// still answered exactly, only with more work).
+    pub fn reset_towards(
+        &mut self,
+        g: &Vdg<'_>,
+        face: u32,
+        source: [f32; 3],
+        near: [f32; 3],
+        radius: f32,
+    ) {
+        let goal = (V3::from_f32(near), f64::from(radius.max(0.0)));
+        self.start(g, face, source, Some(goal));
+    }
+
+    fn start(&mut self, g: &Vdg<'_>, face: u32, source: [f32; 3], goal: Option<(V3, f64)>) {
+        self.goal = goal.filter(|(p, r)| p.norm().is_finite() && r.is_finite());
         self.reserve(g);
         self.epoch = (self.epoch + 1) & (u32::MAX >> 1);
         if self.epoch == 0 {
@@ -125,7 +152,7 @@ impl DistanceField {
         self.active = true;
         for v in g.faces[face as usize] {
             let d = (g.pos(v) - self.source).norm() as f32;
-            self.relax(v, d);
+            self.relax(g, v, d);
         }
     }
 
@@ -134,9 +161,15 @@ impl DistanceField {
         self.active.then_some(self.source_face)
     }
 
-    /// The radius within which every vertex is settled so far.
+    /// The last key settled: without a goal, the radius within which every
+    /// vertex is settled so far.
     pub fn frontier(&self) -> f32 {
         self.frontier
+    }
+
+    /// How many vertices this field has settled since its reset.
+    pub fn settled(&self) -> u32 {
+        self.settled
     }
 
     /// Whether the settle budget ran out (distances beyond the frontier are
@@ -155,15 +188,31 @@ impl DistanceField {
         self.stamp[v as usize] == (self.epoch << 1 | 1)
     }
 
+    /// The A* heuristic of vertex position `p` (0 without a goal).
     #[inline]
-    fn relax(&mut self, v: u32, d: f32) {
+    fn h(&self, p: V3) -> f32 {
+        match self.goal {
+            Some((q, r)) => ((p - q).norm() - r).max(0.0) as f32,
+            None => 0.0,
+        }
+    }
+
+    #[inline]
+    fn relax_h(&mut self, v: u32, d: f32, h: f32) {
         let i = v as usize;
-        if !self.seen(v) || d < self.dist[i] {
-            self.dist[i] = d;
-            self.stamp[i] = self.epoch << 1;
-            // Non-negative f32 bits order like the values.
-            self.heap
-                .push(Reverse(u64::from(d.to_bits()) << 32 | u64::from(v)));
+        self.dist[i] = d;
+        self.stamp[i] = self.epoch << 1;
+        // Non-negative f32 bits order like the values.
+        let key = d + h;
+        self.heap
+            .push(Reverse(u64::from(key.to_bits()) << 32 | u64::from(v)));
+    }
+
+    #[inline]
+    fn relax(&mut self, g: &Vdg<'_>, v: u32, d: f32) {
+        if !self.seen(v) || d < self.dist[v as usize] {
+            let h = self.h(g.pos(v));
+            self.relax_h(v, d, h);
         }
     }
 
@@ -174,18 +223,26 @@ impl DistanceField {
             let Some(Reverse(key)) = self.heap.pop() else {
                 return;
             };
-            let (d, u) = (f32::from_bits((key >> 32) as u32), key as u32);
-            if self.is_settled(u) || d > self.dist[u as usize] {
+            let (f, u) = (f32::from_bits((key >> 32) as u32), key as u32);
+            if self.is_settled(u) {
                 continue;
+            }
+            let d = self.dist[u as usize];
+            let pu = g.pos(u);
+            if f > d + self.h(pu) {
+                continue; // stale entry
             }
             self.stamp[u as usize] |= 1;
             self.settled += 1;
-            self.frontier = d;
-            let pu = g.pos(u);
+            self.frontier = f;
             for &w in g.vertex_neighbours(u) {
                 if !self.is_settled(w) {
-                    let dw = d + (g.pos(w) - pu).norm() as f32;
-                    self.relax(w, dw);
+                    let pw = g.pos(w);
+                    let dw = d + (pw - pu).norm() as f32;
+                    if !self.seen(w) || dw < self.dist[w as usize] {
+                        let h = self.h(pw);
+                        self.relax_h(w, dw, h);
+                    }
                 }
             }
         }
@@ -204,7 +261,9 @@ impl DistanceField {
         if self.heap.is_empty() && !self.exhausted() {
             return f32::INFINITY;
         }
-        self.frontier.max((g.pos(v) - self.source).norm() as f32)
+        // Every unsettled vertex has g + h ≥ the last key settled.
+        let p = g.pos(v);
+        (self.frontier - self.h(p)).max((p - self.source).norm() as f32)
     }
 
     /// `VDistance(p, source)` for a point `p` in face `face` (thesis 5.1):
@@ -261,6 +320,36 @@ mod tests {
                 (want - got).abs() < 1e-2,
                 "face {f}: A* {want}, field {got}"
             );
+        }
+    }
+
+    #[test]
+    fn a_goal_steers_the_search_without_changing_the_answers() {
+        let bytes = strip(120);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let src = [12.0, 10.0, 1.0];
+        let far = g.face_count() as u32 - 1;
+        let [a, b, c] = g.faces()[far as usize].map(|v| g.vertices()[v as usize].pos);
+        let near = [0, 1, 2].map(|i| (a[i] + b[i] + c[i]) / 3.0);
+        let mut plain = DistanceField::new();
+        plain.reset(&g, 0, src);
+        let mut steered = DistanceField::new();
+        steered.reset_towards(&g, 0, src, near, 30.0);
+        // Ask at the goal first (the steered field settles less), then
+        // everywhere: the same distances.
+        let d0 = steered.vdistance(&g, far, near);
+        let settled_steered = steered.settled;
+        assert!((plain.vdistance(&g, far, near) - d0).abs() < 1e-2);
+        assert!(
+            settled_steered <= plain.settled,
+            "{settled_steered} vs {}",
+            plain.settled
+        );
+        for f in 0..g.face_count() as u32 {
+            let p = g.vertices()[g.faces()[f as usize][0] as usize].pos;
+            let (x, y) = (plain.vdistance(&g, f, p), steered.vdistance(&g, f, p));
+            assert!((x - y).abs() < 1e-2, "face {f}: {x} vs {y}");
         }
     }
 

@@ -75,12 +75,46 @@ impl<'a> Vdg<'a> {
     /// (the next face takes over from a certified point either way), so it
     /// stops early; points handed back to callers use the fine tolerance.
     fn exit_param_tol(&self, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
-        let g_end = self.fc(f, seg.at(1.0)) - eps;
-        if g_end > 0.0 {
-            return 1.0;
+        let g_lo = self.fc(f, seg.at(lo)) - eps;
+        self.exit_from(f, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
+    }
+
+    /// An upper bound on the parameter of any point of the segment inside
+    /// face `f`'s volume. The volume is the convex hull of the three vertex
+    /// balls, so its extent along the segment's direction is the largest of
+    /// `(P(v) − s)·d̂ + r(v)`: three dot products, no square root, and a
+    /// face that cannot beat the current reach is dropped without one
+    /// clearance evaluation.
+    #[inline]
+    fn reach_bound(&self, f: u32, seg: &Seg) -> f64 {
+        if seg.len.is_nan() || seg.len <= 0.0 {
+            return f64::INFINITY;
         }
-        let (mut lo, mut hi) = (lo, 1.0);
-        let (mut g_lo, mut g_hi) = (self.fc(f, seg.at(lo)) - eps, g_end);
+        let mut best = f64::NEG_INFINITY;
+        for v in self.faces[f as usize] {
+            let vx = self.vertices[v as usize];
+            let along = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) / seg.len;
+            best = best.max(along + f64::from(vx.clearance));
+        }
+        // Slack for the f32 data and f64 rounding of the evaluations.
+        (best + 1e-6 * (1.0 + best.abs())) / seg.len
+    }
+
+    /// The exit search of [`Self::exit_param_tol`] with the value at `lo`
+    /// (`g_lo`, minus `eps`) already known and the bracket's far end at the
+    /// reach bound `ub` instead of the segment's end when that is closer.
+    #[allow(clippy::too_many_arguments)]
+    fn exit_from(&self, f: u32, seg: &Seg, lo: f64, g_lo: f64, ub: f64, eps: f64, tol: f64) -> f64 {
+        let (mut lo, mut g_lo) = (lo, g_lo);
+        let mut hi = ub.min(1.0);
+        let mut g_hi = self.fc(f, seg.at(hi)) - eps;
+        if g_hi > 0.0 {
+            // The end (or, by rounding, the bound) is inside.
+            return hi;
+        }
+        if hi <= lo {
+            return lo;
+        }
         if g_lo <= 0.0 {
             // The caller's point was above eps by a bound, not by value: fall
             // back on it unchanged (bisection would also return `lo`).
@@ -214,17 +248,25 @@ impl<'a> Vdg<'a> {
         let here = seg.at(t);
         let mut best: Option<(u32, f64)> = None;
         for f in candidates {
+            // Faces sharing an edge come twice; the best one never helps again.
+            if best.is_some_and(|b| b.0 == f) {
+                continue;
+            }
             let reach = best.map_or(t, |b| b.1);
             if reach >= 1.0 {
                 break;
             }
-            if reach > t && self.fc_above(f, seg.at(reach), eps) <= eps {
+            let ub = self.reach_bound(f, seg);
+            if ub <= reach {
                 continue;
             }
-            if self.fc_above(f, here, eps) <= eps {
+            // The clearance at `reach` (exact when above eps): the face must
+            // hold both that point and `here` to extend the cover.
+            let at_reach = self.fc_above(f, seg.at(reach), eps);
+            if at_reach <= eps || (reach > t && self.fc_above(f, here, eps) <= eps) {
                 continue;
             }
-            let exit = self.exit_param_tol(f, seg, reach, eps, COVER_TOL);
+            let exit = self.exit_from(f, seg, reach, at_reach - eps, ub, eps, COVER_TOL);
             if best.is_none_or(|b| exit > b.1) {
                 best = Some((f, exit));
             }
@@ -310,6 +352,21 @@ impl<'a> Vdg<'a> {
         margin: f32,
         max_hops: u32,
     ) -> Advance {
+        self.advance_tol(face, from, to, margin, max_hops, BISECT_TOL)
+    }
+
+    /// [`Self::advance`] stopping within `tol` units of the boundary (the
+    /// point is certified either way; a camera does not need to touch the
+    /// boundary to a thousandth of a unit).
+    pub(crate) fn advance_tol(
+        &self,
+        face: u32,
+        from: [f32; 3],
+        to: [f32; 3],
+        margin: f32,
+        max_hops: u32,
+        tol: f64,
+    ) -> Advance {
         let eps = f64::from(margin).max(0.0) + TRACE_MARGIN;
         let seg = Seg::new(V3::from_f32(from), V3::from_f32(to));
         let stay = Advance {
@@ -324,7 +381,7 @@ impl<'a> Vdg<'a> {
         }
         let mut t0 = 0.0;
         let mut cur = face;
-        let mut t = self.exit_param(face, &seg, 0.0, eps);
+        let mut t = self.exit_param_tol(face, &seg, 0.0, eps, tol);
         if t < 1.0 && max_hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
