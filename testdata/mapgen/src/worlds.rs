@@ -13,7 +13,7 @@ const fn b(min: [f64; 3], max: [f64; 3]) -> Aabb {
 ///
 /// ```
 /// let names: Vec<String> = mapgen::worlds::worlds().into_iter().map(|w| w.name).collect();
-/// assert_eq!(names, ["box_room", "two_rooms", "pillars", "sky_room", "ramp", "complex"]);
+/// assert_eq!(names, ["box_room", "two_rooms", "pillars", "sky_room", "ramp", "complex", "l_corridor", "pillar_hall"]);
 /// ```
 pub fn worlds() -> Vec<World> {
     vec![
@@ -23,6 +23,8 @@ pub fn worlds() -> Vec<World> {
         sky_room(),
         ramp(),
         complex(),
+        l_corridor(),
+        pillar_hall(),
     ]
 }
 
@@ -190,6 +192,36 @@ pub fn complex() -> World {
         [96.0, 1216.0, 37.0],
         [-192.0, 960.0, 37.0],
     ];
+    w
+}
+
+/// An L-shaped corridor, 128 wide and 160 high, two legs of 640: the corner
+/// hides one leg from the other, the camera's classic test.
+pub fn l_corridor() -> World {
+    let mut w = World::new(
+        "l_corridor",
+        "L-shaped corridor 128 wide, 160 high, legs 640 long along +x and +y",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [640.0, 128.0, 160.0]));
+    w.free.push(b([0.0, 0.0, 0.0], [128.0, 640.0, 160.0]));
+    w.spawns = vec![[576.0, 64.0, 37.0], [64.0, 576.0, 37.0]];
+    w
+}
+
+/// A hall of 1024 × 768 × 256 with six floor-to-ceiling pillars (64 × 64) in
+/// two rows: sight lines around pillars come and go as a player walks.
+pub fn pillar_hall() -> World {
+    let mut w = World::new(
+        "pillar_hall",
+        "1024x768x256 hall with six 64x64 floor-to-ceiling pillars in two rows",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [1024.0, 768.0, 256.0]));
+    for x in [224.0, 480.0, 736.0] {
+        for y in [224.0, 480.0] {
+            w.solids.push(b([x, y, 0.0], [x + 64.0, y + 64.0, 256.0]));
+        }
+    }
+    w.spawns = vec![[96.0, 96.0, 37.0], [928.0, 672.0, 37.0]];
     w
 }
 

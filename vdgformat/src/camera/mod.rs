@@ -260,6 +260,8 @@ struct State {
     vel: V3,
     /// The step rule's speed V(c_i).
     speed: f64,
+    /// The speed f_clear rates positions by.
+    clear_speed: f64,
     look: V3,
     /// Seconds the target has been invisible (Δn_vis).
     hidden: f64,
@@ -635,6 +637,7 @@ impl Camera {
             face,
             vel: V3(0.0, 0.0, 0.0),
             speed: 0.0,
+            clear_speed: 0.0,
             look,
             hidden: 0.0,
             visible: false,
@@ -712,6 +715,14 @@ impl Camera {
         };
         let moved = (new_pos - s.pos).norm();
         s.speed = v;
+        // f_clear's Velocity(c): the thesis uses the commanded speed; ours
+        // the speed actually moved, so a blocked camera whose command winds
+        // up to top speed does not let f_clear outweigh everything.
+        s.clear_speed = if self.params.max_substeps == 0 {
+            v
+        } else {
+            moved / scene.dt
+        };
         s.pos = new_pos;
         s.face = new_face;
         let visible = self.sees(g, s.face, s.pos, scene);
@@ -1073,7 +1084,7 @@ impl Camera {
     }
 
     fn clear_cost(&self, s: &State, clearance: f64) -> f64 {
-        (s.speed * f64::from(self.params.clearance_sigma) / clearance.max(1e-3)).powi(2)
+        (s.clear_speed * f64::from(self.params.clearance_sigma) / clearance.max(1e-3)).powi(2)
     }
 
     fn finish(

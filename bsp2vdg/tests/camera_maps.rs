@@ -1,0 +1,258 @@
+//! The camera (vdgformat::camera) on compiled generated maps, judged by the
+//! maps' exact geometry (crate `mapgen`), never by the graph: a player walks
+//! a scripted route on the floor (origin 37 above it) through an L corridor,
+//! a door between two rooms and a pillar hall; the camera must stay in free
+//! space at least the near-plane margin from every wall, keep the player in
+//! view (exact line of sight) nearly always, declare a cut when the player
+//! teleports, and give bit-identical poses run after run.
+
+mod common;
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use mapgen::world::World;
+use vdgformat::VdgFile;
+use vdgformat::camera::{Camera, CameraParams, Pose, Target};
+
+/// Compiles a generated map at the default options into a fresh folder and
+/// returns the graph's bytes with the map's exact description.
+fn compiled(name: &str) -> (VdgFile, World) {
+    let maps = common::repo_root().join("testdata/maps");
+    let dir = std::env::temp_dir().join(format!("bsp2vdg-camera-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let map: PathBuf = dir.join(format!("{name}.bsp"));
+    std::fs::copy(maps.join(format!("{name}.bsp")), &map).unwrap();
+    let out = dir.join(format!("{name}.vdg"));
+    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(["-quiet", "-o"])
+        .arg(&out)
+        .arg(&map)
+        .output()
+        .expect("bsp2vdg runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = VdgFile::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    let json = std::fs::read_to_string(maps.join(format!("{name}.json"))).unwrap();
+    (file, World::from_manifest_json(&json).unwrap())
+}
+
+/// A player walking through `waypoints` (x, y; origin at z = 37) at 250 u/s,
+/// pausing half a second at each inner waypoint and turning round there for
+/// a moment, as players look back.
+struct Walk {
+    points: Vec<[f64; 2]>,
+}
+
+impl Walk {
+    const SPEED: f64 = 250.0;
+    const PAUSE: f64 = 0.5;
+
+    fn duration(&self) -> f64 {
+        let legs: f64 = self.points.windows(2).map(|w| dist(w[0], w[1])).sum();
+        legs / Self::SPEED + Self::PAUSE * (self.points.len() - 2) as f64
+    }
+
+    fn at(&self, t: f64) -> Target {
+        let mut left = t;
+        for (i, w) in self.points.windows(2).enumerate() {
+            let leg = dist(w[0], w[1]) / Self::SPEED;
+            let dir = [
+                (w[1][0] - w[0][0]) / dist(w[0], w[1]),
+                (w[1][1] - w[0][1]) / dist(w[0], w[1]),
+            ];
+            if left <= leg {
+                let p = [
+                    w[0][0] + dir[0] * left * Self::SPEED,
+                    w[0][1] + dir[1] * left * Self::SPEED,
+                ];
+                let v = [dir[0] * Self::SPEED, dir[1] * Self::SPEED, 0.0];
+                return target(p, [dir[0], dir[1]], v);
+            }
+            left -= leg;
+            let last = i + 2 == self.points.len();
+            if !last && left <= Self::PAUSE {
+                // Standing; looking back during the second half of the pause.
+                let look = if left > Self::PAUSE / 2.0 {
+                    [-dir[0], -dir[1]]
+                } else {
+                    dir
+                };
+                return target(w[1], look, [0.0; 3]);
+            }
+            if !last {
+                left -= Self::PAUSE;
+            }
+        }
+        let n = self.points.len();
+        let (a, b) = (self.points[n - 2], self.points[n - 1]);
+        target(
+            b,
+            [(b[0] - a[0]) / dist(a, b), (b[1] - a[1]) / dist(a, b)],
+            [0.0; 3],
+        )
+    }
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+fn target(p: [f64; 2], heading: [f64; 2], v: [f64; 3]) -> Target {
+    Target::new(
+        [p[0] as f32, p[1] as f32, 37.0],
+        [heading[0] as f32, heading[1] as f32, 0.0],
+        v.map(|c| c as f32),
+    )
+}
+
+fn f64p(p: [f32; 3]) -> [f64; 3] {
+    p.map(f64::from)
+}
+
+struct Run {
+    poses: Vec<Pose>,
+    targets: Vec<Target>,
+}
+
+fn run(g: &vdgformat::Vdg<'_>, walk: &Walk, params: CameraParams, dt: f32) -> Run {
+    let mut cam = Camera::new(params).unwrap();
+    let frames = (walk.duration() / f64::from(dt)).ceil() as usize;
+    cam.reset(g, &walk.at(0.0));
+    let mut run = Run {
+        poses: Vec::with_capacity(frames),
+        targets: Vec::with_capacity(frames),
+    };
+    for i in 1..=frames {
+        let t = walk.at(i as f64 * f64::from(dt));
+        run.poses.push(cam.update(g, &t, dt));
+        run.targets.push(t);
+    }
+    run
+}
+
+/// Free space, margin and exact visibility along a route at 60 and 30 Hz.
+fn check_route(name: &str, walk: Walk, min_visible: f64) {
+    let (file, world) = compiled(name);
+    let g = file.graph();
+    for dt in [1.0 / 60.0, 1.0 / 30.0f32] {
+        let r = run(&g, &walk, CameraParams::default(), dt);
+        let (mut seen, mut hidden_run, mut longest) = (0usize, 0usize, 0usize);
+        for (i, (p, t)) in r.poses.iter().zip(&r.targets).enumerate() {
+            let eye = f64p(p.eye);
+            assert!(
+                world.is_free(eye),
+                "{name} dt {dt} frame {i}: eye {eye:?} in solid"
+            );
+            let c = world.clearance(eye);
+            assert!(
+                c >= 6.3,
+                "{name} dt {dt} frame {i}: eye {eye:?} only {c:.2} from a wall (near plane 6.4)"
+            );
+            assert!(
+                g.contains(p.eye),
+                "{name} dt {dt} frame {i}: eye left Volume(VDG)"
+            );
+            assert!(!p.cut, "{name} dt {dt} frame {i}: cut without a teleport");
+            if world.segment_free(eye, f64p(t.position)) {
+                seen += 1;
+                hidden_run = 0;
+            } else {
+                hidden_run += 1;
+                longest = longest.max(hidden_run);
+            }
+        }
+        let fraction = seen as f64 / r.poses.len() as f64;
+        eprintln!(
+            "{name} dt {dt:.4}: {} frames, target visible {:.1} %, longest occlusion {:.2} s",
+            r.poses.len(),
+            100.0 * fraction,
+            longest as f32 * dt
+        );
+        assert!(
+            fraction >= min_visible,
+            "{name} dt {dt}: target visible in only {:.1} % of frames",
+            100.0 * fraction
+        );
+        assert!(
+            longest as f32 * dt <= 1.0,
+            "{name} dt {dt}: target hidden {:.2} s in a row",
+            longest as f32 * dt
+        );
+    }
+}
+
+#[test]
+fn follows_round_the_corner_of_an_l_corridor() {
+    let walk = Walk {
+        points: vec![[576.0, 64.0], [64.0, 64.0], [64.0, 576.0]],
+    };
+    check_route("l_corridor", walk, 0.97);
+}
+
+#[test]
+fn follows_through_a_door_between_two_rooms() {
+    let walk = Walk {
+        points: vec![
+            [96.0, 192.0],
+            [300.0, 192.0],
+            [720.0, 192.0],
+            [900.0, 300.0],
+        ],
+    };
+    check_route("two_rooms", walk, 0.97);
+}
+
+#[test]
+fn follows_between_the_pillars_of_a_hall() {
+    let walk = Walk {
+        points: vec![
+            [96.0, 96.0],
+            [928.0, 96.0],
+            [928.0, 384.0],
+            [96.0, 384.0],
+            [96.0, 672.0],
+            [928.0, 672.0],
+        ],
+    };
+    check_route("pillar_hall", walk, 0.97);
+}
+
+#[test]
+fn a_teleport_is_a_declared_cut_and_poses_repeat_bit_for_bit() {
+    let (file, world) = compiled("two_rooms");
+    let g = file.graph();
+    let walk = Walk {
+        points: vec![[96.0, 192.0], [300.0, 192.0]],
+    };
+    let a = run(&g, &walk, CameraParams::default(), 1.0 / 60.0);
+    let b = run(&g, &walk, CameraParams::default(), 1.0 / 60.0);
+    assert_eq!(a.poses, b.poses);
+    let bits = |r: &Run| -> Vec<u32> {
+        r.poses
+            .iter()
+            .flat_map(|p| p.eye.into_iter().chain([p.yaw, p.pitch]).map(f32::to_bits))
+            .collect()
+    };
+    assert_eq!(bits(&a), bits(&b));
+
+    let mut cam = Camera::new(CameraParams::default()).unwrap();
+    cam.reset(&g, &walk.at(0.0));
+    for i in 1..60 {
+        assert!(
+            !cam.update(&g, &walk.at(f64::from(i) / 60.0), 1.0 / 60.0)
+                .cut
+        );
+    }
+    // Respawn in the other room.
+    let there = target([832.0, 192.0], [-1.0, 0.0], [0.0; 3]);
+    let p = cam.update(&g, &there, 1.0 / 60.0);
+    assert!(p.cut, "the teleport was not declared");
+    let eye = f64p(p.eye);
+    assert!(world.is_free(eye) && world.segment_free(eye, f64p(there.position)));
+    assert!(
+        eye[0] > 640.0,
+        "the camera stayed in the first room: {eye:?}"
+    );
+}
