@@ -128,7 +128,9 @@ fn segment_tests_match_exact_geometry() {
             "{}: {checked} of {n} segments agree exactly ({free} free)",
             map.display()
         );
-        assert!(checked > n / 2 && free > checked / 20 && free < checked);
+        // Both answers must occur often enough to mean something (a thin
+        // world like the L corridor has ~3 % free segments in its box).
+        assert!(checked > n / 2 && free > checked / 50 && free < checked);
     }
 }
 
