@@ -73,21 +73,6 @@ impl BakedTiling {
         centred(self.diff_y(gx, gy - 1), self.diff_y(gx, gy))
     }
 
-    /// `∂²S/∂x∂y` at a global node: the y-difference of the neighbouring
-    /// nodes' `∂S/∂x` (one-sided where a neighbour has no data, zero when
-    /// neither has).
-    fn node_dxy(&self, gx: i64, gy: i64) -> f64 {
-        let here = self.node_dx(gx, gy);
-        let below = self.node_dx(gx, gy - 1);
-        let above = self.node_dx(gx, gy + 1);
-        match (below, here, above) {
-            (Some(b), _, Some(a)) => 0.5 * (a - b),
-            (None, Some(c), Some(a)) => a - c,
-            (Some(b), Some(c), None) => c - b,
-            _ => 0.0,
-        }
-    }
-
     /// Hermite data (value, ∂x, ∂y, ∂xy) of the four nodes of cell `(i, j)`
     /// of slot `(sx, sy)`, in the order (0,0), (1,0), (0,1), (1,1).
     fn cell_hermite(&self, sx: u32, sy: u32, i: usize, j: usize) -> [[f64; 4]; 4] {
@@ -101,7 +86,10 @@ impl BakedTiling {
                 t.s(i + a as usize, j + b as usize),
                 self.node_dx(gx, gy).unwrap_or(0.0),
                 self.node_dy(gx, gy).unwrap_or(0.0),
-                self.node_dxy(gx, gy),
+                // Zero twist: any node-only choice keeps the patch C¹;
+                // a finite-difference twist overshoots beside stagnation
+                // corners (3.5 % vs 11 % backflow in the river).
+                0.0,
             ];
         }
         out
@@ -348,10 +336,18 @@ const GAUSS3: [(f64, f64); 3] = [
     (0.774_596_669_241_483_4, 5.0 / 9.0),
 ];
 
-/// Mean of the available one-sided differences.
+/// Node slope from the one-sided differences on either side: their harmonic
+/// mean when they agree in sign, zero when they do not (Fritsch–Butland), so
+/// the interpolant adds no overshoot where the node data is monotone — no
+/// spurious backflow beside stagnation points — and stays exact where the
+/// data is linear (both sides equal). One-sided at walls and borders.
 fn centred(a: Option<f64>, b: Option<f64>) -> Option<f64> {
     match (a, b) {
-        (Some(a), Some(b)) => Some(0.5 * (a + b)),
+        (Some(a), Some(b)) => Some(if a * b > 0.0 {
+            2.0 * a * b / (a + b)
+        } else {
+            0.0
+        }),
         (Some(a), None) | (None, Some(a)) => Some(a),
         (None, None) => None,
     }
