@@ -12,7 +12,7 @@
 use super::route::{Route, settle};
 use super::walk::{WalkStats, Waypoint, walk};
 use bsp2vdg::oracle::Oracle;
-use bsp2vdg::util::SplitMix64;
+use toolbox::SplitMix64;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 

@@ -11,7 +11,7 @@ use super::route::{CROUCH_HALF, Route, STAND_HALF, hull_fits, settle};
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::oracle::Oracle;
-use bsp2vdg::util::SplitMix64;
+use toolbox::SplitMix64;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 

@@ -8,7 +8,7 @@
 
 use super::route::{CROUCH_HALF, Route, STAND_HALF, TargetState, settle};
 use bsp2vdg::oracle::Oracle;
-use bsp2vdg::util::SplitMix64;
+use toolbox::SplitMix64;
 
 /// The walker's fixed step (the route is resampled at the replay's `--dt`).
 pub const STEP: f64 = 1.0 / 120.0;
