@@ -12,9 +12,9 @@
 use super::route::{Route, settle};
 use super::walk::{WalkStats, Waypoint, walk};
 use bsp2vdg::oracle::Oracle;
-use toolbox::SplitMix64;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
+use toolbox::SplitMix64;
 
 pub const NAV_MAGIC: u32 = 0xFEED_FACE;
 /// The area must be crossed crouched.

@@ -11,9 +11,9 @@ use super::route::{CROUCH_HALF, Route, STAND_HALF, hull_fits, settle};
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
 use bsp2vdg::bsp::Bsp;
 use bsp2vdg::oracle::Oracle;
-use toolbox::SplitMix64;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
+use toolbox::SplitMix64;
 
 /// Grid spacing of the floor search.
 pub const CELL: f64 = 16.0;
