@@ -586,30 +586,13 @@ pub fn write_samples(
     })
 }
 
-/// Writes a file via a temporary sibling and a rename.
+/// Writes a file via a synced temporary sibling and a rename ([`toolbox::write_atomic`]).
 pub fn write_atomic(
     path: &Path,
     body: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
 ) -> Result<(), CompileError> {
-    let err = |error| CompileError::Write {
+    toolbox::write_atomic(path, body).map_err(|error| CompileError::Write {
         path: path.to_path_buf(),
         error,
-    };
-    let tmp = path.with_extension(format!(
-        "{}.tmp{}",
-        path.extension().and_then(|e| e.to_str()).unwrap_or(""),
-        std::process::id()
-    ));
-    let result = (|| {
-        let file = std::fs::File::create(&tmp)?;
-        let mut w = std::io::BufWriter::new(file);
-        body(&mut w)?;
-        let file = w.into_inner().map_err(|e| e.into_error())?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(err)
+    })
 }
