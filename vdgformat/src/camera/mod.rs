@@ -566,6 +566,12 @@ impl Camera {
     /// now and then, not every frame. Returns (face, inside, searched).
     fn locate(&self, g: &Vdg<'_>, t: V3, hint: u32, state: Option<&State>) -> (u32, bool, bool) {
         if (hint as usize) < g.faces.len() {
+            // Our variant keeps last frame's face while it holds the target
+            // (any face holding it serves as the field's entry and the
+            // visibility anchor); the thesis climbs to ρ(t)'s face.
+            if !self.params.exact_reachable && g.fc(hint, t) > INSIDE {
+                return (hint, true, false);
+            }
             let (f, c) = g.climb(hint, t, 32);
             if c > 0.0 {
                 return (f, true, false);
@@ -931,40 +937,43 @@ impl Camera {
                 + self.inertia_cost(scene, pv)
                 + clear;
             sc.base.push(base);
-            let face = g.vertex_faces(v)[0];
-            sc.vd.push(self.vdistance(g, scene, face, pv));
+            sc.vd.push(f64::NAN);
             sc.vis.push(-1);
             if clear < best_clear {
                 (k_clear, best_clear) = (v, clear);
             }
         }
-        let t_vis = scene.t_vis.to_f32();
-        let mut tests = 0u32;
-        let mut visible = |g: &Vdg<'_>, sc: &mut Scratch, i: usize| -> bool {
-            if sc.vis[i] < 0 {
-                let v = sc.reach[i];
-                tests += 1;
-                let face = g.vertex_faces(v)[0];
-                let ok =
-                    g.visible_from_within(face, g.vertices[v as usize].pos, t_vis, VISIBILITY_HOPS);
-                sc.vis[i] = i8::from(ok);
-            }
-            sc.vis[i] == 1
-        };
-        // k_vis.
+        // k_vis: every visible vertex costs 0; the thesis leaves the tie
+        // open, we take the one nearest the target (no VDistance needed).
+        // Only when none is visible, the least VDistance.
         sc.order.clear();
-        sc.order.extend((0..n).map(|i| (sc.vd[i], i as u32)));
+        sc.order
+            .extend((0..n).map(|i| ((g.pos(sc.reach[i]) - scene.t).norm(), i as u32)));
         sc.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut k_vis = sc.reach[sc.order[0].1 as usize];
+        let mut k_vis = None;
         for j in 0..n {
             let i = sc.order[j].1 as usize;
-            if visible(g, &mut sc, i) {
-                k_vis = sc.reach[i];
+            if self.vertex_visible(g, scene, &mut sc, i) {
+                k_vis = Some(sc.reach[i]);
                 break;
             }
         }
-        // k_neighb.
+        let k_vis = match k_vis {
+            Some(v) => v,
+            None => {
+                let mut best = (f64::INFINITY, sc.reach[0]);
+                for i in 0..n {
+                    let d = self.vertex_vd(g, scene, &mut sc, i);
+                    if d < best.0 {
+                        best = (d, sc.reach[i]);
+                    }
+                }
+                best.1
+            }
+        };
+        // k_neighb: branch and bound on the cost without visibility, a
+        // lower bound; VDistance only for hidden vertices.
         sc.order.clear();
         sc.order
             .extend((0..n).map(|i| (scene.novis * sc.base[i] / 5.0, i as u32)));
@@ -976,10 +985,11 @@ impl Camera {
             if lb >= best {
                 break;
             }
-            let vis = if visible(g, &mut sc, i) {
+            let vis = if self.vertex_visible(g, scene, &mut sc, i) {
                 0.0
             } else {
-                self.vis_cost(sc.vd[i])
+                let d = self.vertex_vd(g, scene, &mut sc, i);
+                self.vis_cost(d)
             };
             let total = vis / 5.0 + lb;
             if total < best {
@@ -987,8 +997,28 @@ impl Camera {
             }
         }
         self.scratch = sc;
-        self.debug.visibility_tests += tests;
         (g.pos(k_clear), g.pos(k_vis), g.pos(k_neighb), n as u32)
+    }
+
+    /// Visible(P(v), t) for the `i`-th reachable vertex, tested once per
+    /// update.
+    fn vertex_visible(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> bool {
+        if sc.vis[i] < 0 {
+            let v = sc.reach[i];
+            let ok = self.sees(g, g.vertex_faces(v)[0], g.pos(v), scene);
+            sc.vis[i] = i8::from(ok);
+        }
+        sc.vis[i] == 1
+    }
+
+    /// VDistance(P(v), t) for the `i`-th reachable vertex, computed once
+    /// per update and only when asked.
+    fn vertex_vd(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> f64 {
+        if sc.vd[i].is_nan() {
+            let v = sc.reach[i];
+            sc.vd[i] = self.vdistance(g, scene, g.vertex_faces(v)[0], g.pos(v));
+        }
+        sc.vd[i]
     }
 
     /// All cost terms at `k` (in face `face` with clearance `clear`).

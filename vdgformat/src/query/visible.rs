@@ -23,6 +23,10 @@ const TRACE_MARGIN: f64 = 1e-2;
 
 /// Bisection stops when the bracket is this short (world units)…
 const BISECT_TOL: f64 = 1e-3;
+/// How many candidate faces of a cover step are ordered by their reach
+/// bound (a face's neighbourhood rarely has more).
+const SORTED_CANDIDATES: usize = 128;
+
 /// A cover step's bracket may stay this long (world units): far below a
 /// face's extent, so hops stay few, and it costs about half the evaluations.
 const COVER_TOL: f64 = 0.125;
@@ -245,9 +249,23 @@ impl<'a> Vdg<'a> {
         t: f64,
         eps: f64,
     ) -> Option<(u32, f64)> {
+        // Candidates by their reach bound, best first: the first exact exit
+        // search usually settles the step and the bound cuts off the rest.
+        // (More candidates than the buffer holds are taken unsorted after.)
+        let mut buf = [(0.0f64, 0u32); SORTED_CANDIDATES];
+        let mut n = 0;
+        let mut rest = candidates.peekable();
+        while n < SORTED_CANDIDATES {
+            let Some(f) = rest.next() else { break };
+            buf[n] = (self.reach_bound(f, seg), f);
+            n += 1;
+        }
+        buf[..n].sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         let here = seg.at(t);
         let mut best: Option<(u32, f64)> = None;
-        for f in candidates {
+        let sorted = buf[..n].iter().copied();
+        let unsorted = rest.map(|f| (self.reach_bound(f, seg), f));
+        for (ub, f) in sorted.chain(unsorted) {
             // Faces sharing an edge come twice; the best one never helps again.
             if best.is_some_and(|b| b.0 == f) {
                 continue;
@@ -256,7 +274,6 @@ impl<'a> Vdg<'a> {
             if reach >= 1.0 {
                 break;
             }
-            let ub = self.reach_bound(f, seg);
             if ub <= reach {
                 continue;
             }
