@@ -351,3 +351,51 @@ fn a_different_graph_restarts_the_camera_and_the_director_says_so() {
     assert_eq!(d.active(), None);
     assert!(d.update(&b.graph(), 1.0 / 60.0).is_none());
 }
+
+#[test]
+fn random_wild_input_never_panics_and_never_leaves_the_volume() {
+    let file = l_corridor();
+    let g = file.graph();
+    let mut rng = toolbox::SplitMix64::new(7);
+    let specials = [
+        f32::NAN,
+        f32::INFINITY,
+        -f32::INFINITY,
+        f32::MAX,
+        -1e30,
+        0.0,
+        -0.0,
+        1e-30,
+    ];
+    let pick = |rng: &mut toolbox::SplitMix64| -> f32 {
+        match rng.below(10) {
+            0 => specials[rng.below(specials.len())],
+            1 => rng.range(-1e7, 1e7) as f32,
+            _ => rng.range(-100.0, 612.0) as f32,
+        }
+    };
+    for params in [CameraParams::default(), CameraParams::thesis()] {
+        let mut cam = Camera::new(params).unwrap();
+        for _ in 0..3000 {
+            let t = Target::new(
+                [pick(&mut rng), pick(&mut rng), pick(&mut rng)],
+                [pick(&mut rng), pick(&mut rng), pick(&mut rng)],
+                [pick(&mut rng), pick(&mut rng), pick(&mut rng)],
+            );
+            let dt = match rng.below(6) {
+                0 => pick(&mut rng),
+                1 => 0.0,
+                _ => rng.range(0.001, 0.05) as f32,
+            };
+            let p = cam.update(&g, &t, dt);
+            if p.status != Status::Held && p.face.is_some() {
+                assert!(
+                    g.contains(p.eye),
+                    "eye {:?} outside for {t:?} dt {dt}",
+                    p.eye
+                );
+            }
+            assert!(p.eye.iter().chain(&p.look_at).all(|c| c.is_finite()) || p == Pose::default());
+        }
+    }
+}
