@@ -654,7 +654,9 @@ mod tests {
                         w.name
                     );
                 }
-                assert!(empty > 1000, "{} hull {hull}: {empty} empty points", w.name);
+                // Enough empty points to mean something: 2.5 % (the L
+                // corridor, 128 wide, leaves hull 2 about 5 % of its box).
+                assert!(empty > 500, "{} hull {hull}: {empty} empty points", w.name);
             }
         }
     }
