@@ -16,6 +16,7 @@ pub mod pipeline;
 pub mod progress;
 pub mod reduce;
 pub mod sample;
+pub mod uptodate;
 pub mod util;
 pub mod voronoi;
 pub mod walls;

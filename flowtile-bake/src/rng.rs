@@ -33,4 +33,22 @@ impl Rng {
     pub fn unit(&mut self) -> f64 {
         self.0.next_f64()
     }
+
+    /// An index drawn with probability proportional to `weights[i]`
+    /// (non-negative, not all zero); the last positive one on rounding.
+    pub fn weighted(&mut self, weights: &[f64]) -> usize {
+        let total: f64 = weights.iter().sum();
+        let mut r = self.unit() * total;
+        let mut last = 0;
+        for (i, &w) in weights.iter().enumerate() {
+            if w > 0.0 {
+                if r < w {
+                    return i;
+                }
+                r -= w;
+                last = i;
+            }
+        }
+        last
+    }
 }
