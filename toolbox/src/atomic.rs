@@ -194,11 +194,16 @@ mod tests {
         std::fs::create_dir_all(target.join("inside")).unwrap();
         let e = write_bytes_atomic(&target, b"new").unwrap_err();
         assert!(
-            e.to_string().starts_with("the final rename of the finished temporary file"),
+            e.to_string()
+                .starts_with("the final rename of the finished temporary file"),
             "{e}"
         );
         assert!(target.join("inside").is_dir());
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "temporary left behind");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "temporary left behind"
+        );
         std::fs::remove_dir_all(&dir).unwrap();
     }
 
