@@ -9,6 +9,7 @@
 
 pub mod boundary;
 pub mod bsp;
+pub mod check;
 pub mod delaunay;
 pub mod log;
 pub mod oracle;
