@@ -239,5 +239,17 @@ fn cli_writes_json_csv_plots_and_frames() {
             "{args:?}: {err}"
         );
     }
+    // view --follow needs the graph; a bad route is a one-line error before any window opens.
+    for args in [vec!["--follow", "spawns"], vec!["--follow", "weird"]] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_vdgview"));
+        cmd.arg("view").arg(map("two_rooms"));
+        if args[1] == "weird" {
+            cmd.arg(&vdg);
+        }
+        let out = cmd.args(&args).env_remove("DISPLAY").output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("--follow") || err.contains("--routes"), "{err}");
+    }
     std::fs::remove_dir_all(&dir).ok();
 }
