@@ -249,7 +249,10 @@ fn cli_writes_json_csv_plots_and_frames() {
         let out = cmd.args(&args).env_remove("DISPLAY").output().unwrap();
         assert!(!out.status.success(), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains("--follow") || err.contains("--routes"), "{err}");
+        assert!(
+            err.contains("--follow") || err.contains("--routes"),
+            "{err}"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }
