@@ -67,20 +67,16 @@ impl Hull {
         }
     }
 
-    /// Clip hull `hull` (1..=3) of model `model`, or `None` when the map has no clip nodes.
+    /// Clip hull `hull` (1..=3) of model `model`, or `None` when the map has no clip
+    /// nodes or the hull is unused (see [`crate::bsp::Model::clip_headnode`]).
     pub fn from_clipnodes(bsp: &Bsp, model: usize, hull: usize) -> Option<Hull> {
-        if bsp.clipnodes.is_empty() {
-            return None;
-        }
+        let root = bsp.models[model].clip_headnode(hull, bsp.clipnodes.len())?;
         let nodes = bsp
             .clipnodes
             .iter()
             .map(|n| hull_node(bsp, n.plane, n.children))
             .collect();
-        Some(Hull {
-            nodes,
-            root: bsp.models[model].headnode[hull],
-        })
+        Some(Hull { nodes, root })
     }
 
     /// The contents value at `p`.

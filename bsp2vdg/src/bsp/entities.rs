@@ -1,9 +1,11 @@
 //! The entity lump: a text list of `{ "key" "value" ... }` blocks.
 //!
-//! Compilers write it without escapes; values may hold any byte but `"`. We read it
-//! tolerantly (lossy UTF-8, stray whitespace, a missing final NUL) but reject
-//! unbalanced braces or unterminated strings with the line where they occur.
-
+//! Read as the engines read it (Quake's and GoldSrc's `COM_Parse` feeding
+//! `ED_ParseEdict`): a token is a quoted string, a brace, or a bare word running to the
+//! next space, brace or quote; `//` starts a comment. So an unquoted key or value, a
+//! quote missing at the end of the lump, stray bytes or a missing final NUL do not stop
+//! a map the game loads. What the engine itself refuses is refused, with the line: a
+//! block that does not open with `{`, a key without a value, an entity left open.
 use super::BspError;
 
 /// One entity: its key/value pairs in file order.
@@ -42,66 +44,97 @@ impl Entity {
     }
 }
 
+/// One token of the entity text and the byte offset where it starts.
+#[derive(Debug, PartialEq)]
+enum Token {
+    Open,
+    Close,
+    Word(String),
+}
+
+/// `COM_Parse`: the next token after `*pos`, or `None` at the end of the text.
+fn next_token(text: &str, pos: &mut usize) -> Option<(usize, Token)> {
+    let bytes = text.as_bytes();
+    loop {
+        while *pos < bytes.len() && (bytes[*pos].is_ascii_whitespace() || bytes[*pos] == 0) {
+            *pos += 1;
+        }
+        if bytes[*pos..].starts_with(b"//") {
+            while *pos < bytes.len() && bytes[*pos] != b'\n' {
+                *pos += 1;
+            }
+            continue;
+        }
+        break;
+    }
+    let start = *pos;
+    match *bytes.get(start)? {
+        b'{' => {
+            *pos += 1;
+            Some((start, Token::Open))
+        }
+        b'}' => {
+            *pos += 1;
+            Some((start, Token::Close))
+        }
+        b'"' => {
+            // Up to the closing quote, or the end of the text when it is missing.
+            let end = text[start + 1..]
+                .find('"')
+                .map_or(bytes.len(), |i| start + 1 + i);
+            *pos = (end + 1).min(bytes.len());
+            Some((start, Token::Word(text[start + 1..end].to_string())))
+        }
+        _ => {
+            let end = text[start..]
+                .find(|c: char| c.is_ascii_whitespace() || matches!(c, '{' | '}' | '"' | '\0'))
+                .map_or(bytes.len(), |i| start + i);
+            *pos = end;
+            Some((start, Token::Word(text[start..end].to_string())))
+        }
+    }
+}
+
 /// Parses the entity lump text.
 pub fn parse_entities(bytes: &[u8]) -> Result<Vec<Entity>, BspError> {
     let text = String::from_utf8_lossy(bytes);
-    let text = text.trim_end_matches('\0');
-    let mut entities = Vec::new();
-    let mut chars = text.char_indices().peekable();
-    let mut current: Option<Entity> = None;
-    let mut pending_key: Option<String> = None;
+    let text = text.as_ref();
     let line_of = |pos: usize| text[..pos].bytes().filter(|&b| b == b'\n').count() + 1;
     let err = |pos: usize, what: &str| BspError::Malformed {
         lump: "entities",
         reason: format!("{what} at line {}", line_of(pos)),
     };
-    while let Some((pos, c)) = chars.next() {
-        match c {
-            '{' => {
-                if current.is_some() {
-                    return Err(err(pos, "'{' inside an entity"));
-                }
-                current = Some(Entity::default());
-            }
-            '}' => {
-                let Some(e) = current.take() else {
-                    return Err(err(pos, "'}' without an open entity"));
-                };
-                if pending_key.is_some() {
-                    return Err(err(pos, "key without a value"));
-                }
-                entities.push(e);
-            }
-            '"' => {
-                let Some(e) = current.as_mut() else {
-                    return Err(err(pos, "string outside an entity"));
-                };
-                let mut s = String::new();
-                let mut closed = false;
-                for (_, c) in chars.by_ref() {
-                    if c == '"' {
-                        closed = true;
-                        break;
-                    }
-                    s.push(c);
-                }
-                if !closed {
-                    return Err(err(pos, "unterminated string"));
-                }
-                match pending_key.take() {
-                    None => pending_key = Some(s),
-                    Some(k) => e.pairs.push((k, s)),
-                }
-            }
-            c if c.is_whitespace() || c == '\0' => {}
-            _ => return Err(err(pos, &format!("unexpected character {c:?}"))),
+    let mut entities = Vec::new();
+    let mut pos = 0;
+    while let Some((at, token)) = next_token(text, &mut pos) {
+        if token != Token::Open {
+            return Err(err(at, "expected '{' to open an entity"));
         }
-    }
-    if current.is_some() {
-        return Err(BspError::Malformed {
-            lump: "entities",
-            reason: "the last entity is not closed".into(),
-        });
+        let mut entity = Entity::default();
+        loop {
+            let Some((at, key)) = next_token(text, &mut pos) else {
+                return Err(BspError::Malformed {
+                    lump: "entities",
+                    reason: "the last entity is not closed".into(),
+                });
+            };
+            let key = match key {
+                Token::Close => break,
+                Token::Open => return Err(err(at, "'{' inside an entity")),
+                Token::Word(k) => k,
+            };
+            match next_token(text, &mut pos) {
+                Some((_, Token::Word(value))) => entity.pairs.push((key, value)),
+                Some((at, _)) => return Err(err(at, "key without a value")),
+                None => {
+                    return Err(BspError::Malformed {
+                        lump: "entities",
+                        reason: "the last entity is not closed".into(),
+                    });
+                }
+            }
+        }
+        entities.push(entity);
     }
     Ok(entities)
 }
@@ -130,6 +163,7 @@ mod tests {
             b"{ \"a\" \"b }",
             b"{ \"a\" }",
             b"{ x }",
+            b"x { }",
         ] {
             let msg = parse_entities(bad).unwrap_err().to_string();
             assert!(msg.starts_with("lump entities:"), "{msg}");
@@ -138,5 +172,18 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(msg.contains("line 3"), "{msg}");
+    }
+
+    /// What the game's `COM_Parse` reads must read: bare words, comments, a word
+    /// glued to a string.
+    #[test]
+    fn reads_what_the_engine_reads() {
+        let text = b"// made by hand\n{\n\"classname\" \"worldspawn\"\nmapversion 220\n}\n{\n\"classname\" \"light\"m 5\n\"origin\" \"1 2 3\"}";
+        let e = parse_entities(text).unwrap();
+        assert_eq!(e.len(), 2);
+        assert_eq!(e[0].get("mapversion"), Some("220"));
+        assert_eq!(e[1].classname(), "light");
+        assert_eq!(e[1].get("m"), Some("5"));
+        assert_eq!(e[1].origin(), Some([1.0, 2.0, 3.0]));
     }
 }
