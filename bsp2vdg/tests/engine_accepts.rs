@@ -36,7 +36,7 @@ fn lump(bytes: &[u8], i: usize) -> (usize, usize) {
 /// The map with lump `i` replaced by `data`, placed at the end of the file.
 fn with_lump(bytes: &[u8], i: usize, data: &[u8]) -> Vec<u8> {
     let mut out = bytes.to_vec();
-    while out.len() % 4 != 0 {
+    while !out.len().is_multiple_of(4) {
         out.push(0);
     }
     let offset = out.len() as i32;
@@ -83,7 +83,9 @@ fn compile(bytes: &[u8], name: &str) -> Vec<u8> {
 
 /// The graph of a .vdg file: positions, clearances and faces (the header also holds
 /// the source map's hash, which a mutation changes).
-fn graph(vdg: &[u8]) -> (Vec<([f32; 3], f32)>, Vec<[u32; 3]>) {
+type Graph = (Vec<([f32; 3], f32)>, Vec<[u32; 3]>);
+
+fn graph(vdg: &[u8]) -> Graph {
     let file = vdgformat::VdgFile::from_bytes(vdg).unwrap();
     let g = file.graph();
     let v = g.vertices().iter().map(|v| (v.pos, v.clearance)).collect();

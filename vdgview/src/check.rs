@@ -13,10 +13,10 @@
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::util::SplitMix64;
+use bsp::walls::Walls;
 use rayon::prelude::*;
 use vdgformat::Vdg;
 

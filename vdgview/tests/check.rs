@@ -1,7 +1,7 @@
 //! `check` on the generated maps: the compiler's graphs must not leak or see through
 //! walls, and a graph that does must be caught.
 
-use bsp2vdg::bsp::Bsp;
+use bsp::Bsp;
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;

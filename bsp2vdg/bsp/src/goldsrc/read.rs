@@ -1,7 +1,9 @@
 //! From bytes to a validated [`Bsp`]: header, lumps, normalisation, index checks.
 
 use super::raw::{self, LumpEntry};
-use super::*;
+use crate::entities::parse_entities;
+use crate::error::BspError;
+use crate::map::*;
 use bytemuck::Pod;
 
 const LUMP_NAMES: [&str; 15] = [
@@ -79,7 +81,8 @@ fn read_i32(bytes: &[u8], at: usize) -> i32 {
     i32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
 }
 
-pub(super) fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
+/// Reads a map of the Quake 1 family.
+pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
     if bytes.len() < HEADER_LEN {
         return Err(BspError::TooShort {
             len: bytes.len(),
