@@ -63,7 +63,8 @@ gen walls-112k-jitter boxlevel 11 10 1 0.001
 gen walls-475k boxlevel 22 21 1 0
 gen walls-475k-jitter boxlevel 22 21 1 0.001
 
-MAP=/work/shared/testmaps/goldsrc/nonfree/bspview-cstrike-de_dust2.bsp
+# The shared maps live beside the repository (SHARED overrides the folder).
+MAP=${SHARED:-../shared}/testmaps/goldsrc/nonfree/bspview-cstrike-de_dust2.bsp
 if [ ! -s "$OUT/de_dust2.samples.txt" ]; then
     if [ -f "$MAP" ] && cargo run --release -q -p bsp2vdg -- --stop-after samples -savesamples \
         --samples-format qhull -o "$OUT/de_dust2.vdg" "$MAP" >/dev/null 2>"$OUT/de_dust2.err"; then

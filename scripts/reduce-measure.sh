@@ -2,8 +2,9 @@
 # Thesis table 7.1 columns for the reduction (issue 5): per map and
 # reduction limit, samples, inner nodes/faces, reduced nodes/faces, .vdg
 # bytes, seconds per stage, peak memory (GNU time), the stop reason and,
-# with -check, coverage and leak from `vdgview check` (coverage against
-# the unreduced graph is the row with -rl 1.0).
+# with -check, coverage, walkable coverage (player origin, head), visible
+# false negatives inside the volume and leak from `vdgview check` (the
+# figures against the unreduced graph are the row with -rl 1.0).
 #
 #   scripts/reduce-measure.sh [-sd 24] [-rl 0.025[,0.05,...]] [-check] [-threads N] MAP.bsp...
 #
@@ -31,7 +32,7 @@ if [[ -z "${BIN_DIR:-}" ]]; then
 fi
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
-printf 'map\trl\tsamples\tinner_nodes\tinner_faces\treduced_nodes\treduced_faces\tratio\tbytes\tsample_s\tdelaunay_s\tvoronoi_s\tguard_s\treduce_s\tcheck_s\ttotal_s\tpeak_MiB\tstop\tcoverage\tleak\n'
+printf 'map\trl\tsamples\tinner_nodes\tinner_faces\treduced_nodes\treduced_faces\tratio\tbytes\tsample_s\tdelaunay_s\tvoronoi_s\tguard_s\treduce_s\tcheck_s\ttotal_s\tpeak_MiB\tstop\tcoverage\twalkable\twalkable_head\tvis_fn_inside\tleak\n'
 for map in "$@"; do
     name="$(basename "$map" .bsp)"
     cp "$map" "$TMP/$name.bsp"
@@ -56,6 +57,7 @@ row = [sys.argv[3], sys.argv[4], d["samples"], before, d.get("reduce_faces_befor
        *("%.2f" % s.get(k, 0.0) for k in ("sample", "delaunay", "voronoi", "guard", "reduce", "check", "total")),
        "%.0f" % mem, d.get("reduce_stop_reason") or "-",
        "%.3f" % c["coverage"] if "coverage" in c else "-",
+       *("%.4f" % c[k] if k in c else "-" for k in ("walkable_coverage", "walkable_coverage_head", "visible_fn_inside")),
        "%.4f" % c["leak"] if "leak" in c else "-"]
 print("\t".join(str(x) for x in row), flush=True)
 if d.get("reduce_refusals"):

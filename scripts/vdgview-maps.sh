@@ -13,8 +13,8 @@ mkdir -p "$OUT"
 cargo build --release -q -p bsp2vdg -p vdgview
 B=./target/release/bsp2vdg
 V=./target/release/vdgview
+# The shared maps live beside the repository (SHARED overrides the folder).
 SHARED=${SHARED:-../shared}
-[ -d "$SHARED" ] || SHARED=/work/shared
 maps=(testdata/maps/*.bsp "$SHARED"/testmaps/goldsrc/*.bsp)
 [ "${1:-}" = --nonfree ] && maps+=("$SHARED"/testmaps/goldsrc/nonfree/*.bsp)
 

@@ -25,4 +25,5 @@ pub mod pipeline;
 pub mod progress;
 pub mod reduce;
 pub mod sample;
+pub mod uptodate;
 pub mod voronoi;

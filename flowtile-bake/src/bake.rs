@@ -3,7 +3,6 @@
 //! (specified in `FORMAT.md`) that is validated completely on read.
 
 use std::fmt;
-use std::io::Write;
 use std::path::Path;
 
 use crate::fill::{Tile, fill_tile};
@@ -378,33 +377,11 @@ impl BakedTiling {
     }
 }
 
-/// Writes `bytes` to `path` through a temporary file and a rename.
+/// Writes `bytes` to `path` through a synced temporary file and a rename
+/// ([`toolbox::write_bytes_atomic`]).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), BakeError> {
-    let name = path.display().to_string();
-    let io = |e| BakeError::Io(name.clone(), e);
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| BakeError::Io(name.clone(), std::io::Error::other("not a file path")))?;
-    let tmp = dir.join(format!(
-        ".{}.tmp{}",
-        file_name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io(e));
-    }
-    Ok(())
+    toolbox::write_bytes_atomic(path, bytes)
+        .map_err(|e| BakeError::Io(path.display().to_string(), e))
 }
 
 /// The edge fluxes stored in a tile's stream function must equal its key's.

@@ -11,6 +11,7 @@ use flowtile_bake::bake::BakedTiling;
 use flowtile_bake::render::{RenderOptions, Style, render_to_file};
 use flowtile_bake::rng::Rng;
 use flowtile_bake::spec::Problem;
+use flowtile_bake::stats;
 use flowtile_bake::tileset::TileSet;
 use flowtile_bake::tiling::{Border, Conditions, Tiling};
 
@@ -227,6 +228,7 @@ fn grid_problem(grid: &str, set: &str, n: usize, border: BorderArg) -> Result<Pr
         seed: 1,
         fill_forced: false,
         description: None,
+        preferences: Default::default(),
     })
 }
 
@@ -245,7 +247,7 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
     } else {
         0
     };
-    tiling.random_fill(&mut Rng::new(seed))?;
+    tiling.random_fill_preferring(&mut Rng::new(seed), &problem.preferences)?;
     let seconds = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let baked = BakedTiling::from_tiling(&tiling)?;
@@ -254,6 +256,13 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
     if let Some(path) = output {
         flowtile_bake::bake::write_atomic(path, &bytes)?;
     }
+    let dirs = problem
+        .preferences
+        .slot_directions(problem.width, problem.height);
+    let against = stats::against_fraction(&baked, &dirs);
+    let corridors = stats::corridors(&baked);
+    let empty_corridors = corridors.iter().filter(|c| c.flux == 0).count();
+    let box_flux = stats::max_box_net_flux(&baked, 1000, seed);
     let stats = json!({
         "width": problem.width,
         "height": problem.height,
@@ -270,6 +279,11 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
         "max_divergence": baked.max_cell_divergence(),
         "max_flux_error": baked.max_flux_error(),
         "max_seam_mismatch": baked.max_seam_mismatch(),
+        "distinct_tiles_per_slot": stats::reuse_ratio(&baked),
+        "against_main_direction": against,
+        "corridors": corridors.len(),
+        "corridors_without_flow": empty_corridors,
+        "max_box_net_flux": box_flux,
     });
     if json {
         println!("{stats}");
@@ -288,10 +302,22 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
                 .unwrap_or_default()
         );
         println!(
-            "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}",
+            "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}, max |net flux|/boundary flux over 1000 random boxes {:.1e}",
             baked.max_cell_divergence(),
             baked.max_flux_error(),
-            baked.max_seam_mismatch()
+            baked.max_seam_mismatch(),
+            box_flux
+        );
+        println!(
+            "reuse: {} distinct tiles / {} slots = {:.3}; corridors {} ({} without flow){}",
+            baked.tiles.len(),
+            tiling.open_slots(),
+            stats::reuse_ratio(&baked),
+            corridors.len(),
+            empty_corridors,
+            against
+                .map(|a| format!("; area against the main direction {:.2}%", a * 100.0))
+                .unwrap_or_default()
         );
     }
     Ok(())

@@ -48,6 +48,21 @@ impl Tile {
         (self.face_u(i + 1, j) - self.face_u(i, j)) + (self.face_v(i, j + 1) - self.face_v(i, j))
     }
 
+    /// Mean over all cell faces of the face velocity running against the
+    /// unit direction `d` (`max(0, −d·v)`), in tile lengths per unit time:
+    /// zero when no face of the tile flows backwards.
+    pub fn backflow(&self, d: [f64; 2]) -> f64 {
+        let n = self.n;
+        let mut sum = 0.0;
+        for j in 0..n {
+            for i in 0..=n {
+                sum += (-d[0] * self.face_u(i, j)).max(0.0);
+                sum += (-d[1] * self.face_v(j, i)).max(0.0);
+            }
+        }
+        sum / (2 * n * (n + 1)) as f64
+    }
+
     /// Total flux across the edges, in the order left, bottom, right, top,
     /// summed face by face (in units of flux, not multiples).
     pub fn edge_fluxes(&self) -> [f64; 4] {

@@ -28,9 +28,11 @@
 pub mod bake;
 pub mod fill;
 pub mod flow;
+pub mod prefer;
 pub mod render;
 pub mod rng;
 pub mod runtime;
 pub mod spec;
+pub mod stats;
 pub mod tileset;
 pub mod tiling;

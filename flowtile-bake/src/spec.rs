@@ -27,12 +27,21 @@
 //! x = 3
 //! y = 4
 //! velocity = 1
+//! [prefer]                 # optional designed flow: weights on the random choice
+//! straight = 1.0           # favour tiles whose flow leaves opposite where it enters
+//! reuse = 4.0              # favour tiles already placed (fewer distinct tiles)
+//! [[prefer.direction]]     # main direction of a region of slots (overlaps add up)
+//! x = [0, 23]
+//! y = [0, 7]
+//! direction = [1.0, 0.0]
+//! strength = 2.0
 //! ```
 
 use std::fmt;
 
 use serde::Deserialize;
 
+use crate::prefer::{DirectionRegion, Preferences};
 use crate::tileset::{FluxRange, TileSet, default_corner_options};
 use crate::tiling::{Border, Conditions, Edge, MAX_SIDE, MAX_SLOTS, parse_mask};
 
@@ -155,6 +164,27 @@ struct CornerFix {
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
+struct DirectionSpec {
+    x: Span,
+    y: Span,
+    direction: [f64; 2],
+    #[serde(default = "unit")]
+    strength: f64,
+}
+
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PreferSpec {
+    #[serde(default)]
+    straight: f64,
+    #[serde(default)]
+    reuse: f64,
+    #[serde(default)]
+    direction: Vec<DirectionSpec>,
+}
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
 struct SpecFile {
     #[serde(default)]
     seed: u64,
@@ -168,6 +198,8 @@ struct SpecFile {
     flux: Vec<FluxSpec>,
     #[serde(default)]
     corner: Vec<CornerFix>,
+    #[serde(default)]
+    prefer: PreferSpec,
 }
 
 /// A tiling problem read from a spec.
@@ -187,6 +219,8 @@ pub struct Problem {
     pub fill_forced: bool,
     /// Free text from the spec.
     pub description: Option<String>,
+    /// Designed-flow weights for the random fill.
+    pub preferences: Preferences,
 }
 
 fn flux_range(r: &CountOrRange, axis: &str) -> Result<FluxRange, SpecError> {
@@ -292,6 +326,29 @@ impl Problem {
                 }
             }
         }
+        let mut preferences = Preferences {
+            regions: Vec::new(),
+            straight: spec.prefer.straight,
+            reuse: spec.prefer.reuse,
+        };
+        for (i, d) in spec.prefer.direction.iter().enumerate() {
+            let (x0, x1) = d.x.bounds();
+            let (y0, y1) = d.y.bounds();
+            if x1 >= w || y1 >= h {
+                return Err(SpecError(format!(
+                    "prefer.direction[{i}] reaches slot ({x1}, {y1}) outside the {w}x{h} grid"
+                )));
+            }
+            preferences.regions.push(DirectionRegion {
+                x: (x0, x1),
+                y: (y0, y1),
+                direction: d.direction,
+                strength: d.strength,
+            });
+        }
+        preferences
+            .validate()
+            .map_err(|e| SpecError(format!("prefer: {e}")))?;
         Ok(Problem {
             set,
             width: w,
@@ -300,6 +357,7 @@ impl Problem {
             seed: spec.seed,
             fill_forced: spec.fill_forced,
             description: spec.description,
+            preferences,
         })
     }
 }
@@ -324,12 +382,40 @@ mod tests {
                 if p.fill_forced {
                     t.fill_forced().unwrap();
                 }
-                t.random_fill(&mut Rng::new(p.seed)).unwrap();
+                t.random_fill_preferring(&mut Rng::new(p.seed), &p.preferences)
+                    .unwrap();
                 assert!(t.is_complete());
                 seen += 1;
             }
         }
         assert!(seen >= 3);
+    }
+
+    /// Issue 17 part 2 acceptance on the example specs: the river flows
+    /// downstream (≤ 1 % of its area upstream), every city street carries
+    /// flow, and both reuse tiles.
+    #[test]
+    fn designed_flows_do_what_the_specs_ask() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/flowtiles");
+        let bake = |name: &str| {
+            let p = Problem::from_toml(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap();
+            let mut t = Tiling::new(p.set.clone(), p.width, p.height, &p.conditions).unwrap();
+            t.random_fill_preferring(&mut Rng::new(p.seed), &p.preferences)
+                .unwrap();
+            let b = crate::bake::BakedTiling::from_tiling(&t).unwrap();
+            let dirs = p.preferences.slot_directions(p.width, p.height);
+            (b, dirs)
+        };
+        let (river, dirs) = bake("river.toml");
+        let up = crate::stats::against_fraction(&river, &dirs).unwrap();
+        assert!(up <= 0.01, "river upstream area {:.2} %", up * 100.0);
+        assert!(crate::stats::reuse_ratio(&river) < 0.5);
+        let (city, _) = bake("city.toml");
+        let streets = crate::stats::corridors(&city);
+        assert_eq!(streets.len(), 58);
+        let empty: Vec<_> = streets.iter().filter(|c| c.flux == 0).collect();
+        assert!(empty.is_empty(), "streets without flow: {empty:?}");
+        assert!(crate::stats::reuse_ratio(&city) < 0.25);
     }
 
     #[test]
@@ -354,6 +440,15 @@ mod tests {
             (format!("{base}bogus = 1\n"), "bogus"),
             ("not toml [".to_string(), "spec"),
             (base.replace("[grid]", "[grid]\nmask = \"..\""), "mask"),
+            (format!("{base}[prefer]\nreuse = -1\n"), "reuse"),
+            (
+                format!("{base}[[prefer.direction]]\nx = 9\ny = 0\ndirection = [1, 0]\n"),
+                "prefer.direction[0]",
+            ),
+            (
+                format!("{base}[[prefer.direction]]\nx = 0\ny = 0\ndirection = [0, 0]\n"),
+                "non-zero",
+            ),
         ];
         for (text, needle) in cases {
             let err = Problem::from_toml(&text).unwrap_err().to_string();

@@ -18,6 +18,7 @@
 use std::fmt;
 
 use crate::flow::{ArcId, Network};
+use crate::prefer::{Preferences, Usage, normalise_log_weights};
 use crate::rng::Rng;
 use crate::tileset::{TileKey, TileSet};
 
@@ -794,6 +795,53 @@ impl Tiling {
         Ok(())
     }
 
+    /// Fills every empty slot in scan-line order like [`Tiling::random_fill`],
+    /// drawing each tile with the weights of `prefs` among the tiles the
+    /// selection function allows (so the fill always completes). Uniform
+    /// preferences give exactly [`Tiling::random_fill`].
+    ///
+    /// ```
+    /// use flowtile_bake::{tileset::TileSet, rng::Rng};
+    /// use flowtile_bake::prefer::{DirectionRegion, Preferences};
+    /// use flowtile_bake::tiling::{Border, Conditions, Tiling};
+    /// let set = TileSet::paper(5, 3, 1, 4).unwrap();
+    /// let mut t = Tiling::new(set, 12, 4, &Conditions::borders(Border::Periodic, Border::Zero)).unwrap();
+    /// let p = Preferences {
+    ///     regions: vec![DirectionRegion { x: (0, 11), y: (0, 3), direction: [1.0, 0.0], strength: 3.0 }],
+    ///     ..Default::default()
+    /// };
+    /// t.random_fill_preferring(&mut Rng::new(1), &p).unwrap();
+    /// assert!(t.is_complete());
+    /// ```
+    pub fn random_fill_preferring(
+        &mut self,
+        rng: &mut Rng,
+        prefs: &Preferences,
+    ) -> Result<(), TilingError> {
+        if prefs.is_uniform() {
+            return self.random_fill(rng);
+        }
+        let mut chooser = Chooser {
+            dirs: prefs.slot_directions(self.width, self.height),
+            prefs: prefs.clone(),
+            usage: Usage::default(),
+            backflow: Default::default(),
+        };
+        for key in self.slots.iter().flatten() {
+            chooser.usage.add(*key);
+        }
+        for y in 0..self.height {
+            for x in 0..self.width {
+                if self.is_blocked(x, y) || self.tile(x, y).is_some() {
+                    continue;
+                }
+                let key = self.place_chosen(x, y, rng, Some(&mut chooser))?;
+                chooser.usage.add(key);
+            }
+        }
+        Ok(())
+    }
+
     /// Places a tile drawn uniformly from the selection of `(x, y)`.
     ///
     /// When at most two of the slot's edges are free (always so in scan-line
@@ -806,7 +854,20 @@ impl Tiling {
     /// acceptance the draw is uniform over `F`, and the expected work is one
     /// short move instead of three long ones.
     pub fn place_random(&mut self, x: u32, y: u32, rng: &mut Rng) -> Result<TileKey, TilingError> {
+        self.place_chosen(x, y, rng, None)
+    }
+
+    /// [`Tiling::place_random`] with optional preference weights.
+    fn place_chosen(
+        &mut self,
+        x: u32,
+        y: u32,
+        rng: &mut Rng,
+        mut chooser: Option<&mut Chooser>,
+    ) -> Result<TileKey, TilingError> {
         self.check_slot(x, y)?;
+        let slot = (y * self.width + x) as usize;
+        let fixed = self.slot_vertices(x, y).map(|v| self.corner_fixed[v]);
         let arcs = self.slot_arcs(x, y);
         let distinct = (0..4).all(|i| (0..i).all(|j| arcs[i] != arcs[j]));
         let free: Vec<usize> = (0..4)
@@ -822,12 +883,23 @@ impl Tiling {
                     "no tile fits slot ({x}, {y})"
                 )));
             }
-            let key = sel.key(rng.below(sel.len()));
+            let key = match chooser.as_deref_mut() {
+                None => sel.key(rng.below(sel.len())),
+                Some(c) => {
+                    let keys: Vec<TileKey> = sel.keys().collect();
+                    let mut logs: Vec<f64> = keys
+                        .iter()
+                        .map(|k| c.key_log_weight(slot, k, &self.set))
+                        .collect();
+                    normalise_log_weights(&mut logs);
+                    keys[rng.weighted(&logs)]
+                }
+            };
             self.place(x, y, key)?;
             return Ok(key);
         }
         if free.len() > 2 {
-            return self.place_random_tuple(x, y, arcs, rng);
+            return self.place_random_tuple(x, y, arcs, rng, chooser);
         }
         // Conservation l + b - r - t = 0 with signs per side.
         const SIGN: [i32; 4] = [1, 1, -1, -1];
@@ -850,13 +922,33 @@ impl Tiling {
                 hi -= 1;
             }
             let e = arcs[k];
+            let tuple = |v: i32| {
+                let mut t = values;
+                t[k] = v;
+                t[f] = partner(v);
+                t
+            };
+            // Log-weights of every candidate value (only with preferences).
+            let logs: Vec<f64> = match chooser.as_deref_mut() {
+                Some(c) => (lo..=hi)
+                    .map(|v| c.flux_log_weight(slot, tuple(v), fixed, &self.set))
+                    .collect(),
+                None => Vec::new(),
+            };
+            let first = lo;
             loop {
                 if lo > hi {
                     return Err(TilingError::Infeasible(format!(
                         "no tile fits slot ({x}, {y})"
                     )));
                 }
-                let v = lo + rng.below((hi - lo + 1) as u64) as i32;
+                let v = if logs.is_empty() {
+                    lo + rng.below((hi - lo + 1) as u64) as i32
+                } else {
+                    let mut w = logs[(lo - first) as usize..=(hi - first) as usize].to_vec();
+                    normalise_log_weights(&mut w);
+                    lo + rng.weighted(&w) as i32
+                };
                 let cur = self.net.arc(e).x;
                 if v > cur {
                     let reached = self.net.raise(e, v);
@@ -883,7 +975,7 @@ impl Tiling {
                 )));
             }
         }
-        Ok(self.commit_slot(x, y, values, rng))
+        Ok(self.commit_slot(x, y, values, rng, chooser))
     }
 
     /// Rejection sampling over whole flux tuples for slots with three or four
@@ -897,7 +989,10 @@ impl Tiling {
         y: u32,
         arcs: [ArcId; 4],
         rng: &mut Rng,
+        mut chooser: Option<&mut Chooser>,
     ) -> Result<TileKey, TilingError> {
+        let slot = (y * self.width + x) as usize;
+        let fixed = self.slot_vertices(x, y).map(|v| self.corner_fixed[v]);
         let b = arcs.map(|a| {
             let a = self.net.arc(a);
             (a.lo, a.hi)
@@ -913,16 +1008,32 @@ impl Tiling {
                 }
             }
         }
+        let mut logs: Vec<f64> = match chooser.as_deref_mut() {
+            Some(c) => candidates
+                .iter()
+                .map(|&t| c.flux_log_weight(slot, t, fixed, &self.set))
+                .collect(),
+            None => Vec::new(),
+        };
         while !candidates.is_empty() {
-            let i = rng.below(candidates.len() as u64) as usize;
+            let i = if logs.is_empty() {
+                rng.below(candidates.len() as u64) as usize
+            } else {
+                let mut w = logs.clone();
+                normalise_log_weights(&mut w);
+                rng.weighted(&w)
+            };
             let values = candidates[i];
             let mark = self.net.checkpoint();
             if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
                 self.net.commit();
-                return Ok(self.commit_slot(x, y, values, rng));
+                return Ok(self.commit_slot(x, y, values, rng, chooser));
             }
             self.net.rollback(mark);
             candidates.swap_remove(i);
+            if !logs.is_empty() {
+                logs.swap_remove(i);
+            }
         }
         Err(TilingError::Infeasible(format!(
             "no tile fits slot ({x}, {y})"
@@ -931,13 +1042,24 @@ impl Tiling {
 
     /// Records a slot whose fluxes are already fixed in the network, drawing
     /// its free corners uniformly.
-    fn commit_slot(&mut self, x: u32, y: u32, values: [i32; 4], rng: &mut Rng) -> TileKey {
+    /// With preferences, a placed tile with these fluxes and fitting corners
+    /// is copied with probability `reuse / (1 + reuse)`; otherwise free
+    /// corners are drawn with the main direction's weights.
+    fn commit_slot(
+        &mut self,
+        x: u32,
+        y: u32,
+        values: [i32; 4],
+        rng: &mut Rng,
+        chooser: Option<&mut Chooser>,
+    ) -> TileKey {
         let c = self.set.corners.len() as u64;
         let verts = self.slot_vertices(x, y);
-        let corners = verts.map(|v| match self.corner_fixed[v] {
-            Some(i) => i,
-            None => rng.below(c) as u16,
-        });
+        let fixed = verts.map(|v| self.corner_fixed[v]);
+        let corners = match chooser {
+            None => fixed.map(|f| f.unwrap_or_else(|| rng.below(c) as u16)),
+            Some(ch) => ch.corners((y * self.width + x) as usize, values, fixed, &self.set, rng),
+        };
         let [left, bottom, right, top] = values;
         let key = TileKey {
             left,
@@ -965,6 +1087,179 @@ impl Tiling {
         Ok(self.net.range(a))
     }
 }
+
+/// Preference state of one preferring fill.
+struct Chooser {
+    /// Scaled main direction per slot.
+    dirs: Vec<[f64; 2]>,
+    prefs: Preferences,
+    usage: Usage,
+    /// Backflow of filled tiles per (key, unit direction bits).
+    backflow: std::collections::HashMap<(TileKey, [u64; 2]), f64>,
+}
+
+impl Chooser {
+    /// Log-weight of a flux tuple in `slot`: the preferences' flux terms,
+    /// the reuse bonus, and with a main direction the backflow of the best
+    /// tile these fluxes allow with the slot's fixed corners (a one-tile
+    /// lookahead: fluxes whose every tile turns flow back are avoided).
+    fn flux_log_weight(
+        &mut self,
+        slot: usize,
+        f: [i32; 4],
+        fixed: [Option<u16>; 4],
+        set: &TileSet,
+    ) -> f64 {
+        let mut w = self.prefs.flux_log_weight(self.dirs[slot], f);
+        if self.prefs.reuse > 0.0 && self.usage.has_tuple(f) {
+            // Twice the bonus when a placed tile fits the fixed corners too.
+            let fits = !self.usage.compatible(f, fixed).is_empty();
+            w += self.prefs.reuse.ln_1p() * if fits { 2.0 } else { 1.0 };
+        }
+        let d = self.dirs[slot];
+        let free = fixed.iter().filter(|c| c.is_none()).count() as u32;
+        let c = set.corners.len();
+        if d != [0.0, 0.0] && c.pow(free) <= MAX_SCORED_CORNERS {
+            let best = (0..c.pow(free))
+                .map(|combo| {
+                    let key = key_with(f, fixed, combo, c);
+                    self.tile_backflow(&key, d, set)
+                })
+                .fold(f64::INFINITY, f64::min);
+            w -= BACKFLOW_WEIGHT * d[0].hypot(d[1]) * best / set.f_base.abs().max(1e-300);
+        }
+        w
+    }
+
+    /// Log-weight of a whole key (fluxes, corners, reuse, backflow).
+    fn key_log_weight(&mut self, slot: usize, k: &TileKey, set: &TileSet) -> f64 {
+        let mut w = self.prefs.flux_log_weight(self.dirs[slot], k.fluxes());
+        if self.prefs.reuse > 0.0 && self.usage.has_tuple(k.fluxes()) {
+            w += self.prefs.reuse.ln_1p();
+        }
+        for &c in &k.corners {
+            w += self.corner_log_weight(slot, c, set);
+        }
+        let d = self.dirs[slot];
+        if d != [0.0, 0.0] {
+            let back = self.tile_backflow(k, d, set);
+            w -= BACKFLOW_WEIGHT * d[0].hypot(d[1]) * back / set.f_base.abs().max(1e-300);
+        }
+        w
+    }
+
+    /// Backflow of the filled tile `key` against direction `d` (cached).
+    fn tile_backflow(&mut self, key: &TileKey, d: [f64; 2], set: &TileSet) -> f64 {
+        let len = d[0].hypot(d[1]);
+        let unit = [d[0] / len, d[1] / len];
+        *self
+            .backflow
+            .entry((*key, unit.map(f64::to_bits)))
+            .or_insert_with(|| crate::fill::fill_tile(set, key).backflow(unit))
+    }
+
+    /// Log-weight of a corner velocity option in `slot`.
+    fn corner_log_weight(&self, slot: usize, c: u16, set: &TileSet) -> f64 {
+        let d = self.dirs[slot];
+        let vmax = set
+            .corners
+            .iter()
+            .map(|v| v[0].hypot(v[1]))
+            .fold(0.0, f64::max);
+        if vmax == 0.0 {
+            return 0.0;
+        }
+        let v = set.corners[c as usize];
+        let along = d[0] * v[0] + d[1] * v[1];
+        let cross = (d[0] * v[1] - d[1] * v[0]).abs();
+        (along.min(0.0) - cross) / vmax
+    }
+
+    /// Corner indices for a slot whose fluxes are chosen.
+    fn corners(
+        &mut self,
+        slot: usize,
+        f: [i32; 4],
+        fixed: [Option<u16>; 4],
+        set: &TileSet,
+        rng: &mut Rng,
+    ) -> [u16; 4] {
+        let r = self.prefs.reuse;
+        if r > 0.0 && rng.unit() < r / (1.0 + r) {
+            let reusable = self.usage.compatible(f, fixed);
+            if !reusable.is_empty() {
+                let w: Vec<f64> = reusable.iter().map(|&(_, n)| n as f64).collect();
+                return reusable[rng.weighted(&w)].0.corners;
+            }
+        }
+        let d = self.dirs[slot];
+        let free = fixed.iter().filter(|c| c.is_none()).count() as u32;
+        let c = set.corners.len();
+        if d == [0.0, 0.0] || c.pow(free) > MAX_SCORED_CORNERS {
+            let mut logs: Vec<f64> = (0..c as u16)
+                .map(|i| self.corner_log_weight(slot, i, set))
+                .collect();
+            normalise_log_weights(&mut logs);
+            return fixed.map(|fc| fc.unwrap_or_else(|| rng.weighted(&logs) as u16));
+        }
+        // With a main direction, score every choice of the free corners by
+        // the backflow of the filled tile itself (cached per key), so the
+        // corners that make flow turn back inside the tile are avoided.
+        let strength = d[0].hypot(d[1]);
+        let mut keys = Vec::new();
+        let mut logs = Vec::new();
+        for combo in 0..c.pow(free) {
+            let key = key_with(f, fixed, combo, c);
+            let corner_w: f64 = key
+                .corners
+                .iter()
+                .zip(&fixed)
+                .filter(|(_, f)| f.is_none())
+                .map(|(&k, _)| self.corner_log_weight(slot, k, set))
+                .sum();
+            let back = self.tile_backflow(&key, d, set);
+            let reused = if r > 0.0 && self.usage.contains(&key) {
+                r.ln_1p()
+            } else {
+                0.0
+            };
+            keys.push(key.corners);
+            logs.push(
+                corner_w + reused
+                    - BACKFLOW_WEIGHT * strength * back / set.f_base.abs().max(1e-300),
+            );
+        }
+        normalise_log_weights(&mut logs);
+        keys[rng.weighted(&logs)]
+    }
+}
+
+/// The key with fluxes `f`, the fixed corners, and the free corners taken
+/// from the digits of `combo` in base `c`.
+fn key_with(f: [i32; 4], fixed: [Option<u16>; 4], combo: usize, c: usize) -> TileKey {
+    let mut rest = combo;
+    let corners = fixed.map(|fc| {
+        fc.unwrap_or_else(|| {
+            let v = (rest % c) as u16;
+            rest /= c;
+            v
+        })
+    });
+    let [left, bottom, right, top] = f;
+    TileKey {
+        left,
+        bottom,
+        right,
+        top,
+        corners,
+    }
+}
+
+/// Most corner combinations scored by their tile's backflow per slot.
+const MAX_SCORED_CORNERS: usize = 4096;
+/// Log-weight per unit of mean backflow speed (in units of `f_base`), times
+/// the direction's strength.
+const BACKFLOW_WEIGHT: f64 = 8.0;
 
 #[cfg(test)]
 mod tests;

@@ -13,24 +13,18 @@ use std::time::Instant;
 
 use vdgformat::{Vdg, VdgBuilder, VdgFile};
 
-struct Rng(u64);
+/// The workspace's one generator, with the draws these benchmarks use.
+struct Rng(toolbox::SplitMix64);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
     fn f(&mut self) -> f32 {
-        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        self.0.next_f32()
     }
     fn sym(&mut self, r: f32) -> f32 {
         (self.f() * 2.0 - 1.0) * r
     }
     fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
+        self.0.below(n)
     }
 }
 
@@ -121,7 +115,7 @@ fn main() {
         info.tree_node_count,
         file.as_bytes().len()
     );
-    let mut rng = Rng(42);
+    let mut rng = Rng(toolbox::SplitMix64::new(42));
     let n = 2000;
 
     // Single face evaluation, batched.

@@ -2,7 +2,6 @@
 
 use std::collections::BTreeMap;
 use std::fmt;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::geom::Aabb;
@@ -209,6 +208,13 @@ impl VdgBuilder {
     pub fn set_source(&mut self, name: &str, hash: u64) -> &mut Self {
         self.source_hash = hash;
         self.set_metadata("source.name", name)
+    }
+
+    /// Records only the XXH64 of the source map's bytes, not its name: the output then
+    /// does not depend on what the map file was called (hermetic builds).
+    pub fn set_source_hash(&mut self, hash: u64) -> &mut Self {
+        self.source_hash = hash;
+        self
     }
 
     /// Records the producing tool (`tool.name`, `tool.version`).
@@ -670,46 +676,10 @@ pub fn seal(bytes: &mut [u8]) {
 }
 
 fn write_file_atomic(path: &Path, bytes: &[u8]) -> Result<(), WriteError> {
-    let io_err = |p: &Path| {
-        let p = p.to_path_buf();
-        move |source| WriteError::Io { path: p, source }
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .ok_or_else(|| WriteError::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file path"),
-        })?
-        .to_string_lossy()
-        .into_owned();
-    // Unique per process and call, so concurrent writers never share a temp file.
-    static SERIAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let serial = SERIAL.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let tmp = dir.join(format!(".{name}.tmp{}-{serial}", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp)
-            .map_err(io_err(&tmp))?;
-        f.write_all(bytes).map_err(io_err(&tmp))?;
-        f.sync_all().map_err(io_err(&tmp))?;
-        drop(f);
-        std::fs::rename(&tmp, path).map_err(io_err(path))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-        return result;
-    }
-    // Persist the rename itself; not every platform can open directories.
-    if let Ok(d) = std::fs::File::open(&dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+    toolbox::write_bytes_atomic(path, bytes).map_err(|source| WriteError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 #[cfg(test)]

@@ -237,17 +237,6 @@ mod tests {
         inner(0.5 * (lo + hi))
     }
 
-    struct Lcg(u64);
-    impl Lcg {
-        fn f(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-    }
-
     #[test]
     fn constant_radius_is_distance_to_triangle_minus_radius() {
         let (a, b, c) = (
@@ -268,18 +257,18 @@ mod tests {
 
     #[test]
     fn closed_form_matches_ternary_search_on_random_faces() {
-        let mut rng = Lcg(7);
+        let mut rng = toolbox::SplitMix64::new(7);
         let mut worst = 0.0f64;
         for _ in 0..3000 {
             let mut pt = || {
                 V3(
-                    rng.f() * 20. - 10.,
-                    rng.f() * 20. - 10.,
-                    rng.f() * 20. - 10.,
+                    rng.next_f64() * 20. - 10.,
+                    rng.next_f64() * 20. - 10.,
+                    rng.next_f64() * 20. - 10.,
                 )
             };
             let (pa, pb, pc, p) = (pt(), pt(), pt(), pt());
-            let mut r = || rng.f() * 12.0;
+            let mut r = || rng.next_f64() * 12.0;
             let (a, b, c) = (
                 Ball { c: pa, r: r() },
                 Ball { c: pb, r: r() },

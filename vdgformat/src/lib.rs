@@ -40,11 +40,18 @@
 //! | [`Vdg::track`] | 3.3, 5.2 | the hint face and its neighbours |
 //! | [`Vdg::trace`], [`Vdg::visible`], [`Vdg::visible_from`] | 3.9 | a hop per face volume crossed |
 //! | [`Vdg::vdistance`], [`Vdg::path`], [`query::PathFinder`] | 5.1 | A* over the vertex graph |
-//! | [`Vdg::reachable`] | 5.3 | the face's neighbourhood |
+//! | [`Vdg::reachable`], [`Vdg::reachable_into`] | 5.3 | the face's neighbourhood |
+//! | [`Vdg::advance`] | 5.3, 7.2 | a hop per face volume crossed |
+//! | [`Vdg::path_with_clearance`] | — | A* over vertices with room for the agent |
+//! | [`query::DistanceField`] | 5.1 | one Dijkstra from the target, grown on demand |
+//!
+//! The automatic camera of the thesis (ch. 5, 6.2) and its director are in
+//! [`camera`].
 //!
 //! The file layout is documented in `FORMAT.md` next to this crate.
 
 mod build;
+pub mod camera;
 mod geom;
 mod hash;
 pub mod layout;
@@ -53,7 +60,7 @@ mod read;
 
 pub use build::{BuildError, DEFAULT_LEAF_SIZE, VdgBuilder, WriteError};
 pub use hash::xxh64;
-pub use query::{FaceHit, VdgPath};
+pub use query::{Advance, DistanceField, FaceHit, VdgPath};
 pub use read::{ReadError, Vdg, VdgFile};
 
 /// Exact clearance of `p` for the face volume of the triangle of balls

@@ -8,7 +8,7 @@ use vdgformat::layout::{Header, Info, SectionEntry, TreeNode, Vertex, section};
 use vdgformat::{ReadError, Vdg, VdgBuilder, VdgFile, xxh64};
 
 fn sample() -> VdgBuilder {
-    let mut b = random_soup(300, 900, &mut Rng(1));
+    let mut b = random_soup(300, 900, &mut Rng::new(1));
     b.set_leaf_size(32.0)
         .set_source("maps/test.bsp", xxh64(b"pretend map", 0))
         .set_tool("bsp2vdg", "0.1.0")

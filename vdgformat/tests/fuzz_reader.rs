@@ -100,7 +100,7 @@ fn mutate(base: &[u8], rng: &mut Rng) -> Vec<u8> {
 
 #[test]
 fn mutated_files_never_panic() {
-    let mut rng = Rng(2026);
+    let mut rng = Rng::new(2026);
     let bases: Vec<Vec<u8>> = vec![
         random_soup(60, 150, &mut rng)
             .set_leaf_size(80.0)
@@ -153,7 +153,7 @@ fn write_seed_corpus() {
     };
     let dir = std::path::PathBuf::from(dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut rng = Rng(2026);
+    let mut rng = Rng::new(2026);
     let seeds = [
         random_soup(60, 150, &mut rng)
             .set_leaf_size(80.0)

@@ -59,7 +59,7 @@ fn brute_face(v: [[f64; 4]; 3], p: [f64; 3]) -> f64 {
 
 #[test]
 fn face_clearance_matches_brute_force_sampling() {
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let b = random_soup(60, 300, &mut rng);
     let file = open(&b);
     let g = file.graph();
@@ -97,7 +97,7 @@ fn constant_clearance_grid_is_a_swept_sphere() {
     // than 24 to the rectangle [0,320]×[0,192] in z = 0.
     let file = open(flat(10, 6, 32.0, 24.0).set_leaf_size(64.0));
     let g = file.graph();
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     for _ in 0..3000 {
         let p = rng.point([-60.0, -60.0, -60.0], [380.0, 250.0, 60.0]);
         let want = 24.0 - rect_distance(p, 0.0, 320.0, 0.0, 192.0);
@@ -108,7 +108,7 @@ fn constant_clearance_grid_is_a_swept_sphere() {
 
 #[test]
 fn tree_queries_equal_brute_force_over_all_faces() {
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     for (nv, nf, bb) in [(400, 1500, 16.0), (2000, 6000, 64.0), (50, 80, 1000.0)] {
         let mut b = random_soup(nv, nf, &mut rng);
         b.set_leaf_size(bb);
@@ -150,7 +150,7 @@ fn visible_true_is_never_wrong_on_an_l_shape() {
     let truth = |p: [f32; 3]| {
         rect_distance(p, 0.0, 384.0, 0.0, 128.0).min(rect_distance(p, 0.0, 128.0, 0.0, 384.0))
     };
-    let mut rng = Rng(9);
+    let mut rng = Rng::new(9);
     let (mut yes, mut inside_segments, mut missed) = (0, 0, 0);
     for _ in 0..3000 {
         let s = rng.point([-25.0, -25.0, -22.0], [410.0, 410.0, 22.0]);
@@ -187,7 +187,7 @@ fn visible_true_is_never_wrong_on_an_l_shape() {
 
 #[test]
 fn visible_implies_positive_clearance_on_random_graphs() {
-    let mut rng = Rng(21);
+    let mut rng = Rng::new(21);
     let mut b = random_soup(800, 2400, &mut rng);
     b.set_leaf_size(40.0);
     let file = open(&b);
@@ -249,7 +249,7 @@ fn tracking_equals_from_scratch_on_random_walks() {
     );
     let file = open(b.clone().set_leaf_size(48.0));
     let g = file.graph();
-    let mut rng = Rng(17);
+    let mut rng = Rng::new(17);
     let (mut steps, mut same_value, mut face_changes) = (0, 0, 0);
     for _ in 0..20 {
         let mut p = [rng.range(100.0, 600.0), rng.range(100.0, 600.0), 0.0];
@@ -319,7 +319,7 @@ fn dijkstra(g: &vdgformat::Vdg<'_>, from: u32, to: u32) -> Option<f64> {
 
 #[test]
 fn astar_equals_dijkstra_on_random_graphs() {
-    let mut rng = Rng(23);
+    let mut rng = Rng::new(23);
     let mut found = 0;
     for round in 0..6 {
         let b = random_soup(150 + 50 * round, 200 + 60 * round, &mut rng);
@@ -386,7 +386,7 @@ fn reachable_vertices_have_free_straight_lines() {
         grid(12, 12, 32.0, |_, _| 0.0, |_, _| 20.0, |i, j| i < 4 || j < 4).set_leaf_size(32.0),
     );
     let g = file.graph();
-    let mut rng = Rng(31);
+    let mut rng = Rng::new(31);
     let mut total = 0;
     for _ in 0..300 {
         let p = rng.point([0.0, 0.0, -15.0], [384.0, 384.0, 15.0]);

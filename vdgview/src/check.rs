@@ -6,6 +6,11 @@
 //!   Must be 0: a camera placed inside the volume must never be inside a wall.
 //! - **coverage**: random free points whose true clearance (exact distance to the
 //!   nearest obstacle face) is at least 32 units, and the share of them inside the volume.
+//! - **walkable coverage**: random places where a standing player is — the player hull
+//!   (clip hull 1) free at the origin and the floor right below it (the origin dropped to
+//!   the floor, 36 units above the ground) — and the share of those origins inside the
+//!   volume; the same for the head (64 units above the ground, skipped where it is in
+//!   solid). The camera's target is there; outside the volume it can never be visible.
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
@@ -14,7 +19,7 @@
 //! are the same for any thread count.
 
 use bsp::Bsp;
-use bsp::oracle::{Oracle, OracleOptions};
+use bsp::oracle::{Hull, Oracle, OracleOptions};
 use bsp::util::SplitMix64;
 use bsp::walls::Walls;
 use rayon::prelude::*;
@@ -23,7 +28,7 @@ use vdgformat::Vdg;
 /// What to measure and how much.
 #[derive(Debug, Clone)]
 pub struct CheckOptions {
-    /// Random points for leak and for coverage each; a tenth as many segments.
+    /// Random points for leak, coverage and walkable coverage each; a tenth as many segments.
     pub samples: usize,
     /// The clearance from which free points must be covered.
     pub coverage_clearance: f64,
@@ -61,9 +66,15 @@ pub struct CheckReport {
     /// not seen (the misses `Visible` can be blamed for).
     pub free_segments_inside: usize,
     pub false_negatives_inside: usize,
+    /// Standing places drawn (player origins) and how many lie inside the volume.
+    pub walkable_points: usize,
+    pub walkable_covered: usize,
+    /// Their heads that are in free space, and how many of those lie inside the volume.
+    pub walkable_head_points: usize,
+    pub walkable_head_covered: usize,
     pub seconds: f64,
-    /// Seconds of the three measurements (leak, coverage, visibility).
-    pub seconds_parts: [f64; 3],
+    /// Seconds of the four measurements (leak, coverage, visibility, walkable).
+    pub seconds_parts: [f64; 4],
 }
 
 impl CheckReport {
@@ -84,6 +95,14 @@ impl CheckReport {
     pub fn visible_fn_inside(&self) -> f64 {
         ratio(self.false_negatives_inside, self.free_segments_inside)
     }
+    /// Share of the standing player origins inside the volume.
+    pub fn walkable_coverage(&self) -> f64 {
+        ratio(self.walkable_covered, self.walkable_points)
+    }
+    /// Share of the standing players' heads (where free) inside the volume.
+    pub fn walkable_coverage_head(&self) -> f64 {
+        ratio(self.walkable_head_covered, self.walkable_head_points)
+    }
     /// Whether the graph passes: nothing leaks, nothing is seen through walls.
     pub fn passed(&self) -> bool {
         self.leaked == 0 && self.false_positives == 0
@@ -96,6 +115,12 @@ impl CheckReport {
             "visible_fp": self.visible_fp(),
             "visible_fn": self.visible_fn(),
             "visible_fn_inside": self.visible_fn_inside(),
+            "walkable_coverage": self.walkable_coverage(),
+            "walkable_coverage_head": self.walkable_coverage_head(),
+            "walkable_points": self.walkable_points,
+            "walkable_covered": self.walkable_covered,
+            "walkable_head_points": self.walkable_head_points,
+            "walkable_head_covered": self.walkable_head_covered,
             "vertices": self.vertices,
             "faces": self.faces,
             "bytes": self.bytes,
@@ -114,6 +139,7 @@ impl CheckReport {
             "seconds_leak": self.seconds_parts[0],
             "seconds_coverage": self.seconds_parts[1],
             "seconds_visible": self.seconds_parts[2],
+            "seconds_walkable": self.seconds_parts[3],
             "passed": self.passed(),
         })
     }
@@ -154,7 +180,8 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         timed(|| measure_coverage(bsp, vdg, &oracle, &walls, options));
     (r.coverage_points, r.covered) = (points, covered);
     let ((), s_visible) = timed(|| measure_visibility(bsp, vdg, &oracle, options, &mut r));
-    r.seconds_parts = [s_leak, s_coverage, s_visible];
+    let ((), s_walkable) = timed(|| measure_walkable(bsp, vdg, &oracle, options, &mut r));
+    r.seconds_parts = [s_leak, s_coverage, s_visible, s_walkable];
     r.seconds = t.elapsed().as_secs_f64();
     r
 }
@@ -318,6 +345,123 @@ fn measure_visibility(
     r.false_negatives = s[4];
     r.free_segments_inside = s[5];
     r.false_negatives_inside = s[6];
+}
+
+/// The GoldSrc standing player: the origin is 36 units above the ground (the middle of
+/// the 72-unit clip hull 1), the head (eyes) 64 units above it.
+pub const ORIGIN_ABOVE_GROUND: f64 = 36.0;
+pub const HEAD_ABOVE_GROUND: f64 = 64.0;
+/// The steepest floor a player stands on: the engine's ground test wants the plane's
+/// normal to have z ≥ 0.7 (steeper slopes are slid down).
+pub const MIN_FLOOR_NORMAL_Z: f32 = 0.7;
+
+/// A place where a standing player is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Standing {
+    /// The player's origin: clip hull 1 free there, its floor right below.
+    pub origin: [f64; 3],
+    /// The head, 28 units above the origin, or `None` where that point is in solid.
+    pub head: Option<[f64; 3]>,
+}
+
+/// The player origins in the vertical column at (`x`, `y`) between heights `top` and
+/// `bottom`, from the top down: every place where clip hull 1 turns from free to
+/// blocked going down on a walkable slope (the origin dropped onto a floor).
+///
+/// ```no_run
+/// # let bsp = bsp::Bsp::open("map.bsp").unwrap();
+/// let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
+/// let hull = oracle.clip_hull(1).expect("the map has clip hulls");
+/// let floors = vdgview::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
+/// ```
+pub fn column_floors(
+    hull: &Hull,
+    oracle: &Oracle,
+    x: f64,
+    y: f64,
+    top: f64,
+    bottom: f64,
+) -> Vec<f64> {
+    let mut floors = Vec::new();
+    // The exit plane of the last leaf when that leaf was free.
+    let mut above_free: Option<[f32; 3]> = None;
+    hull.segment_leaves([x, y, top], [x, y, bottom], |t0, t1, c, exit| {
+        if !oracle.blocks(c) {
+            above_free = Some(exit);
+        } else if t1 > t0 {
+            // A zero-length blocked piece is a touched edge, not a floor.
+            if let Some(n) = above_free.take()
+                && n[2].abs() >= MIN_FLOOR_NORMAL_Z
+            {
+                floors.push(top + t0 * (bottom - top));
+            }
+        }
+    });
+    floors
+}
+
+/// `n` random standing places, drawn column by column uniformly over the world's
+/// horizontal extent (every floor of a column counts, so places are uniform over the
+/// walkable floor area seen from above), in chunks with their own seeds. Empty when
+/// the map has no clip hulls.
+pub fn standing_places(bsp: &Bsp, oracle: &Oracle, n: usize, seed: u64) -> Vec<Standing> {
+    let Some(hull) = oracle.clip_hull(1) else {
+        return Vec::new();
+    };
+    let (lo, hi) = free_bounds(bsp);
+    let chunks = n.div_ceil(CHUNK);
+    let parts: Vec<Vec<Standing>> = (0..chunks)
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = SplitMix64::new(seed ^ (0x3a1 << 44) ^ c as u64);
+            let want = CHUNK.min(n - c * CHUNK);
+            let mut out = Vec::with_capacity(want);
+            let mut columns = 0;
+            // Bounded, for maps where no player stands anywhere.
+            while out.len() < want && columns < 200 * want {
+                columns += 1;
+                let (x, y) = (rng.range(lo[0], hi[0]), rng.range(lo[1], hi[1]));
+                for z in column_floors(hull, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0) {
+                    let origin = widen(as_f32([x, y, z]));
+                    let h = widen(as_f32([x, y, z - ORIGIN_ABOVE_GROUND + HEAD_ABOVE_GROUND]));
+                    let head = oracle.is_free(h).then_some(h);
+                    out.push(Standing { origin, head });
+                }
+            }
+            out.truncate(want);
+            out
+        })
+        .collect();
+    parts.concat()
+}
+
+/// Walkable coverage: the share of standing places (origin, head) inside the volume.
+fn measure_walkable(
+    bsp: &Bsp,
+    vdg: &Vdg<'_>,
+    oracle: &Oracle,
+    options: &CheckOptions,
+    r: &mut CheckReport,
+) {
+    let places = standing_places(bsp, oracle, options.samples, options.seed);
+    let counts = places
+        .par_iter()
+        .map(|s| {
+            let head = s.head.map(|h| vdg.contains(as_f32(h)));
+            [
+                1,
+                vdg.contains(as_f32(s.origin)) as usize,
+                head.is_some() as usize,
+                head.unwrap_or(false) as usize,
+            ]
+        })
+        .reduce(|| [0; 4], |a, b| [0, 1, 2, 3].map(|i| a[i] + b[i]));
+    [
+        r.walkable_points,
+        r.walkable_covered,
+        r.walkable_head_points,
+        r.walkable_head_covered,
+    ] = counts;
 }
 
 /// The bounds of the world model, where free points are drawn.

@@ -20,14 +20,15 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Measure a graph against its map's BSP: leak, coverage, visibility errors (SPEC §8).
+    /// Measure a graph against its map's BSP: leak, coverage, walkable coverage, visibility
+    /// errors (SPEC §8).
     /// Exits non-zero when anything leaks or is seen through a wall.
     Check {
         #[arg(value_name = "MAP.bsp")]
         map: PathBuf,
         #[arg(value_name = "FILE.vdg")]
         vdg: PathBuf,
-        /// Random points for leak and for coverage each (a tenth as many segments).
+        /// Random points for leak, coverage and walkable coverage each (a tenth as many segments).
         #[arg(long, default_value_t = 1_000_000)]
         samples: usize,
         /// Seed of the random points.
@@ -215,12 +216,22 @@ fn run_check(
             r.visible_fn_inside()
         );
         println!(
-            "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s)",
+            "  walkable   {:.4}  ({} of {} standing player origins inside), head {:.4} ({} of {})",
+            r.walkable_coverage(),
+            r.walkable_covered,
+            r.walkable_points,
+            r.walkable_coverage_head(),
+            r.walkable_head_covered,
+            r.walkable_head_points
+        );
+        println!(
+            "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,
             r.seconds_parts[0],
             r.seconds_parts[1],
-            r.seconds_parts[2]
+            r.seconds_parts[2],
+            r.seconds_parts[3]
         );
     }
     Ok(r.passed())

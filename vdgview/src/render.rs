@@ -13,7 +13,6 @@ use crate::raster::{Framebuffer, Rgb, unpack};
 use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
 use glam::Vec3;
-use std::io::Write;
 use std::path::Path;
 
 /// How the graph is drawn.
@@ -210,28 +209,11 @@ pub fn encode_png(pixels: &[u32], width: usize, height: usize) -> Result<Vec<u8>
     Ok(out)
 }
 
-/// Writes bytes via a temporary sibling and a rename, so a reader never sees a
-/// half-written file.
+/// Writes bytes via a synced temporary sibling and a rename ([`toolbox::write_bytes_atomic`]),
+/// so a reader never sees a half-written file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let name = path
-        .file_name()
-        .with_context(|| format!("output path {} has no file name", path.display()))?;
-    let tmp = path.with_file_name(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        bail!("cannot write {}: {e}", path.display());
-    }
-    Ok(())
+    toolbox::write_bytes_atomic(path, bytes)
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 #[cfg(test)]

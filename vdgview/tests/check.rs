@@ -133,3 +133,181 @@ fn alpha_textured_world_brushes_are_walls() {
     );
     assert!(r.leaked == 0 && r.false_positives == 0, "{}", r.to_json());
 }
+
+/// The exact player floors of column (x, y) of a generated world: heights where clip
+/// hull 1 turns from free to solid going down, found by a scan and bisection of the
+/// exact `hull_contents`.
+fn exact_floors(world: &mapgen::world::World, x: f64, y: f64, top: f64, bottom: f64) -> Vec<f64> {
+    let free = |z: f64| world.hull_contents(1, [x, y, z]) == mapgen::Contents::Empty;
+    let mut floors = Vec::new();
+    let step = 0.5;
+    let mut z = top;
+    while z - step > bottom {
+        if free(z) && !free(z - step) {
+            let (mut hi, mut lo) = (z, z - step);
+            for _ in 0..40 {
+                let m = 0.5 * (hi + lo);
+                if free(m) { hi = m } else { lo = m }
+            }
+            floors.push(hi);
+        }
+        z -= step;
+    }
+    floors
+}
+
+/// The standing-place sampler against the generated maps' exact clip hull 1: every
+/// place it draws is an exact floor, and in random columns it finds every exact floor
+/// of walkable slope (and none steeper).
+#[test]
+fn standing_places_are_the_exact_player_floors() {
+    use bsp::oracle::{Oracle, OracleOptions};
+    use vdgview::check::{column_floors, standing_places};
+    for map in generated_maps() {
+        let world = mapgen::world::World::from_manifest_json(
+            &std::fs::read_to_string(map.with_extension("json")).unwrap(),
+        )
+        .unwrap();
+        let bsp = Bsp::open(&map).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let hull = oracle.clip_hull(1).unwrap();
+        let places = standing_places(&bsp, &oracle, 2000, 7);
+        assert_eq!(places.len(), 2000, "{}", map.display());
+        for s in &places {
+            let [x, y, z] = s.origin;
+            let (above, below) = ([x, y, z + 0.01], [x, y, z - 0.01]);
+            if world.hull_distance_to_boundary(1, above) < 0.005
+                || world.hull_distance_to_boundary(1, below) < 0.005
+            {
+                continue;
+            }
+            assert_eq!(
+                world.hull_contents(1, above),
+                mapgen::Contents::Empty,
+                "{s:?}"
+            );
+            assert_eq!(
+                world.hull_contents(1, below),
+                mapgen::Contents::Solid,
+                "{s:?}"
+            );
+            let head = [x, y, z + 28.0];
+            assert_eq!(s.head.is_some(), world.is_free(head), "{s:?}");
+        }
+        let b = world.bounds();
+        let (top, bottom) = (b.max[2] + 1.0, b.min[2] - 1.0);
+        let mut rng = bsp::util::SplitMix64::new(11);
+        let (mut compared, mut found) = (0, 0);
+        for _ in 0..300 {
+            let (x, y) = (rng.range(b.min[0], b.max[0]), rng.range(b.min[1], b.max[1]));
+            let ours = column_floors(hull, &oracle, x, y, top, bottom);
+            for f in exact_floors(&world, x, y, top, bottom) {
+                // The exact slope from the neighbouring columns; skip edges and steps.
+                let near = |dx: f64, dy: f64| {
+                    exact_floors(&world, x + dx, y + dy, f + 2.0, f - 2.0)
+                        .first()
+                        .copied()
+                };
+                let (Some(e), Some(w), Some(n), Some(s)) = (
+                    near(0.5, 0.0),
+                    near(-0.5, 0.0),
+                    near(0.0, 0.5),
+                    near(0.0, -0.5),
+                ) else {
+                    continue;
+                };
+                let gradient = ((e - w).powi(2) + (n - s).powi(2)).sqrt();
+                // Normal z >= 0.7 means gradient <= tan(acos 0.7) = 1.0202.
+                let hit = ours.iter().any(|z| (z - f).abs() < 0.01);
+                if gradient < 1.0 {
+                    compared += 1;
+                    found += hit as usize;
+                    assert!(
+                        hit,
+                        "{}: floor {f} at ({x}, {y}) missed: {ours:?}",
+                        map.display()
+                    );
+                } else if gradient > 1.05 {
+                    assert!(
+                        !hit,
+                        "{}: steep floor {f} at ({x}, {y}) taken",
+                        map.display()
+                    );
+                }
+            }
+            // No floor of ours that is not exact.
+            for z in &ours {
+                let ok = exact_floors(&world, x, y, z + 1.0, z - 1.0)
+                    .iter()
+                    .any(|f| (f - z).abs() < 0.01);
+                assert!(
+                    ok,
+                    "{}: floor {z} at ({x}, {y}) is not exact",
+                    map.display()
+                );
+            }
+        }
+        eprintln!(
+            "{}: {found} of {compared} exact floors found",
+            map.display()
+        );
+        assert!(
+            compared > 30,
+            "{}: only {compared} floors compared",
+            map.display()
+        );
+    }
+}
+
+/// Walkable coverage of the unreduced graphs of the generated maps, and the figure is
+/// the share of exact standing places inside the volume.
+#[test]
+fn walkable_coverage_of_generated_maps() {
+    use bsp::oracle::{Oracle, OracleOptions};
+    use vdgview::check::standing_places;
+    let dir = tempdir();
+    for map in generated_maps() {
+        let out = dir
+            .join(map.file_name().unwrap())
+            .with_extension("walk.vdg");
+        compile(&map, &out);
+        let bsp = Bsp::open(&map).unwrap();
+        let file = vdgformat::VdgFile::open(&out).unwrap();
+        let options = CheckOptions {
+            samples: 10_000,
+            ..Default::default()
+        };
+        let r = check(&bsp, &file.graph(), 0, &options);
+        eprintln!(
+            "{}: walkable {} head {} of {}",
+            map.display(),
+            r.walkable_coverage(),
+            r.walkable_coverage_head(),
+            r.walkable_points
+        );
+        assert_eq!(r.walkable_points, 10_000);
+        // The same figure from the places checked against the exact world.
+        let world = mapgen::world::World::from_manifest_json(
+            &std::fs::read_to_string(map.with_extension("json")).unwrap(),
+        )
+        .unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let places = standing_places(&bsp, &oracle, 10_000, options.seed);
+        let g = file.graph();
+        let exact_inside = places
+            .iter()
+            .filter(|s| {
+                let [x, y, z] = s.origin;
+                world.hull_contents(1, [x, y, z + 0.01]) == mapgen::Contents::Empty
+                    && g.contains(s.origin.map(|c| c as f32))
+            })
+            .count();
+        assert_eq!(exact_inside, r.walkable_covered, "{}", map.display());
+        assert!(
+            r.walkable_coverage() > 0.9,
+            "{}: walkable coverage {}",
+            map.display(),
+            r.walkable_coverage()
+        );
+    }
+}

@@ -121,6 +121,40 @@ impl Hull {
         }
         true
     }
+
+    /// Visits the leaves the segment `a`–`b` passes through, in order from `a`:
+    /// `visit(t0, t1, contents, exit_normal)` with `a + t (b - a)` for `t0 ≤ t ≤ t1` in the
+    /// leaf, and the normal of the node plane by which the segment leaves it (`[0; 3]`
+    /// for the last leaf). Finding floors (a free leaf followed by a solid one along a
+    /// downward ray) and their slope needs exactly this.
+    pub fn segment_leaves(
+        &self,
+        a: [f64; 3],
+        b: [f64; 3],
+        mut visit: impl FnMut(f64, f64, i32, [f32; 3]),
+    ) {
+        type Piece = (i32, [f64; 3], [f64; 3], f64, f64, [f32; 3]);
+        let mut stack: Vec<Piece> = Vec::with_capacity(64);
+        stack.push((self.root, a, b, 0.0, 1.0, [0.0; 3]));
+        while let Some((n, p, q, tp, tq, nq)) = stack.pop() {
+            if n < 0 {
+                visit(tp, tq, n, nq);
+                continue;
+            }
+            let node = &self.nodes[n as usize];
+            let (dp, dq) = (side_distance(node, p), side_distance(node, q));
+            let (sp, sq) = ((dp < 0.0) as usize, (dq < 0.0) as usize);
+            if sp == sq {
+                stack.push((node.children[sp], p, q, tp, tq, nq));
+            } else {
+                let t = dp / (dp - dq);
+                let m = [0, 1, 2].map(|i| p[i] + t * (q[i] - p[i]));
+                let tm = tp + t * (tq - tp);
+                stack.push((node.children[sq], m, q, tm, tq, nq));
+                stack.push((node.children[sp], p, m, tp, tm, node.normal));
+            }
+        }
+    }
 }
 
 fn hull_node(bsp: &Bsp, plane: u32, children: [i32; 2]) -> HullNode {
@@ -218,6 +252,11 @@ impl Oracle {
             .get(hull.wrapping_sub(1))?
             .as_ref()
             .map(|h| h.contents(p))
+    }
+
+    /// Clip hull `hull` (1..=3) of the world, if the map has clip hulls.
+    pub fn clip_hull(&self, hull: usize) -> Option<&Hull> {
+        self.clip_hulls.get(hull.wrapping_sub(1))?.as_ref()
     }
 
     /// Whether `p` is in free space.
@@ -331,5 +370,36 @@ mod tests {
         assert!(!h.segment_clear([1.0, 0.0, 1.0], [1.0, 0.0, 11.0], blocks));
         // Diagonal through the empty corner region only.
         assert!(h.segment_clear([0.5, 0.0, 9.5], [9.5, 0.0, 0.5], blocks));
+    }
+
+    #[test]
+    fn segment_leaves_come_in_order_with_their_exit_planes() {
+        let h = half_space_hull();
+        let mut seen = Vec::new();
+        h.segment_leaves([6.0, 0.0, 14.0], [-2.0, 0.0, 6.0], |t0, t1, c, n| {
+            seen.push((t0, t1, c, n))
+        });
+        // Sky above z = 10 (t < 0.5), empty down to x = 0 (t = 0.75), then solid.
+        let expected = [
+            (0.0, 0.5, contents::SKY, [0.0, 0.0, 1.0]),
+            (0.5, 0.75, contents::EMPTY, [1.0, 0.0, 0.0]),
+            (0.75, 1.0, contents::SOLID, [0.0; 3]),
+        ];
+        assert_eq!(seen.len(), 3, "{seen:?}");
+        for (s, e) in seen.iter().zip(expected) {
+            assert!(
+                (s.0 - e.0).abs() < 1e-12 && (s.1 - e.1).abs() < 1e-12,
+                "{seen:?}"
+            );
+            assert_eq!((s.2, s.3), (e.2, e.3));
+        }
+        let mut down = Vec::new();
+        h.segment_leaves([3.0, 0.0, 20.0], [3.0, 0.0, 0.0], |t0, t1, c, _| {
+            down.push((t0, t1, c))
+        });
+        assert_eq!(
+            down,
+            vec![(0.0, 0.5, contents::SKY), (0.5, 1.0, contents::EMPTY)]
+        );
     }
 }

@@ -92,13 +92,8 @@ mod tests {
 
     #[test]
     fn nearest_matches_brute_force() {
-        let mut s = 7u64;
-        let mut rnd = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((s >> 11) as f64 / (1u64 << 53) as f64) * 100.0 - 50.0
-        };
+        let mut rng = crate::util::SplitMix64::new(7);
+        let mut rnd = || rng.range(-50.0, 50.0);
         let pts: Vec<[f64; 3]> = (0..2000).map(|_| [rnd(), rnd(), rnd()]).collect();
         let g = PointGrid::from_points(&pts, 7.0);
         for _ in 0..500 {

@@ -72,6 +72,24 @@ fn brute_force(t: &Tiling) -> Option<Vec<HashSet<[i32; 4]>>> {
     Some(full)
 }
 
+fn random_preferences(rng: &mut Rng, w: u32, h: u32) -> crate::prefer::Preferences {
+    let mut p = crate::prefer::Preferences {
+        regions: Vec::new(),
+        straight: [0.0, 1.0, 5.0][rng.below(3) as usize],
+        reuse: [0.0, 4.0, 100.0][rng.below(3) as usize],
+    };
+    for _ in 0..rng.below(3) {
+        let (x0, y0) = (rng.below(w as u64) as u32, rng.below(h as u64) as u32);
+        p.regions.push(crate::prefer::DirectionRegion {
+            x: (x0, x0 + rng.below((w - x0) as u64) as u32),
+            y: (y0, y0 + rng.below((h - y0) as u64) as u32),
+            direction: [rng.unit() - 0.5, rng.unit() - 0.5],
+            strength: [1.0, 8.0, 50.0][rng.below(3) as usize],
+        });
+    }
+    p
+}
+
 fn random_border(rng: &mut Rng) -> Border {
     match rng.below(3) {
         0 => Border::Free,
@@ -277,7 +295,14 @@ fn ten_thousand_random_tilings_complete() {
         let Ok(mut t) = Tiling::new(set, w, h, &cond) else {
             continue;
         };
-        t.random_fill(&mut rng).unwrap();
+        // Half the fills with random designed-flow preferences: weights must
+        // never break completability.
+        if rng.below(2) == 0 {
+            let prefs = random_preferences(&mut rng, w, h);
+            t.random_fill_preferring(&mut rng, &prefs).unwrap();
+        } else {
+            t.random_fill(&mut rng).unwrap();
+        }
         assert!(t.is_complete());
         assert!(t.net.is_feasible());
         // Neighbouring tiles agree on every shared edge and corner.

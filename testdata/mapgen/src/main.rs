@@ -57,10 +57,8 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// Writes via a temporary file and a rename, so no half-written map is left.
+/// Writes via a synced temporary file and a rename, so no half-written map is left.
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot rename to {}", path.display()))?;
-    Ok(())
+    toolbox::write_bytes_atomic(path, bytes)
+        .with_context(|| format!("cannot write {}", path.display()))
 }

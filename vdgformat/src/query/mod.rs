@@ -5,10 +5,13 @@
 //! of their own beyond Rust's slice bounds checks (which then never fire).
 //! Geometry is evaluated in f64 on the stored f32 values.
 
+mod field;
 mod path;
 mod visible;
 
+pub use field::DistanceField;
 pub use path::{PathFinder, VdgPath};
+pub use visible::Advance;
 
 use std::collections::BinaryHeap;
 
@@ -372,20 +375,7 @@ impl<'a> Vdg<'a> {
     pub fn track(&self, hint: u32, p: [f32; 3]) -> Option<FaceHit> {
         let q = V3::from_f32(p);
         if (hint as usize) < self.faces.len() {
-            let mut cur = (hint, self.fc(hint, q));
-            for _ in 0..32 {
-                let mut best = cur;
-                self.for_face_and_neighbours(cur.0, |f| {
-                    let c = self.fc(f, q);
-                    if c > best.1 {
-                        best = (f, c);
-                    }
-                });
-                if best.0 == cur.0 {
-                    break;
-                }
-                cur = best;
-            }
+            let cur = self.climb(hint, q, 32);
             if cur.1 > 0.0 {
                 return Some(FaceHit {
                     face: cur.0,
@@ -394,6 +384,29 @@ impl<'a> Vdg<'a> {
             }
         }
         self.nearest_face(p)
+    }
+
+    /// The local search behind [`Self::track`]: from `hint`, move to the
+    /// neighbour face of largest clearance at `q` while that improves it
+    /// (at most `rounds` moves). Returns the face and its clearance, which
+    /// is negative when `q` lies outside every face met. Panics if `hint`
+    /// is out of range.
+    pub(crate) fn climb(&self, hint: u32, q: V3, rounds: usize) -> (u32, f64) {
+        let mut cur = (hint, self.fc(hint, q));
+        for _ in 0..rounds {
+            let mut best = cur;
+            self.for_face_and_neighbours(cur.0, |f| {
+                let c = self.fc(f, q);
+                if c > best.1 {
+                    best = (f, c);
+                }
+            });
+            if best.0 == cur.0 {
+                break;
+            }
+            cur = best;
+        }
+        cur
     }
 
     /// Whether `p` lies in Volume(VDG) (some face clearance > 0). Always one

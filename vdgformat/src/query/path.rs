@@ -88,6 +88,35 @@ impl<'a> Vdg<'a> {
         self.astar(&starts, &goals, qs)
     }
 
+    /// [`Self::path`] for an agent of radius `radius`: the path uses only
+    /// vertices whose clearance is at least `radius`, so along every edge
+    /// between them (where the clearance is interpolated linearly) an agent
+    /// of that size keeps `radius` from the walls. One graph serves every
+    /// agent size — what navigation-mesh users otherwise bake one mesh per
+    /// size for. The first and last legs (from `p` to the first vertex, from
+    /// the last vertex to `q`) run inside the faces' volumes; when `p` and
+    /// `q` share a face the path is the straight segment. `None` when no
+    /// such path exists (e.g. a door narrower than the agent).
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v: Vec<u32> = [([0.0, 0.0], 40.0), ([100.0, 0.0], 40.0), ([0.0, 100.0], 40.0), ([100.0, 100.0], 10.0), ([200.0, 100.0], 40.0)]
+    /// #     .iter().map(|&([x, y], c)| b.add_vertex([x, y, 0.0], c)).collect();
+    /// # b.add_face([v[0], v[1], v[2]]); b.add_face([v[1], v[3], v[2]]); b.add_face([v[1], v[4], v[3]]);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// let (p, q) = ([10.0, 10.0, 0.0], [190.0, 98.0, 0.0]);
+    /// assert!(g.path_with_clearance(p, q, 8.0).is_some());
+    /// // Vertex 3 (clearance 10) is too tight for radius 16, but the edge
+    /// // 1–4 still carries it.
+    /// let wide = g.path_with_clearance(p, q, 16.0).unwrap();
+    /// assert!(!wide.vertices.contains(&3));
+    /// assert!(g.path_with_clearance(p, q, 64.0).is_none());
+    /// ```
+    pub fn path_with_clearance(&self, p: [f32; 3], q: [f32; 3], radius: f32) -> Option<VdgPath> {
+        PathFinder::new().path_with_clearance(self, p, q, radius)
+    }
+
     /// Shortest path between two vertices along graph edges. Panics if a
     /// vertex is out of range.
     pub fn vertex_path(&self, from: u32, to: u32) -> Option<VdgPath> {
@@ -101,7 +130,14 @@ impl<'a> Vdg<'a> {
     fn astar(&self, starts: &[(u32, f64)], goals: &[u32], goal: V3) -> Option<VdgPath> {
         let mut state = MapState(IdMap::default());
         let mut heap = BinaryHeap::new();
-        self.astar_in(&mut state, &mut heap, starts, goals, goal)
+        self.astar_in(
+            &mut state,
+            &mut heap,
+            starts,
+            goals,
+            goal,
+            f32::NEG_INFINITY,
+        )
     }
 
     pub(crate) fn astar_in<S: SearchState>(
@@ -111,12 +147,14 @@ impl<'a> Vdg<'a> {
         starts: &[(u32, f64)],
         goals: &[u32],
         goal: V3,
+        min_clearance: f32,
     ) -> Option<VdgPath> {
         heap.clear();
+        let admit = |v: u32| self.vertices[v as usize].clearance >= min_clearance;
         let key = |g: f64, h: f64| Reverse((g + h).max(0.0).to_bits());
         let h = |v: u32| (self.pos(v) - goal).norm();
         for &(v, g) in starts {
-            if g < state.get(v).0 {
+            if admit(v) && g < state.get(v).0 {
                 state.set(v, (g, TARGET, false));
                 heap.push((key(g, h(v)), v));
             }
@@ -134,7 +172,7 @@ impl<'a> Vdg<'a> {
                 continue;
             }
             state.set(v, (g, pred, true));
-            if goals.contains(&v) {
+            if goals.contains(&v) && admit(v) {
                 let total = g + h(v);
                 if total < target.0 {
                     target = (total, v);
@@ -143,6 +181,9 @@ impl<'a> Vdg<'a> {
             }
             let pv = self.pos(v);
             for &w in self.vertex_neighbours(v) {
+                if !admit(w) {
+                    continue;
+                }
                 let gw = g + (self.pos(w) - pv).norm();
                 let (old, _, done) = state.get(w);
                 if !done && gw < old {
@@ -254,6 +295,7 @@ impl PathFinder {
         starts: &[(u32, f64)],
         goals: &[u32],
         goal: V3,
+        min_clearance: f32,
     ) -> Option<VdgPath> {
         let n = g.vertex_count();
         if self.stamp.len() < n {
@@ -273,7 +315,14 @@ impl PathFinder {
             stamp: &mut self.stamp,
             epoch: self.epoch,
         };
-        g.astar_in(&mut state, &mut self.heap, starts, goals, goal)
+        g.astar_in(
+            &mut state,
+            &mut self.heap,
+            starts,
+            goals,
+            goal,
+            min_clearance,
+        )
     }
 
     /// [`Vdg::path`] with reused scratch.
@@ -300,11 +349,49 @@ impl PathFinder {
             });
         }
         let starts = g.faces[p_face as usize].map(|v| (v, (g.pos(v) - ps).norm()));
-        self.run(g, &starts, &g.faces[q_face as usize], qs)
+        self.run(g, &starts, &g.faces[q_face as usize], qs, f32::NEG_INFINITY)
+    }
+
+    /// [`Vdg::path_with_clearance`] with reused scratch.
+    pub fn path_with_clearance(
+        &mut self,
+        g: &Vdg<'_>,
+        p: [f32; 3],
+        q: [f32; 3],
+        radius: f32,
+    ) -> Option<VdgPath> {
+        let fs = g.nearest_face(p)?.face;
+        let fg = g.nearest_face(q)?.face;
+        self.path_between_faces_with_clearance(g, fs, p, fg, q, radius)
+    }
+
+    /// [`Vdg::path_with_clearance`] with known faces for `p` and `q`.
+    /// Panics if a face is out of range.
+    pub fn path_between_faces_with_clearance(
+        &mut self,
+        g: &Vdg<'_>,
+        p_face: u32,
+        p: [f32; 3],
+        q_face: u32,
+        q: [f32; 3],
+        radius: f32,
+    ) -> Option<VdgPath> {
+        let (ps, qs) = (V3::from_f32(p), V3::from_f32(q));
+        if p_face == q_face {
+            return Some(VdgPath {
+                length: (qs - ps).norm() as f32,
+                vertices: Vec::new(),
+            });
+        }
+        if radius.is_nan() {
+            return None;
+        }
+        let starts = g.faces[p_face as usize].map(|v| (v, (g.pos(v) - ps).norm()));
+        self.run(g, &starts, &g.faces[q_face as usize], qs, radius)
     }
 
     /// [`Vdg::vertex_path`] with reused scratch.
     pub fn vertex_path(&mut self, g: &Vdg<'_>, from: u32, to: u32) -> Option<VdgPath> {
-        self.run(g, &[(from, 0.0)], &[to], g.pos(to))
+        self.run(g, &[(from, 0.0)], &[to], g.pos(to), f32::NEG_INFINITY)
     }
 }

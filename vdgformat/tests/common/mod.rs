@@ -3,26 +3,25 @@
 
 use vdgformat::{VdgBuilder, VdgFile};
 
-/// SplitMix64: tiny, seeded, good enough for test sampling.
-pub struct Rng(pub u64);
+/// The workspace's one generator (SplitMix64), with the draws the tests use.
+pub struct Rng(toolbox::SplitMix64);
 
 impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(toolbox::SplitMix64::new(seed))
+    }
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [0, 1).
     pub fn f64(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.next_f64()
     }
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f64()
+        self.0.range(lo, hi)
     }
     pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
+        self.0.below(n)
     }
     pub fn point(&mut self, lo: [f64; 3], hi: [f64; 3]) -> [f32; 3] {
         [

@@ -1,0 +1,277 @@
+//! The camera's constraints (thesis 5.1: optimum μ and tolerance σ per
+//! criterion) and the switches between the thesis' algorithm and ours.
+
+use serde::{Deserialize, Serialize};
+
+/// Everything that shapes a camera's behaviour. Every cost is a variant of
+/// `((x − μ)/σ)²`: there are no separate weights, a smaller σ makes a
+/// criterion matter more (thesis 5.1). Units are Quake units and seconds.
+///
+/// [`CameraParams::default`] is our improved camera; [`CameraParams::thesis`]
+/// the thesis' algorithm as printed (the switches under "beyond the thesis"
+/// off), so the two can be measured side by side. Any subset of fields can
+/// be loaded from TOML; missing fields keep their default:
+///
+/// ```
+/// use vdgformat::camera::CameraParams;
+/// let p = CameraParams::from_toml_str("distance_mu = 96.0\nangle_sigma_deg = 45.0")?;
+/// assert_eq!(p.distance_mu, 96.0);
+/// assert_eq!(p.inertia_sigma, CameraParams::default().inertia_sigma);
+/// assert!(CameraParams::from_toml_str("distance_mu = -1.0").is_err());
+/// # Ok::<(), vdgformat::camera::CameraError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CameraParams {
+    /// d_μ: the ideal distance to the target. 112 is Half-Life's
+    /// `cl_chasedist`, the distance players know from the chase cam.
+    pub distance_mu: f32,
+    /// d_σ: distance tolerance. 48 (about a player's width and a half) lets
+    /// the camera come in to 64 or back off to 160 at cost 1.
+    pub distance_sigma: f32,
+    /// a_μ azimuth: the ideal direction from the target to the camera,
+    /// relative to the target's heading, in degrees. 180 = behind.
+    pub angle_mu_yaw_deg: f32,
+    /// a_μ elevation above the horizon in degrees. 15° looks slightly down
+    /// on the player, over low cover, without losing the horizon.
+    pub angle_mu_pitch_deg: f32,
+    /// a_σ in degrees, in (0, 180]. 60° lets the camera swing a third of the
+    /// way round the player before the angle costs as much as the others.
+    pub angle_sigma_deg: f32,
+    /// How much of the target's pitch turns a_n (0 = heading's yaw only,
+    /// 1 = the thesis' full `Angles(t) + a_μ`). Players look up and down far
+    /// more than they move that way; following the full pitch sends the
+    /// camera to the ceiling when they look down. Default 0.
+    pub heading_pitch_weight: f32,
+    /// i_σ: the allowed deviation from where inertia would carry the camera,
+    /// as a fraction of its travel (the thesis' example value 0.5).
+    pub inertia_sigma: f32,
+    /// Floor on the camera speed in f_inertia's denominator (units/s), so a
+    /// resting camera's inertia cost stays finite (the thesis divides by the
+    /// camera's own travel, which is 0 at rest). 32 u/s is a slow walk.
+    pub inertia_min_speed: f32,
+    /// Time over which f_inertia compares positions (s). The thesis uses the
+    /// frame time Δt, which makes the cost depend on the frame rate (four
+    /// times larger at 60 Hz than at 30 Hz for the same motion); 0.25 s
+    /// compares where the camera would be a quarter second ahead instead.
+    /// 0 means "use Δt" (the thesis).
+    pub inertia_horizon: f32,
+    /// p_σ: "room for p_σ seconds at the current speed" (f_clear). 0.5 s.
+    pub clearance_sigma: f32,
+    /// v_σ: how long the target may stay hidden before invisibility
+    /// dominates everything (f_novis). The thesis gives 1–2 s; 1.5 s.
+    pub visibility_sigma: f32,
+    /// Hidden this long (s), the camera cuts to the target. The thesis gives
+    /// no value; 2·v_σ = 3 s gives the camera two tolerances to find the
+    /// target on its own first.
+    pub cut_after: f32,
+    /// A target that moves farther than this in one update has teleported
+    /// (respawn, portal, spectator switch): the camera cuts. 256 units is
+    /// ten frames of running at 30 Hz.
+    pub teleport_distance: f32,
+    /// The camera's top speed (units/s). Just under twice a running
+    /// player's 265 u/s: fast enough to catch up, below what a replay
+    /// counts as a jump (twice the target's top speed).
+    pub max_speed: f32,
+    /// τ of the step rule's `frac = 1 − e^(−Δt/τ)` (s): how fast the speed
+    /// follows the cost. The thesis leaves `frac` undefined; the exponential
+    /// form makes it independent of the frame rate. 0.2 s.
+    pub speed_tau: f32,
+    /// Updates longer than this (s) are integrated as if they were this long
+    /// (a hitch must not fling the camera). 0.1 s.
+    pub max_dt: f32,
+    /// Height added to the target's position for every criterion (the point
+    /// the camera keeps in view and looks at). 0 = the origin the engine
+    /// gives (in Half-Life the standing hull's centre, 36 above the floor).
+    pub target_height: f32,
+    /// ε of the thesis' early stop: a candidate cheaper than this is taken
+    /// at once.
+    pub early_stop: f32,
+
+    // --- beyond the thesis (each off in `thesis()`) ---
+    /// Clamp candidates and the step across as many face volumes as needed
+    /// (up to this many hops) instead of inside the current face only. The
+    /// thesis clamps to Volume(f_i), so a small face stalls a fast camera
+    /// (the dips of its fig. 7.2); 0 = the thesis.
+    pub max_substeps: u32,
+    /// VDistance from one distance field per frame (O(1) per candidate)
+    /// instead of one A* per candidate (the thesis). Same values.
+    pub distance_field: bool,
+    /// f_vis = (1 + VDistance/d_σ)² for a hidden target instead of the
+    /// thesis' 1 + VDistance: unitless like the other costs, so a hidden
+    /// target still dominates but the speed rule's √f_total stays sane.
+    pub normalized_visibility: bool,
+    /// τ of the smoothing of the camera's direction of motion (s); 0 = none
+    /// (the thesis jumps to the best candidate's direction every frame).
+    pub direction_tau: f32,
+    /// τ of the smoothing of the look-at point (s); 0 = look straight at the
+    /// target every frame (the thesis).
+    pub look_tau: f32,
+    /// The camera keeps at least this clearance (units): the near plane's
+    /// corner distance. A 4-unit near plane at 90° × 74° has its corners
+    /// 6.4 units from the eye; closer to a wall, the wall's inside shows.
+    /// 0 = the thesis (anywhere inside the volume).
+    pub near_margin: f32,
+    /// On a cut, place the camera towards the ideal position from the
+    /// target (as far as the volume allows) instead of on the target.
+    pub cut_to_ideal: bool,
+    /// Reachable(P(c_i), f_i) exactly as the thesis defines it (a straight
+    /// line through the region's volumes, certified by a cover per vertex)
+    /// rather than the vertices reachable inside one face volume (a subset,
+    /// a few clearance evaluations each). The exact set costs most of an
+    /// update and buys little: every candidate is clamped into the volume.
+    pub exact_reachable: bool,
+}
+
+impl Default for CameraParams {
+    fn default() -> Self {
+        CameraParams {
+            distance_mu: 112.0,
+            distance_sigma: 48.0,
+            angle_mu_yaw_deg: 180.0,
+            angle_mu_pitch_deg: 15.0,
+            angle_sigma_deg: 60.0,
+            heading_pitch_weight: 0.0,
+            inertia_sigma: 0.5,
+            inertia_min_speed: 32.0,
+            inertia_horizon: 0.25,
+            clearance_sigma: 0.5,
+            visibility_sigma: 1.5,
+            cut_after: 3.0,
+            teleport_distance: 256.0,
+            max_speed: 500.0,
+            speed_tau: 0.2,
+            max_dt: 0.1,
+            target_height: 0.0,
+            early_stop: 1e-3,
+            max_substeps: 16,
+            distance_field: true,
+            normalized_visibility: true,
+            direction_tau: 0.12,
+            look_tau: 0.08,
+            near_margin: 6.4,
+            cut_to_ideal: true,
+            exact_reachable: false,
+        }
+    }
+}
+
+impl CameraParams {
+    /// The thesis' camera (ch. 5) as printed: candidates clamped into the
+    /// current face, one A* per VDistance, unnormalised f_vis, inertia over
+    /// Δt, no smoothing, no near-plane margin, cuts onto the target. The
+    /// constraints (μ, σ) are the same as the default's.
+    pub fn thesis() -> CameraParams {
+        CameraParams {
+            heading_pitch_weight: 1.0,
+            inertia_horizon: 0.0,
+            max_substeps: 0,
+            distance_field: false,
+            normalized_visibility: false,
+            direction_tau: 0.0,
+            look_tau: 0.0,
+            near_margin: 0.0,
+            cut_to_ideal: false,
+            exact_reachable: true,
+            ..CameraParams::default()
+        }
+    }
+
+    /// Parses TOML (any subset of the fields) and validates the result.
+    pub fn from_toml_str(s: &str) -> Result<CameraParams, CameraError> {
+        let p: CameraParams =
+            toml::from_str(s).map_err(|e| CameraError::Params(one_line(&e.to_string())))?;
+        p.validate()?;
+        Ok(p)
+    }
+
+    /// Checks every field for a usable value (finite, in range).
+    pub fn validate(&self) -> Result<(), CameraError> {
+        let positive = [
+            ("distance_mu", self.distance_mu),
+            ("distance_sigma", self.distance_sigma),
+            ("angle_sigma_deg", self.angle_sigma_deg),
+            ("inertia_sigma", self.inertia_sigma),
+            ("inertia_min_speed", self.inertia_min_speed),
+            ("clearance_sigma", self.clearance_sigma),
+            ("visibility_sigma", self.visibility_sigma),
+            ("teleport_distance", self.teleport_distance),
+            ("max_speed", self.max_speed),
+            ("speed_tau", self.speed_tau),
+            ("max_dt", self.max_dt),
+        ];
+        for (name, v) in positive {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(CameraError::Params(format!(
+                    "{name} must be a positive number, got {v}"
+                )));
+            }
+        }
+        let non_negative = [
+            ("inertia_horizon", self.inertia_horizon),
+            ("cut_after", self.cut_after),
+            ("early_stop", self.early_stop),
+            ("direction_tau", self.direction_tau),
+            ("look_tau", self.look_tau),
+            ("near_margin", self.near_margin),
+        ];
+        for (name, v) in non_negative {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(CameraError::Params(format!(
+                    "{name} must be zero or positive, got {v}"
+                )));
+            }
+        }
+        for (name, v) in [
+            ("angle_mu_yaw_deg", self.angle_mu_yaw_deg),
+            ("angle_mu_pitch_deg", self.angle_mu_pitch_deg),
+            ("target_height", self.target_height),
+        ] {
+            if !v.is_finite() {
+                return Err(CameraError::Params(format!(
+                    "{name} must be a finite number, got {v}"
+                )));
+            }
+        }
+        if self.angle_sigma_deg > 180.0 {
+            return Err(CameraError::Params(format!(
+                "angle_sigma_deg must be in (0, 180], got {}",
+                self.angle_sigma_deg
+            )));
+        }
+        if !(0.0..=1.0).contains(&self.heading_pitch_weight) {
+            return Err(CameraError::Params(format!(
+                "heading_pitch_weight must be in [0, 1], got {}",
+                self.heading_pitch_weight
+            )));
+        }
+        if self.max_substeps > 4096 {
+            return Err(CameraError::Params(format!(
+                "max_substeps must be at most 4096, got {}",
+                self.max_substeps
+            )));
+        }
+        Ok(())
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Why a camera could not be made.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CameraError {
+    /// Invalid parameters (a field out of range, bad TOML).
+    Params(String),
+}
+
+impl std::fmt::Display for CameraError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CameraError::Params(m) => write!(f, "invalid camera parameters: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for CameraError {}

@@ -1,0 +1,353 @@
+//! The camera on synthetic graphs whose volume is known exactly: it stays in
+//! the volume (with its near-plane margin), keeps an L-corridor's target in
+//! view around the corner, cuts on teleports, is deterministic, allocates
+//! nothing per frame after warm-up, and never panics on odd input.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use common::{grid, open};
+use vdgformat::camera::{Camera, CameraParams, Director, DirectorEvent, Pose, Status, Target};
+use vdgformat::{Vdg, VdgBuilder, VdgFile};
+
+/// Counts the allocations of the current thread only (tests run in
+/// parallel threads of one process).
+struct Counting;
+
+thread_local! {
+    static ALLOCS: Cell<u64> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> u64 {
+    ALLOCS.with(|c| c.get())
+}
+
+/// An L-shaped corridor: the sheet z = 64 over a 16 × 16 grid of 32-unit
+/// cells, keeping the cells with x < 128 or y < 128 (two legs 128 wide and
+/// 512 long), clearance 48. The volume is the sheet thickened by 48, so the
+/// corner at (128, 128) hides one leg from the other.
+fn l_corridor() -> VdgFile {
+    open(&grid(
+        16,
+        16,
+        32.0,
+        |_, _| 64.0,
+        |_, _| 48.0,
+        |i, j| i < 4 || j < 4,
+    ))
+}
+
+/// The target's walk: along the x leg from (480, 64) to the corner, then up
+/// the y leg to (64, 480), at 265 u/s; heading = direction of motion.
+fn l_walk(t: f64) -> Target {
+    let d = 265.0 * t;
+    let (pos, heading) = if d < 416.0 {
+        ([480.0 - d, 64.0, 64.0], [-1.0, 0.0, 0.0])
+    } else {
+        let e = (d - 416.0).min(416.0);
+        ([64.0, 64.0 + e, 64.0], [0.0, 1.0, 0.0])
+    };
+    Target::new(pos.map(|c| c as f32), heading, heading.map(|c| c * 265.0))
+}
+
+fn run(g: &Vdg<'_>, params: CameraParams, frames: usize, dt: f32) -> Vec<Pose> {
+    let mut cam = Camera::new(params).unwrap();
+    cam.reset(g, &l_walk(0.0));
+    (1..=frames)
+        .map(|i| cam.update(g, &l_walk(i as f64 * f64::from(dt)), dt))
+        .collect()
+}
+
+#[test]
+fn stays_inside_the_volume_with_its_margin_and_sees_round_the_corner() {
+    let file = l_corridor();
+    let g = file.graph();
+    for dt in [1.0 / 60.0, 1.0 / 30.0] {
+        let frames = (3.5 / dt) as usize;
+        let poses = run(&g, CameraParams::default(), frames, dt);
+        let mut hidden_run = 0usize;
+        let mut longest_hidden = 0usize;
+        for (i, p) in poses.iter().enumerate() {
+            assert!(
+                g.contains(p.eye),
+                "dt {dt} frame {i}: eye {:?} left the volume",
+                p.eye
+            );
+            // The volume is the slab |z − 64| < 48 over the L: the margin
+            // keeps the eye 6.4 units inside it (the camera never starts
+            // closer here).
+            let c = g.clearance(p.eye);
+            assert!(
+                c >= 6.4,
+                "dt {dt} frame {i}: clearance {c} inside the near-plane margin"
+            );
+            assert!(!p.cut, "dt {dt} frame {i}: unexpected cut");
+            assert_eq!(p.status, Status::Following);
+            if p.target_visible {
+                hidden_run = 0;
+            } else {
+                hidden_run += 1;
+                longest_hidden = longest_hidden.max(hidden_run);
+            }
+        }
+        let visible = poses.iter().filter(|p| p.target_visible).count();
+        let fraction = visible as f64 / poses.len() as f64;
+        assert!(
+            fraction >= 0.9,
+            "dt {dt}: target visible in {fraction:.3} of frames"
+        );
+        assert!(
+            (longest_hidden as f32) * dt < 0.75,
+            "dt {dt}: target hidden for {longest_hidden} frames in a row"
+        );
+        // At the end the camera is behind the player in the y leg.
+        let last = poses.last().unwrap();
+        let t = l_walk(frames as f64 * f64::from(dt)).position;
+        assert!(
+            last.eye[1] < t[1] - 40.0,
+            "camera {:?} not behind target {t:?}",
+            last.eye
+        );
+    }
+}
+
+#[test]
+fn the_thesis_variant_also_stays_inside_the_volume() {
+    let file = l_corridor();
+    let g = file.graph();
+    let poses = run(&g, CameraParams::thesis(), 200, 1.0 / 60.0);
+    for (i, p) in poses.iter().enumerate() {
+        assert!(
+            g.contains(p.eye),
+            "frame {i}: eye {:?} left the volume",
+            p.eye
+        );
+    }
+}
+
+#[test]
+fn poses_are_bit_identical_for_the_same_inputs() {
+    let file = l_corridor();
+    let g = file.graph();
+    for params in [CameraParams::default(), CameraParams::thesis()] {
+        let a = run(&g, params.clone(), 150, 1.0 / 60.0);
+        let b = run(&g, params, 150, 1.0 / 60.0);
+        let bits = |p: &Pose| {
+            let mut v: Vec<u32> = p
+                .eye
+                .iter()
+                .chain(&p.look_at)
+                .map(|c| c.to_bits())
+                .collect();
+            v.extend([p.yaw.to_bits(), p.pitch.to_bits()]);
+            v
+        };
+        assert!(a.iter().zip(&b).all(|(x, y)| bits(x) == bits(y) && x == y));
+    }
+}
+
+#[test]
+fn a_teleported_target_makes_a_declared_cut() {
+    let file = l_corridor();
+    let g = file.graph();
+    let mut cam = Camera::new(CameraParams::default()).unwrap();
+    let first = cam.reset(&g, &l_walk(0.0));
+    assert!(first.cut, "reset is a cut");
+    for i in 1..30 {
+        assert!(!cam.update(&g, &l_walk(f64::from(i) / 60.0), 1.0 / 60.0).cut);
+    }
+    // From the x leg to the far end of the y leg.
+    let far = Target::new([64.0, 470.0, 64.0], [0.0, 1.0, 0.0], [0.0; 3]);
+    let p = cam.update(&g, &far, 1.0 / 60.0);
+    assert!(p.cut, "teleport not declared");
+    assert!(g.contains(p.eye) && p.target_visible);
+    assert!(
+        (p.eye[1] - 470.0).abs() < 200.0,
+        "camera {:?} stayed behind",
+        p.eye
+    );
+    assert!(!cam.update(&g, &far, 1.0 / 60.0).cut);
+}
+
+#[test]
+fn a_target_hidden_too_long_is_cut_to() {
+    let file = l_corridor();
+    let g = file.graph();
+    let params = CameraParams {
+        cut_after: 0.5,
+        max_speed: 1.0, // too slow to follow on its own
+        ..CameraParams::default()
+    };
+    let mut cam = Camera::new(params).unwrap();
+    let start = Target::new([480.0, 64.0, 64.0], [-1.0, 0.0, 0.0], [0.0; 3]);
+    cam.reset(&g, &start);
+    // Walk round the corner at 200 u/s (no teleport) and wait there.
+    let mut cut_at = None;
+    for i in 1..400 {
+        let d = (200.0 * f64::from(i) / 60.0).min(832.0);
+        let pos = if d < 416.0 {
+            [480.0 - d, 64.0, 64.0]
+        } else {
+            [64.0, 64.0 + (d - 416.0), 64.0]
+        };
+        let t = Target::new(pos.map(|c| c as f32), [0.0, 1.0, 0.0], [0.0; 3]);
+        let p = cam.update(&g, &t, 1.0 / 60.0);
+        if p.cut {
+            cut_at = Some(i);
+            assert!(p.target_visible);
+            break;
+        }
+    }
+    assert!(cut_at.is_some(), "no cut although the target stayed hidden");
+}
+
+#[test]
+fn no_allocation_per_frame_after_warm_up() {
+    let file = l_corridor();
+    let g = file.graph();
+    let mut cam = Camera::new(CameraParams::default()).unwrap();
+    cam.reset(&g, &l_walk(0.0));
+    for i in 1..=60 {
+        cam.update(&g, &l_walk(f64::from(i) / 60.0), 1.0 / 60.0);
+    }
+    let before = allocations();
+    for i in 61..=600 {
+        cam.update(&g, &l_walk(f64::from(i) / 60.0), 1.0 / 60.0);
+    }
+    assert_eq!(allocations() - before, 0, "the camera allocated per frame");
+}
+
+#[test]
+fn odd_inputs_have_documented_behaviour() {
+    let file = l_corridor();
+    let g = file.graph();
+    let mut cam = Camera::new(CameraParams::default()).unwrap();
+    let ok = cam.reset(&g, &l_walk(0.0));
+    let nan = Target::new([f32::NAN, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]);
+    let held = cam.update(&g, &nan, 1.0 / 60.0);
+    assert_eq!(held.status, Status::Held);
+    assert_eq!(held.eye, ok.eye);
+    for dt in [f32::NAN, -1.0, f32::INFINITY] {
+        assert_eq!(cam.update(&g, &l_walk(0.0), dt).status, Status::Held);
+    }
+    // dt = 0: no motion.
+    let same = cam.update(&g, &l_walk(0.0), 0.0);
+    assert_eq!(same.eye, ok.eye);
+    // A huge dt moves like max_dt and stays inside.
+    let p = cam.update(&g, &l_walk(0.1), 1e6);
+    assert!(g.contains(p.eye));
+    // Far outside the map: followed via the nearest volume point, no panic.
+    for far in [[1e6, 1e6, 1e6], [-3e7, 5.0, 64.0], [64.0, 64.0, 300.0]] {
+        let t = Target::new(far, [1.0, 0.0, 0.0], [0.0; 3]);
+        for _ in 0..5 {
+            let p = cam.update(&g, &t, 1.0 / 60.0);
+            assert!(g.contains(p.eye), "eye left the volume for target {far:?}");
+            assert_eq!(p.status, Status::TargetOutside);
+        }
+    }
+    // Zero heading: keeps the last one.
+    let t = Target::new([100.0, 64.0, 64.0], [0.0; 3], [0.0; 3]);
+    assert!(g.contains(cam.update(&g, &t, 1.0 / 60.0).eye));
+    // An empty graph.
+    let empty = VdgFile::from_bytes(&VdgBuilder::new().to_bytes().unwrap()).unwrap();
+    let p = cam.update(&empty.graph(), &l_walk(0.0), 1.0 / 60.0);
+    assert_eq!(p.status, Status::NoGraph);
+    // Back on the corridor: a new scene (a cut), inside again.
+    let p = cam.update(&g, &l_walk(0.0), 1.0 / 60.0);
+    assert!(p.cut && g.contains(p.eye));
+}
+
+#[test]
+fn bad_parameters_are_errors_not_panics() {
+    for toml in [
+        "distance_mu = nan",
+        "angle_sigma_deg = 200.0",
+        "max_dt = 0.0",
+        "heading_pitch_weight = 2.0",
+        "distance_muu = 3.0",
+        "distance_mu = \"far\"",
+    ] {
+        let e = CameraParams::from_toml_str(toml).unwrap_err().to_string();
+        assert!(
+            !e.contains('\n') && e.starts_with("invalid camera parameters"),
+            "{e}"
+        );
+    }
+    let bad = CameraParams {
+        inertia_sigma: -1.0,
+        ..CameraParams::default()
+    };
+    assert!(Camera::new(bad).is_err());
+    // Round trip through TOML.
+    let text = toml::to_string(&CameraParams::thesis()).unwrap();
+    assert_eq!(
+        CameraParams::from_toml_str(&text).unwrap(),
+        CameraParams::thesis()
+    );
+}
+
+#[test]
+fn a_different_graph_restarts_the_camera_and_the_director_says_so() {
+    let a = l_corridor();
+    let b = open(&grid(8, 8, 64.0, |_, _| 0.0, |_, _| 40.0, |_, _| true));
+    let mut d = Director::new();
+    let one = d.add_camera(CameraParams::default()).unwrap();
+    let two = d.add_camera(CameraParams::thesis()).unwrap();
+    assert_eq!(d.active(), Some(one));
+    d.set_target(one, l_walk(0.0));
+    d.set_target(
+        two,
+        Target::new([300.0, 64.0, 64.0], [1.0, 0.0, 0.0], [0.0; 3]),
+    );
+    d.update(&a.graph(), 1.0 / 60.0).unwrap();
+    assert!(d.events().contains(&DirectorEvent::Cut { camera: one }));
+    d.update(&a.graph(), 1.0 / 60.0).unwrap();
+    assert!(d.events().is_empty());
+    assert!(d.activate(two));
+    let p = d.update(&a.graph(), 1.0 / 60.0).unwrap();
+    assert_eq!(p, d.pose(two).unwrap());
+    assert_eq!(
+        d.events(),
+        &[DirectorEvent::Switched {
+            from: Some(one),
+            to: two
+        }]
+    );
+    // A new map: both cameras restart on it.
+    d.set_target(
+        one,
+        Target::new([100.0, 100.0, 10.0], [1.0, 0.0, 0.0], [0.0; 3]),
+    );
+    d.set_target(
+        two,
+        Target::new([300.0, 300.0, 10.0], [1.0, 0.0, 0.0], [0.0; 3]),
+    );
+    let p = d.update(&b.graph(), 1.0 / 60.0).unwrap();
+    assert!(b.graph().contains(p.eye));
+    let ev = d.events();
+    assert!(ev.contains(&DirectorEvent::GraphChanged));
+    assert!(ev.contains(&DirectorEvent::Cut { camera: one }));
+    assert!(ev.contains(&DirectorEvent::Cut { camera: two }));
+    assert!(d.remove_camera(two));
+    assert_eq!(d.active(), None);
+    assert!(d.update(&b.graph(), 1.0 / 60.0).is_none());
+}
