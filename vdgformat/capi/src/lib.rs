@@ -892,6 +892,121 @@ mod tests {
         assert_eq!(last_error(), "vdg_open: path is NULL");
     }
 
+    /// Two 256 × 64 strips of clearance 32 side by side at z = 0.
+    fn strip_bytes() -> Vec<u8> {
+        let mut b = vdgformat::VdgBuilder::new();
+        let v: Vec<u32> = [[0.0, 0.0], [256.0, 0.0], [0.0, 64.0], [256.0, 64.0]]
+            .iter()
+            .map(|&[x, y]| b.add_vertex([x, y, 0.0], 32.0))
+            .collect();
+        b.add_face([v[0], v[1], v[2]]);
+        b.add_face([v[1], v[3], v[2]]);
+        b.to_bytes().unwrap()
+    }
+
+    #[test]
+    fn damaged_images_are_refused_with_a_message() {
+        let good = strip_bytes();
+        let mut rng = 0x9e37_79b9_7f4a_7c15_u64;
+        for i in 0..300 {
+            rng = rng
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let mut bytes = good.clone();
+            if i % 2 == 0 {
+                bytes.truncate((rng >> 33) as usize % good.len());
+            } else {
+                let at = (rng >> 33) as usize % good.len();
+                bytes[at] ^= 1 << (rng % 8);
+            }
+            let g = unsafe { vdg_open_memory(bytes.as_ptr().cast(), bytes.len()) };
+            assert!(g.is_null(), "damage {i} accepted");
+            let e = last_error();
+            assert!(e.starts_with("memory image: ") && !e.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
+    fn one_graph_answers_many_threads_alike() {
+        let bytes = strip_bytes();
+        let g = unsafe { vdg_open_memory(bytes.as_ptr().cast(), bytes.len()) };
+        assert!(!g.is_null());
+        struct Shared(*const vdg_graph);
+        unsafe impl Sync for Shared {}
+        let shared = Shared(g);
+        let answers: Vec<Vec<u32>> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..4)
+                .map(|_| {
+                    let shared = &shared;
+                    s.spawn(move || {
+                        (0..200)
+                            .map(|i| {
+                                let p = [i as f32, 10.0, 5.0];
+                                let q = [250.0, 60.0 - i as f32 * 0.1, -5.0];
+                                let c = unsafe { vdg_clearance(shared.0, p.as_ptr()) };
+                                let d = unsafe { vdg_vdistance(shared.0, p.as_ptr(), q.as_ptr()) };
+                                c.to_bits() ^ d.to_bits().rotate_left(7)
+                            })
+                            .collect()
+                    })
+                })
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        assert!(answers.windows(2).all(|w| w[0] == w[1]));
+        unsafe { vdg_close(g) };
+    }
+
+    #[test]
+    fn path_reports_the_size_it_needs() {
+        let bytes = strip_bytes();
+        let g = unsafe { vdg_open_memory(bytes.as_ptr().cast(), bytes.len()) };
+        let (p, q) = ([5.0f32, 5.0, 0.0], [250.0f32, 60.0, 0.0]);
+        let mut len = -1.0f32;
+        let n = unsafe {
+            vdg_path(
+                g,
+                p.as_ptr(),
+                q.as_ptr(),
+                0.0,
+                std::ptr::null_mut(),
+                0,
+                &mut len,
+            )
+        };
+        assert!(n >= 2 && len > 0.0, "{n} {len}");
+        let mut buf = vec![f32::NAN; 3 * n as usize + 3];
+        let m = unsafe {
+            vdg_path(
+                g,
+                p.as_ptr(),
+                q.as_ptr(),
+                0.0,
+                buf.as_mut_ptr(),
+                n as usize,
+                std::ptr::null_mut(),
+            )
+        };
+        assert_eq!(m, n);
+        assert_eq!(&buf[..3], &p);
+        assert_eq!(&buf[3 * n as usize - 3..3 * n as usize], &q);
+        assert!(buf[3 * n as usize].is_nan(), "wrote past the count");
+        // An agent wider than the strip's clearance has no way through.
+        let none = unsafe {
+            vdg_path(
+                g,
+                p.as_ptr(),
+                q.as_ptr(),
+                40.0,
+                std::ptr::null_mut(),
+                0,
+                std::ptr::null_mut(),
+            )
+        };
+        assert_eq!(none, 0);
+        unsafe { vdg_close(g) };
+    }
+
     #[test]
     fn a_panic_becomes_an_error() {
         let v = guard(-1, || -> Result<i32, String> { panic!("boom") });
