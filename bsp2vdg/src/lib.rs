@@ -19,6 +19,7 @@ pub use ::bsp::oracle;
 pub use ::bsp::util;
 /// The map crate's exact wall distance (re-exported, see [`bsp`]).
 pub use ::bsp::walls;
+pub mod check;
 pub mod delaunay;
 pub mod log;
 pub mod pipeline;

@@ -1,5 +1,8 @@
-//! `vdgview check MAP.bsp FILE.vdg`: the quality of a graph measured against its map's
-//! own BSP (SPEC §8).
+//! The quality of a graph measured against its map's own BSP (SPEC §8): the figures of
+//! `vdgview check MAP.bsp FILE.vdg` and of `bsp2vdg --baseline`. It lives in the
+//! compiler's library, beside the BSP reader and oracle it measures with, so that both
+//! the viewer (which depends on this crate) and the compiler's CI mode call the same
+//! code without a dependency cycle; `vdgview::check` re-exports it.
 //!
 //! - **leak**: random points of Volume(VDG) (a face by volume, a point of its triangle,
 //!   a point of the ball of interpolated clearance there) that the BSP calls blocked.
@@ -372,7 +375,7 @@ pub struct Standing {
 /// # let bsp = bsp::Bsp::open("map.bsp").unwrap();
 /// let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
 /// let hull = oracle.clip_hull(1).expect("the map has clip hulls");
-/// let floors = vdgview::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
+/// let floors = bsp2vdg::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
 /// ```
 pub fn column_floors(
     hull: &Hull,
