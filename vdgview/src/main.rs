@@ -502,7 +502,7 @@ const FOLLOW_DT: f64 = 1.0 / 60.0;
 
 /// The poses of one camera along the first route of `route` (eye, look-at, target).
 fn follow_poses(
-    bsp: &bsp2vdg::bsp::Bsp,
+    bsp: &bsp::Bsp,
     file: Option<&vdgformat::VdgFile>,
     route: &str,
     camera: &str,
@@ -513,9 +513,9 @@ fn follow_poses(
     };
     replay::check_camera_names(&[camera.to_string()])?;
     let source = replay::RouteSource::parse(route)?;
-    let options = bsp2vdg::oracle::OracleOptions::default();
-    let oracle = bsp2vdg::oracle::Oracle::new(bsp, &options);
-    let walls = bsp2vdg::walls::Walls::of_map(bsp, &options);
+    let options = ::bsp::oracle::OracleOptions::default();
+    let oracle = ::bsp::oracle::Oracle::new(bsp, &options);
+    let walls = ::bsp::walls::Walls::of_map(bsp, &options);
     let graph = file.graph();
     let routes = replay::load_routes(bsp, &oracle, &source, 1, 1)?;
     let mut cams = replay::make_cameras(&[camera.to_string()], &oracle, &walls, graph, None)?;
