@@ -26,6 +26,8 @@ fn bake_on_a_loopback_cluster_survives_a_killed_worker() {
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|e| e == "bsp"))
+        // The largest generated map takes longest; five small ones keep this test short.
+        .filter(|p| !p.ends_with("complex.bsp"))
         .collect();
     maps.sort();
     let o = Command::new("python3")
