@@ -836,6 +836,26 @@ mod tests {
         assert!(checked > 20, "{checked}");
     }
 
+    /// Random damage to a valid OBJ: an error or a mesh, never a panic.
+    #[test]
+    fn damaged_obj_never_panics() {
+        let good = bend_obj().into_bytes();
+        let mut rng = Rng::new(17);
+        for _ in 0..2000 {
+            let mut b = good.clone();
+            for _ in 0..1 + rng.below(8) {
+                let i = rng.below(b.len() as u64) as usize;
+                const ALPHABET: &[u8] = b"0123456789-./ \nvtfe+x";
+                b[i] = ALPHABET[rng.below(ALPHABET.len() as u64) as usize];
+            }
+            let cut = rng.below(b.len() as u64 + 1) as usize;
+            let text = String::from_utf8_lossy(&b[..cut]);
+            if let Ok(m) = Mesh::from_obj(&text) {
+                let _ = WorldField::new(&m, Flow::Steady(river(1)));
+            }
+        }
+    }
+
     #[test]
     fn bad_obj_is_a_clear_error() {
         for (text, needle) in [
