@@ -110,9 +110,21 @@ struct Cli {
     /// is recorded, so renaming or moving the map does not change the output's bytes.
     #[arg(long, value_name = "NAME", num_args = 0..=1, require_equals = true, default_missing_value = "")]
     source_name: Option<String>,
+    /// CI: compile the maps and store their graphs and statistics in DIR as the baseline.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["baseline", "output"])]
+    update_baseline: Option<PathBuf>,
+    /// CI: compile the maps again and compare with the baseline in DIR; exit 1 on a regression.
+    #[arg(long, value_name = "DIR", conflicts_with = "output")]
+    baseline: Option<PathBuf>,
+    /// Tolerances of --baseline (TOML: counts, bytes, seconds, min_seconds, quality, [figures]).
+    #[arg(long, value_name = "FILE")]
+    tolerances: Option<PathBuf>,
+    /// Random points per quality figure measured for a baseline.
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    check_samples: usize,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
 enum StageArg {
     Samples,
     Delaunay,
@@ -284,7 +296,7 @@ fn run(cli: &Cli) -> Result<bool> {
             .build_global()
             .context("cannot start the worker threads")?;
     }
-    let batch = cli.maps.len() > 1;
+    let batch = cli.maps.len() > 1 && cli.update_baseline.is_none() && cli.baseline.is_none();
     if batch
         && let Some(o) = &cli.output
         && !o.is_dir()
@@ -295,6 +307,9 @@ fn run(cli: &Cli) -> Result<bool> {
         );
     }
     check_maps(&cli.maps)?;
+    if let Some(dir) = cli.update_baseline.as_ref().or(cli.baseline.as_ref()) {
+        return run_baseline(cli, dir);
+    }
     let verbosity = if cli.quiet {
         Verbosity::Quiet
     } else if cli.verbose || cli.dev.is_some_and(|n| n > 0) {
@@ -369,6 +384,39 @@ fn run(cli: &Cli) -> Result<bool> {
         println!("{out}");
     }
     Ok(ok)
+}
+
+/// `--update-baseline DIR` / `--baseline DIR` (see [`cli::baseline`]).
+fn run_baseline(cli: &Cli, dir: &Path) -> Result<bool> {
+    if cli.stop_after != StageArg::Reduce {
+        bail!("--stop-after writes no graph to compare; a baseline needs the whole pipeline");
+    }
+    if cli.check_samples == 0 {
+        bail!("--check-samples must be at least 1");
+    }
+    let options = |map: &Path, output: PathBuf| CompileOptions {
+        output,
+        ..compile_options(cli, map)
+    };
+    let run = cli::baseline::Run {
+        dir,
+        maps: &cli.maps,
+        options: &options,
+        check_samples: cli.check_samples,
+        liquids_are_solid: cli.liquids_solid,
+        tolerances: cli::baseline::Tolerances::load(cli.tolerances.as_deref())?,
+        json: cli.json,
+        verbosity: if cli.verbose {
+            Verbosity::Verbose
+        } else {
+            Verbosity::Quiet
+        },
+    };
+    if cli.update_baseline.is_some() {
+        cli::baseline::update(&run)
+    } else {
+        cli::baseline::compare_all(&run)
+    }
 }
 
 /// One map: clean up after killed runs, skip it when current (batch mode), compile it,

@@ -520,3 +520,76 @@ fn stale_temporaries_of_killed_runs_are_removed() {
         );
     }
 }
+
+/// CI regression mode: an identical rebuild passes, a change of -sd is caught (exit 1),
+/// and --json gives the same verdicts.
+#[test]
+fn baseline_catches_a_change_of_sd_and_passes_a_rebuild() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("baseline");
+    let base = dir.join("base");
+    let m = map.to_str().unwrap();
+    let b = base.to_str().unwrap();
+    let common = ["-rl", "1.0", "--check-samples", "2000"];
+    let run = |extra: &[&str]| {
+        let mut args: Vec<&str> = common.to_vec();
+        args.extend_from_slice(extra);
+        args.push(m);
+        bsp2vdg(&args)
+    };
+    let o = run(&["--update-baseline", b]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stem = map.file_stem().unwrap().to_str().unwrap();
+    assert!(base.join(format!("{stem}.vdg")).is_file());
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(base.join(format!("{stem}.json"))).unwrap())
+            .unwrap();
+    assert!(stats["check"]["coverage"].is_number(), "{stats}");
+    assert!(stats["vertices"].as_u64().unwrap() > 0);
+
+    let o = run(&["--baseline", b]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("identical") && out.contains("0 regressions"),
+        "{out}"
+    );
+
+    let o = run(&["--baseline", b, "-sd", "40"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("REGRESSION"), "{out}");
+
+    let o = run(&["--baseline", b, "-sd", "40", "--json"]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regressed"], true);
+    let figs = v["maps"][0]["figures"].as_array().unwrap();
+    assert!(
+        figs.iter()
+            .any(|f| f["name"] == "vertices" && f["ok"] == false),
+        "{v}"
+    );
+
+    // Looser tolerances from a TOML file let the same change pass the counts.
+    let tol = dir.join("tol.toml");
+    std::fs::write(
+        &tol,
+        "counts = 10.0\nbytes = 10.0\nquality = 1.0\n[figures]\nleak = 1.0\nvisible_fp = 1.0\n",
+    )
+    .unwrap();
+    let o = run(&[
+        "--baseline",
+        b,
+        "-sd",
+        "40",
+        "--tolerances",
+        tol.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
+
+    // No baseline for a map: exit 1 with the reason.
+    let o = run(&["--baseline", dir.join("none").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("run --update-baseline first"));
+}

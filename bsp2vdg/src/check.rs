@@ -1,5 +1,8 @@
-//! `vdgview check MAP.bsp FILE.vdg`: the quality of a graph measured against its map's
-//! own BSP (SPEC §8).
+//! The quality of a graph measured against its map's own BSP (SPEC §8): the figures of
+//! `vdgview check MAP.bsp FILE.vdg` and of `bsp2vdg --baseline`. It lives in the
+//! compiler's library, beside the BSP reader and oracle it measures with, so that both
+//! the viewer (which depends on this crate) and the compiler's CI mode call the same
+//! code without a dependency cycle; `vdgview::check` re-exports it.
 //!
 //! - **leak**: random points of Volume(VDG) (a face by volume, a point of its triangle,
 //!   a point of the ball of interpolated clearance there) that the BSP calls blocked.
@@ -18,10 +21,10 @@
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Hull, Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Hull, Oracle, OracleOptions};
+use bsp::util::SplitMix64;
+use bsp::walls::Walls;
 use rayon::prelude::*;
 use vdgformat::Vdg;
 
@@ -369,10 +372,10 @@ pub struct Standing {
 /// blocked going down on a walkable slope (the origin dropped onto a floor).
 ///
 /// ```no_run
-/// # let bsp = bsp2vdg::bsp::Bsp::open("map.bsp").unwrap();
-/// let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
+/// # let bsp = bsp::Bsp::open("map.bsp").unwrap();
+/// let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
 /// let hull = oracle.clip_hull(1).expect("the map has clip hulls");
-/// let floors = vdgview::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
+/// let floors = bsp2vdg::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
 /// ```
 pub fn column_floors(
     hull: &Hull,
