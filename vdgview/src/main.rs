@@ -248,6 +248,8 @@ fn run_check(
     }
     let bsp = scene::open_map(map)?;
     let file = scene::open_graph(vdg)?;
+    // Figures of a graph against another map mean nothing: refuse.
+    scene::same_map(map, vdg, &file.graph())?;
     let bytes = std::fs::metadata(vdg)
         .map(|m| m.len() as usize)
         .unwrap_or(0);
@@ -325,6 +327,12 @@ fn run_render(args: RenderArgs) -> Result<()> {
     };
     let bsp = scene::open_map(&args.map)?;
     let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if let (Some(f), Some(path)) = (&file, &args.graph)
+        && let Err(e) = scene::same_map(&args.map, path, &f.graph())
+    {
+        // A picture of a graph in another map can still be wanted (a moved map): warn.
+        eprintln!("vdgview: warning: {e}");
+    }
     if mode == Mode::ReductionCost && file.is_some() {
         anyhow::bail!(render::NO_REDUCTION_COST);
     }
@@ -365,6 +373,12 @@ fn run_view(args: ViewArgs) -> Result<()> {
     let (width, height) = parse_size(&args.size)?;
     let bsp = scene::open_map(&args.map)?;
     let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if let (Some(f), Some(path)) = (&file, &args.graph)
+        && let Err(e) = scene::same_map(&args.map, path, &f.graph())
+    {
+        // A picture of a graph in another map can still be wanted (a moved map): warn.
+        eprintln!("vdgview: warning: {e}");
+    }
     let samples = args
         .samples
         .as_deref()
