@@ -21,10 +21,10 @@
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
 
-use crate::bsp::Bsp;
-use crate::oracle::{Hull, Oracle, OracleOptions};
-use crate::util::SplitMix64;
-use crate::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Hull, Oracle, OracleOptions};
+use bsp::util::SplitMix64;
+use bsp::walls::Walls;
 use rayon::prelude::*;
 use vdgformat::Vdg;
 
@@ -372,8 +372,8 @@ pub struct Standing {
 /// blocked going down on a walkable slope (the origin dropped onto a floor).
 ///
 /// ```no_run
-/// # let bsp = bsp2vdg::bsp::Bsp::open("map.bsp").unwrap();
-/// let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
+/// # let bsp = bsp::Bsp::open("map.bsp").unwrap();
+/// let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
 /// let hull = oracle.clip_hull(1).expect("the map has clip hulls");
 /// let floors = bsp2vdg::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
 /// ```

@@ -29,7 +29,7 @@ fn vdgview(args: &[&str]) -> Output {
 /// A graph filling box_room's interior: a grid of triangles at mid height whose
 /// clearance falls off towards the walls (like a real medial-axis sheet).
 fn box_room_graph(dir: &Path) -> PathBuf {
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let inset = 40.0;
     let (x0, x1, y0, y1) = (lo[0] + inset, hi[0] - inset, lo[1] + inset, hi[1] - inset);
@@ -139,7 +139,7 @@ fn renders_are_non_empty_coloured_and_deterministic() {
 fn a_camera_inside_the_room_sees_walls_around_it() {
     let dir = tmpdir("camera");
     let g = box_room_graph(&dir);
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let c: Vec<f32> = (0..3).map(|i| (lo[i] + hi[i]) * 0.5).collect();
     let cam = format!(
@@ -182,7 +182,7 @@ fn info_and_queries_print_their_answers() {
     assert!(text.contains("vertices       169"), "{text}");
     assert!(text.contains("source.name = box_room.bsp"), "{text}");
 
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let c: Vec<String> = (0..3)
         .map(|i| ((lo[i] + hi[i]) * 0.5).to_string())
@@ -239,4 +239,59 @@ fn bad_input_gives_one_line_errors_and_no_output() {
         );
         assert!(!out.exists());
     }
+}
+
+/// A graph built from another map: `check` refuses it in one line (exit 1), `render`
+/// warns and still draws. The .vdg records the XXH64 of its source map's bytes.
+#[test]
+fn a_graph_of_another_map_is_named() {
+    let dir = tmpdir("othermap");
+    let mut b = VdgBuilder::new();
+    let ids: Vec<u32> = [
+        [100.0, 100.0, 100.0],
+        [200.0, 100.0, 100.0],
+        [100.0, 200.0, 100.0],
+    ]
+    .iter()
+    .map(|&p| b.add_vertex(p, 30.0))
+    .collect();
+    b.add_face([ids[0], ids[1], ids[2]]);
+    let pillars = std::fs::read(map("pillars.bsp")).unwrap();
+    b.set_source("pillars.bsp", vdgformat::xxh64(&pillars, 0));
+    let graph = dir.join("from-pillars.vdg");
+    std::fs::write(&graph, b.to_bytes().unwrap()).unwrap();
+    let other = map("box_room.bsp");
+    let o = vdgview(&[
+        "check",
+        other.to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "--samples",
+        "100",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("was built from another map"), "{err}");
+    // The right map passes this test (its figures are another matter).
+    let o = vdgview(&[
+        "check",
+        map("pillars.bsp").to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "--samples",
+        "100",
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("another map"));
+    let png = dir.join("other.png");
+    let o = vdgview(&[
+        "render",
+        other.to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "64x48",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning:"));
+    assert!(png.is_file());
 }
