@@ -5,7 +5,7 @@
 //! The pipeline has one module per stage: [`bsp`] reads the map, `oracle` answers
 //! point-contents and segment queries, `boundary` finds the walls in the BSP tree,
 //! `sample` places points on the walls, `delaunay` tetrahedralizes them, `voronoi`
-//! extracts the graph, `reduce` shrinks it.
+//! extracts the graph, `reduce` shrinks it; `standing` finds where a standing player is.
 
 pub mod boundary;
 pub mod bsp;
@@ -16,6 +16,7 @@ pub mod pipeline;
 pub mod progress;
 pub mod reduce;
 pub mod sample;
+pub mod standing;
 pub mod util;
 pub mod voronoi;
 pub mod walls;

@@ -332,7 +332,7 @@ fn json_report(
                 .iter()
                 .map(|(k, v)| (k.to_string(), json!(v)))
                 .collect();
-            json!({
+            let mut out = json!({
                 "map": map.display().to_string(),
                 "ok": true,
                 "version": s.version,
@@ -379,7 +379,9 @@ fn json_report(
                 "threads": rayon::current_num_threads(),
                 "stop_after": format!("{:?}", cli.stop_after).to_lowercase(),
                 "seconds": seconds,
-            })
+            });
+            out["reduce_kept_points"] = json!(s.reduce.as_ref().map(|r| r.kept_points));
+            out
         }
     }
 }
