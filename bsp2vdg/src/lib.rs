@@ -9,6 +9,7 @@
 
 pub mod boundary;
 pub mod bsp;
+pub mod check;
 pub mod delaunay;
 pub mod log;
 pub mod oracle;
@@ -17,6 +18,7 @@ pub mod progress;
 pub mod reduce;
 pub mod sample;
 pub mod standing;
+pub mod uptodate;
 pub mod util;
 pub mod voronoi;
 pub mod walls;

@@ -1,13 +1,19 @@
 //! `bsp2vdg [options] MAP.bsp ...` — the command line, in the manner of map compile
-//! tools: thesis-style single-dash options, a log beside the map, non-zero exit on
-//! failure, `--json` for CI, and batch mode over many maps with a summary table.
+//! tools (ericw-tools, VHLT): single-dash options, a log beside the output, `MAP.err`
+//! on failure, low priority by default, non-zero exit on failure, `--json` for CI, and
+//! batch mode over many maps with a summary table that skips maps already up to date.
+#![recursion_limit = "256"] // the --json report is one large json! literal
+
+mod cli;
 
 use anyhow::{Context, Result, bail};
-use bsp2vdg::log::{Log, Verbosity, secs};
-use bsp2vdg::pipeline::{self, CompileOptions, SamplesFormat, Stage, Stats};
+use bsp2vdg::log::{Log, Verbosity};
+use bsp2vdg::pipeline::{self, CompileOptions, SamplesFormat, Stage};
 use bsp2vdg::progress::{NoProgress, PercentLines, Progress};
 use bsp2vdg::sample::SampleOptions;
-use clap::{Parser, ValueEnum};
+use clap::{CommandFactory, Parser, ValueEnum};
+use cli::priority::{self, Priority};
+use cli::report::{self, Outcome, TerminalBar};
 use rayon::prelude::*;
 use serde_json::json;
 use std::io::IsTerminal;
@@ -19,7 +25,7 @@ use std::path::{Path, PathBuf};
     version,
     about = "Compile a BSP map into a Voronoi Distance Graph (.vdg)",
     allow_negative_numbers = true,
-    after_help = "Thesis-style single-dash spellings work too: -sd 16 -ms 100000 -rl 0.05 -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet"
+    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
 )]
 struct Cli {
     /// The map(s) to compile; several maps are compiled in parallel (batch mode).
@@ -34,7 +40,9 @@ struct Cli {
     /// Reduction limit: 1.0 = no reduction, 0.0 = as far as possible.
     #[arg(long = "rl", value_name = "F", default_value_t = 0.025)]
     reduction_limit: f64,
-    /// Minimum clearance a Voronoi vertex must have to be kept.
+    /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
+    /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
+    /// vertices it keeps (condition A), so the written graph may hold smaller ones.
     #[arg(long = "md", value_name = "N", default_value_t = 20.0)]
     min_clearance: f64,
     /// Smallest leaf box of the face tree in the .vdg.
@@ -73,9 +81,52 @@ struct Cli {
     /// Brush entity classnames whose models are walls too (comma separated), e.g. func_wall.
     #[arg(long, value_name = "CLASSES", value_delimiter = ',')]
     entities: Vec<String>,
+    /// Run at low process priority (the default, as ericw-tools does).
+    #[arg(long, visible_alias = "lowpriority")]
+    low: bool,
+    /// Run at high process priority (needs privileges on Unix; else normal priority).
+    #[arg(long, conflicts_with = "low")]
+    high: bool,
+    /// Write no log file.
+    #[arg(long, conflicts_with = "logfile")]
+    nolog: bool,
+    /// Append the log to FILE instead of OUT.log beside the output.
+    #[arg(long, value_name = "FILE")]
+    logfile: Option<PathBuf>,
+    /// Show the estimated time left with the progress.
+    #[arg(long, conflicts_with = "noestimate")]
+    estimate: bool,
+    /// Show progress without time estimates (the default).
+    #[arg(long)]
+    noestimate: bool,
+    /// Print a chart of the stage times and the sizes after each map.
+    #[arg(long)]
+    chart: bool,
+    /// Developer message level (VHLT); 1 or more shows the -verbose lines.
+    #[arg(long, value_name = "N")]
+    dev: Option<u32>,
+    /// Rebuild maps whose output is up to date (batch mode skips them otherwise).
+    #[arg(long)]
+    force: bool,
+    /// Record the map's name in the .vdg (=NAME records NAME). By default only its hash
+    /// is recorded, so renaming or moving the map does not change the output's bytes.
+    #[arg(long, value_name = "NAME", num_args = 0..=1, require_equals = true, default_missing_value = "")]
+    source_name: Option<String>,
+    /// CI: compile the maps and store their graphs and statistics in DIR as the baseline.
+    #[arg(long, value_name = "DIR", conflicts_with_all = ["baseline", "output"])]
+    update_baseline: Option<PathBuf>,
+    /// CI: compile the maps again and compare with the baseline in DIR; exit 1 on a regression.
+    #[arg(long, value_name = "DIR", conflicts_with = "output")]
+    baseline: Option<PathBuf>,
+    /// Tolerances of --baseline (TOML: counts, bytes, seconds, min_seconds, quality, [figures]).
+    #[arg(long, value_name = "FILE")]
+    tolerances: Option<PathBuf>,
+    /// Random points per quality figure measured for a baseline.
+    #[arg(long, value_name = "N", default_value_t = 100_000)]
+    check_samples: usize,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
 enum StageArg {
     Samples,
     Delaunay,
@@ -89,39 +140,15 @@ enum SamplesFormatArg {
     Qhull,
 }
 
-/// Options spelled with one dash, as the thesis and the compile tools do.
-const SINGLE_DASH: [&str; 15] = [
-    "sd",
-    "ms",
-    "rl",
-    "md",
-    "bb",
-    "savesamples",
-    "subset",
-    "threads",
-    "verbose",
-    "quiet",
-    "json",
-    "output",
-    "entities",
-    "stop-after",
-    "samples-format",
-];
-
-/// Rewrites `-sd` to `--sd` and so on; everything else is left alone.
-fn normalise_args(args: impl Iterator<Item = String>) -> Vec<String> {
-    args.enumerate()
-        .map(|(i, a)| match a.strip_prefix('-') {
-            Some(rest) if i > 0 && !rest.starts_with('-') && SINGLE_DASH.contains(&rest) => {
-                format!("--{rest}")
-            }
-            _ => a,
-        })
-        .collect()
-}
+/// Exit status of a command line that cannot be run (unknown option, bad syntax).
+const EXIT_USAGE: i32 = 2;
 
 fn main() {
-    let cli = Cli::parse_from(normalise_args(std::env::args()));
+    let args: Vec<String> = std::env::args().collect();
+    let cli = match parse(&args) {
+        Ok(cli) => cli,
+        Err(code) => std::process::exit(code),
+    };
     match run(&cli) {
         Ok(true) => {}
         Ok(false) => std::process::exit(1),
@@ -130,6 +157,37 @@ fn main() {
             std::process::exit(1);
         }
     }
+}
+
+/// Parses the command line; a usage error is printed as one line and gives the exit
+/// status (help and version are printed in full and give 0).
+fn parse(args: &[String]) -> Result<Cli, i32> {
+    let longs = cli::args::long_options(&Cli::command());
+    let normal = cli::args::normalise(args, &longs).map_err(|e| {
+        eprintln!("bsp2vdg: error: {}", e.0);
+        EXIT_USAGE
+    })?;
+    Cli::try_parse_from(normal).map_err(|e| {
+        use clap::error::ErrorKind;
+        if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
+            let _ = e.print();
+            return 0;
+        }
+        // clap's message without its usage block, on one line.
+        let text = e.to_string();
+        let message: Vec<&str> = text
+            .lines()
+            .take_while(|l| !l.starts_with("Usage:"))
+            .map(str::trim)
+            .filter(|l| {
+                !l.is_empty() && !l.starts_with("tip:") && !l.starts_with("For more information")
+            })
+            .collect();
+        let message = message.join(" ");
+        let message = message.strip_prefix("error: ").unwrap_or(&message);
+        eprintln!("bsp2vdg: error: {message}; bsp2vdg --help lists the options");
+        EXIT_USAGE
+    })
 }
 
 fn check_options(cli: &Cli) -> Result<()> {
@@ -163,19 +221,84 @@ fn check_options(cli: &Cli) -> Result<()> {
             cli.threads
         );
     }
+    if cli.maps.len() > 1 && cli.source_name.as_deref().is_some_and(|n| !n.is_empty()) {
+        bail!(
+            "--source-name=NAME names one map; give --source-name without a value to record each map's own name"
+        );
+    }
     Ok(())
 }
 
-/// Returns whether every map compiled.
+/// A note on the console (stderr when stdout carries JSON), unless quiet.
+fn note(cli: &Cli, line: &str) {
+    if cli.quiet {
+    } else if cli.json {
+        eprintln!("bsp2vdg: {line}");
+    } else {
+        println!("bsp2vdg: {line}");
+    }
+}
+
+/// Lowers (or raises) the process priority before any worker thread starts.
+fn set_priority(cli: &Cli) {
+    let wanted = if cli.high {
+        Priority::High
+    } else {
+        Priority::Low
+    };
+    if let Err(e) = priority::set(wanted) {
+        let what = if cli.high { "-high" } else { "low priority" };
+        note(
+            cli,
+            &format!(
+                "warning: {what}: cannot set the process priority ({e}); running at the current priority"
+            ),
+        );
+    }
+}
+
+/// Maps that can be compiled: files, not folders or missing paths.
+fn check_maps(maps: &[PathBuf]) -> Result<()> {
+    for map in maps {
+        if map.is_dir() {
+            bail!(
+                "{} is a folder, not a map file (give the maps inside it, e.g. {}/*.bsp)",
+                map.display(),
+                map.display()
+            );
+        }
+        if !map.is_file() {
+            bail!("{}: no such map file", map.display());
+        }
+    }
+    Ok(())
+}
+
+/// Fails at once, not after the compile, when the output cannot be written: creates and
+/// removes a temporary file where the output will go.
+fn check_writable(output: &Path) -> Result<()> {
+    let tmp =
+        toolbox::temp_path(output).with_context(|| format!("cannot write {}", output.display()))?;
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&tmp)
+        .with_context(|| format!("cannot write {}", output.display()))?;
+    let _ = std::fs::remove_file(&tmp);
+    Ok(())
+}
+
+/// Returns whether every map compiled (or was up to date).
 fn run(cli: &Cli) -> Result<bool> {
     check_options(cli)?;
+    set_priority(cli);
     if cli.threads > 0 {
         rayon::ThreadPoolBuilder::new()
             .num_threads(cli.threads)
             .build_global()
             .context("cannot start the worker threads")?;
     }
-    let batch = cli.maps.len() > 1;
+    let batch = cli.maps.len() > 1 && cli.update_baseline.is_none() && cli.baseline.is_none();
     if batch
         && let Some(o) = &cli.output
         && !o.is_dir()
@@ -185,73 +308,75 @@ fn run(cli: &Cli) -> Result<bool> {
             o.display()
         );
     }
-    for map in &cli.maps {
-        if !map.is_file() {
-            bail!("{}: no such map file", map.display());
-        }
+    check_maps(&cli.maps)?;
+    if let Some(dir) = cli.update_baseline.as_ref().or(cli.baseline.as_ref()) {
+        return run_baseline(cli, dir);
     }
     let verbosity = if cli.quiet {
         Verbosity::Quiet
-    } else if cli.verbose {
+    } else if cli.verbose || cli.dev.is_some_and(|n| n > 0) {
         Verbosity::Verbose
     } else {
         Verbosity::Normal
     };
-    if verbosity != Verbosity::Quiet {
-        let line = format!(
-            "bsp2vdg {} ({} threads)",
-            env!("CARGO_PKG_VERSION"),
-            rayon::current_num_threads()
-        );
-        if cli.json {
+    let console = |line: &str| {
+        if verbosity == Verbosity::Quiet {
+        } else if cli.json {
             eprintln!("{line}")
         } else {
             println!("{line}")
         }
+    };
+    console(&format!(
+        "bsp2vdg {} ({} threads)",
+        env!("CARGO_PKG_VERSION"),
+        rayon::current_num_threads()
+    ));
+    if let Some(n) = cli.dev.filter(|&n| n > 0) {
+        note(
+            cli,
+            &format!("note: -dev {n}: developer messages are the -verbose lines"),
+        );
     }
+    let first_output = compile_options(cli, &cli.maps[0]).output;
+    check_writable(&first_output)?;
 
-    let compile_one = |map: &PathBuf| {
-        let name = map
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let mut log = Log::new(verbosity, cli.json);
-        if batch {
-            log = log.with_prefix(&name);
+    let results: Vec<(PathBuf, Outcome)> = if batch {
+        cli.maps
+            .par_iter()
+            .map(|m| (m.clone(), build_one(cli, m, verbosity)))
+            .collect()
+    } else {
+        cli.maps
+            .iter()
+            .map(|m| (m.clone(), build_one(cli, m, verbosity)))
+            .collect()
+    };
+
+    let ok = results.iter().all(|(_, r)| r.ok());
+    if batch {
+        for line in report::summary_lines(&results) {
+            console(&line);
         }
-        let options = compile_options(cli, map);
-        let progress: Box<dyn Progress> = if batch || verbosity == Verbosity::Quiet {
-            Box::new(NoProgress)
-        } else if std::io::stderr().is_terminal() {
-            Box::new(TerminalBar::default())
-        } else {
-            Box::new(PercentLines::default())
-        };
-        let result = pipeline::compile(map, &options, &log, progress.as_ref());
-        if let Err(e) = &result {
-            // The console gets the error once, at the end; the log file keeps it too.
-            log.record(format!("ERROR: {e}"));
-            if batch {
-                log.info(format!("ERROR: {e}"));
+    }
+    for (map, r) in &results {
+        // Errors are shown even with -quiet (once, at the end).
+        if let Outcome::Failed(e) = r
+            && !cli.json
+        {
+            let msg = e.to_string();
+            if batch && !msg.starts_with(&map.display().to_string()) {
+                eprintln!("bsp2vdg: error: {}: {msg}", map.display());
+            } else {
+                eprintln!("bsp2vdg: error: {e}");
             }
         }
-        save_log(&options.output, &log);
-        (map.clone(), result)
-    };
-    let results: Vec<_> = if batch {
-        cli.maps.par_iter().map(compile_one).collect()
-    } else {
-        cli.maps.iter().map(compile_one).collect()
-    };
-
-    let ok = results.iter().all(|(_, r)| r.is_ok());
-    if batch && verbosity != Verbosity::Quiet {
-        print_summary(&results, cli.json);
     }
     if cli.json {
+        let stop_after = format!("{:?}", cli.stop_after).to_lowercase();
         let objects: Vec<_> = results
             .iter()
-            .map(|(m, r)| json_report(m, r, cli))
+            .map(|(m, r)| report::json_report(m, r, &stop_after))
             .collect();
         let out = if batch {
             json!({ "maps": objects })
@@ -259,11 +384,161 @@ fn run(cli: &Cli) -> Result<bool> {
             objects[0].clone()
         };
         println!("{out}");
-    } else if !batch && let Some((_, Err(e))) = results.first() {
-        eprintln!("bsp2vdg: error: {e}");
-        return Ok(false);
     }
     Ok(ok)
+}
+
+/// `--update-baseline DIR` / `--baseline DIR` (see [`cli::baseline`]).
+fn run_baseline(cli: &Cli, dir: &Path) -> Result<bool> {
+    if cli.stop_after != StageArg::Reduce {
+        bail!("--stop-after writes no graph to compare; a baseline needs the whole pipeline");
+    }
+    if cli.check_samples == 0 {
+        bail!("--check-samples must be at least 1");
+    }
+    let options = |map: &Path, output: PathBuf| CompileOptions {
+        output,
+        ..compile_options(cli, map)
+    };
+    let run = cli::baseline::Run {
+        dir,
+        maps: &cli.maps,
+        options: &options,
+        check_samples: cli.check_samples,
+        liquids_are_solid: cli.liquids_solid,
+        tolerances: cli::baseline::Tolerances::load(cli.tolerances.as_deref())?,
+        json: cli.json,
+        verbosity: if cli.verbose {
+            Verbosity::Verbose
+        } else {
+            Verbosity::Quiet
+        },
+    };
+    if cli.update_baseline.is_some() {
+        cli::baseline::update(&run)
+    } else {
+        cli::baseline::compare_all(&run)
+    }
+}
+
+/// One map: clean up after killed runs, skip it when current (batch mode), compile it,
+/// write the log and `MAP.err` (removed again on success).
+fn build_one(cli: &Cli, map: &Path, verbosity: Verbosity) -> Outcome {
+    let batch = cli.maps.len() > 1;
+    let name = map
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut log = Log::new(verbosity, cli.json);
+    if batch {
+        log = log.with_prefix(&name);
+    }
+    let options = compile_options(cli, map);
+    for path in [
+        options.output.clone(),
+        pipeline::samples_path(&options.output),
+    ] {
+        for stale in toolbox::clean_stale_temps(&path) {
+            log.info(format!(
+                "Removed {}, left behind by a run that was killed",
+                stale.display()
+            ));
+        }
+    }
+    let outcome = if batch
+        && !cli.force
+        && let Some(hash) = map_hash(map)
+    {
+        match bsp2vdg::uptodate::check(hash, &options) {
+            Ok(()) => {
+                log.info(format!(
+                    "{} is up to date (same map bytes, options and bsp2vdg {}); skipped, -force rebuilds",
+                    options.output.display(),
+                    env!("CARGO_PKG_VERSION")
+                ));
+                Some(Outcome::Current {
+                    output: options.output.clone(),
+                })
+            }
+            Err(why) => {
+                log.detail(format!("Compiling: {why}"));
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let outcome = outcome.unwrap_or_else(|| compile_logged(cli, map, &options, &log, batch));
+    if !cli.nolog {
+        save_log(cli, &options.output, &log);
+    }
+    write_err_file(&options.output, &outcome);
+    outcome
+}
+
+/// Runs the pipeline with the progress display this run asks for.
+fn compile_logged(
+    cli: &Cli,
+    map: &Path,
+    options: &CompileOptions,
+    log: &Log,
+    batch: bool,
+) -> Outcome {
+    let progress: Box<dyn Progress> = if batch || cli.quiet {
+        Box::new(NoProgress)
+    } else if std::io::stderr().is_terminal() {
+        Box::new(TerminalBar::new(cli.estimate))
+    } else if cli.estimate {
+        Box::new(PercentLines::with_estimate())
+    } else {
+        Box::new(PercentLines::default())
+    };
+    match pipeline::compile(map, options, log, progress.as_ref()) {
+        Ok(stats) => {
+            if cli.chart {
+                for line in report::chart_lines(&stats) {
+                    log.info(line);
+                }
+            }
+            Outcome::Built(Box::new(stats))
+        }
+        Err(e) => {
+            // The console gets the error once, at the end; the log file keeps it too.
+            log.record(format!("ERROR: {e}"));
+            if batch {
+                log.info(format!("ERROR: {e}"));
+            }
+            Outcome::Failed(e)
+        }
+    }
+}
+
+/// XXH64 of the map's bytes, as the .vdg records it.
+fn map_hash(map: &Path) -> Option<u64> {
+    std::fs::read(map).ok().map(|b| vdgformat::xxh64(&b, 0))
+}
+
+/// `OUT.err` beside the output on failure, removed on success (VHLT's convention: a
+/// compile chain stops at the first `.err`).
+fn write_err_file(output: &Path, outcome: &Outcome) {
+    let path = output.with_extension("err");
+    match outcome {
+        Outcome::Failed(e) => {
+            let text = format!("{}\nERROR: {e}\n", command_line());
+            let _ = toolbox::write_bytes_atomic(&path, text.as_bytes());
+        }
+        _ => {
+            let _ = std::fs::remove_file(&path);
+        }
+    }
+}
+
+fn command_line() -> String {
+    format!(
+        "bsp2vdg {} {}",
+        env!("CARGO_PKG_VERSION"),
+        std::env::args().skip(1).collect::<Vec<_>>().join(" ")
+    )
 }
 
 fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
@@ -297,164 +572,31 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
             StageArg::Reduce => Stage::Reduce,
         },
         output,
+        source_name: match &cli.source_name {
+            Some(n) if n.is_empty() => Some(
+                map.file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+            ),
+            other => other.clone(),
+        },
     }
 }
 
 /// Appends the log beside the output (`MAP.log` for the default output `MAP.vdg`,
-/// as map compile tools do). With `-o` elsewhere the map's folder stays untouched:
-/// shared or read-only map folders are common in build farms. A log that cannot be
-/// written never fails the compile.
-fn save_log(output: &Path, log: &Log) {
-    let header = format!(
-        "bsp2vdg {} {}",
-        env!("CARGO_PKG_VERSION"),
-        std::env::args().skip(1).collect::<Vec<_>>().join(" ")
-    );
-    let path = output.with_extension("log");
-    if let Err(e) = log.append_to(&path, &header) {
-        log.detail(format!(
+/// as map compile tools do), or to `-logfile FILE`. With `-o` elsewhere the map's
+/// folder stays untouched: shared or read-only map folders are common in build farms.
+/// A log that cannot be written never fails the compile.
+fn save_log(cli: &Cli, output: &Path, log: &Log) {
+    let path = cli
+        .logfile
+        .clone()
+        .unwrap_or_else(|| output.with_extension("log"));
+    if let Err(e) = log.append_to(&path, &command_line()) {
+        log.warn(format!(
             "could not write the log file {}: {e}",
             path.display()
         ));
-    }
-}
-
-fn json_report(
-    map: &Path,
-    result: &Result<Stats, pipeline::CompileError>,
-    cli: &Cli,
-) -> serde_json::Value {
-    match result {
-        Err(e) => json!({ "map": map.display().to_string(), "ok": false, "error": e.to_string() }),
-        Ok(s) => {
-            let seconds: serde_json::Map<String, serde_json::Value> = s
-                .seconds
-                .iter()
-                .map(|(k, v)| (k.to_string(), json!(v)))
-                .collect();
-            let mut out = json!({
-                "map": map.display().to_string(),
-                "ok": true,
-                "version": s.version,
-                "file_size": s.file_size,
-                "bounds": [s.bounds.0, s.bounds.1],
-                "faces": s.faces,
-                "sampled_faces": s.sampled_faces,
-                "sky_faces": s.sky_faces,
-                "samples": s.samples,
-                "sample_spacing": s.sample_spacing,
-                "requested_spacing": s.requested_spacing,
-                "subfaces": s.subfaces,
-                "merged_samples": s.merged_samples,
-                "hidden_samples": s.hidden_samples,
-                "entity_models": s.entity_models,
-                "samples_file": s.samples_file.as_ref().map(|p| p.display().to_string()),
-                "tetrahedra": s.tetrahedra,
-                "duplicate_samples": s.duplicate_samples,
-                "voronoi_vertices": s.voronoi.as_ref().map(|v| v.voronoi_vertices),
-                "inner_vertices": s.voronoi.as_ref().map(|v| v.inner_vertices),
-                "voronoi_faces": s.voronoi.as_ref().map(|v| v.voronoi_faces),
-                "inner_faces": s.voronoi.as_ref().map(|v| v.inner_faces),
-                "triangulated_faces": s.voronoi.as_ref().map(|v| v.triangulated),
-                "removed_low_clearance": s.voronoi.as_ref().map(|v| v.removed_low_clearance),
-                "graph_vertices": s.voronoi.as_ref().map(|v| v.vertices),
-                "graph_faces": s.voronoi.as_ref().map(|v| v.faces),
-                "vertices": s.vdg.map(|v| v.0),
-                "vdg_faces": s.vdg.map(|v| v.1),
-                "bytes": s.vdg.map(|v| v.2),
-                "reduced_vertices": s.reduce.as_ref().map(|r| r.vertices_after),
-                "reduced_faces": s.reduce.as_ref().map(|r| r.faces_after),
-                "reduce_stop_reason": s.reduce.as_ref().map(|r| r.stop.as_str()),
-                "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
-                "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
-                "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
-                "reduce_raise": s.reduce.as_ref().map(|r| [r.raised as f64, r.raised_by, r.raise_seconds]),
-                "reduce_refusals": s.reduce.as_ref().map(|r| {
-                    r.refusals
-                        .iter()
-                        .map(|(k, n)| (k.to_string(), json!(n)))
-                        .collect::<serde_json::Map<String, serde_json::Value>>()
-                }),
-                "output": s.output.as_ref().map(|p| p.display().to_string()),
-                "threads": rayon::current_num_threads(),
-                "stop_after": format!("{:?}", cli.stop_after).to_lowercase(),
-                "seconds": seconds,
-            });
-            out["reduce_kept_points"] = json!(s.reduce.as_ref().map(|r| r.kept_points));
-            out
-        }
-    }
-}
-
-fn print_summary(results: &[(PathBuf, Result<Stats, pipeline::CompileError>)], to_stderr: bool) {
-    let mut lines = vec![format!(
-        "{:<32} {:>6} {:>8} {:>9} {:>8} {:>9}  status",
-        "map", "faces", "sampled", "samples", "spacing", "time"
-    )];
-    for (map, r) in results {
-        let name = map
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        lines.push(match r {
-            Ok(s) => format!(
-                "{:<32} {:>6} {:>8} {:>9} {:>8.2} {:>9}  ok",
-                name,
-                s.faces,
-                s.sampled_faces,
-                s.samples,
-                s.sample_spacing,
-                secs(s.seconds.last().map_or(0.0, |x| x.1))
-            ),
-            Err(e) => format!(
-                "{name:<32} {:>6} {:>8} {:>9} {:>8} {:>9}  FAILED: {e}",
-                "-", "-", "-", "-", "-"
-            ),
-        });
-    }
-    for l in lines {
-        if to_stderr {
-            eprintln!("{l}")
-        } else {
-            println!("{l}")
-        }
-    }
-}
-
-/// An indicatif bar on stderr, for interactive runs.
-#[derive(Default)]
-struct TerminalBar {
-    bar: std::sync::Mutex<Option<indicatif::ProgressBar>>,
-}
-
-impl Progress for TerminalBar {
-    fn start(&self, label: &str, total: u64) {
-        let bar = indicatif::ProgressBar::new(total);
-        if let Ok(style) = indicatif::ProgressStyle::with_template(
-            "{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise}",
-        ) {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        bar.set_message(label.to_string());
-        if let Ok(mut b) = self.bar.lock() {
-            *b = Some(bar);
-        }
-    }
-
-    fn advance(&self, n: u64) {
-        if let Ok(b) = self.bar.lock()
-            && let Some(bar) = b.as_ref()
-        {
-            bar.inc(n);
-        }
-    }
-
-    fn finish(&self) {
-        if let Ok(mut b) = self.bar.lock()
-            && let Some(bar) = b.take()
-        {
-            bar.finish_and_clear();
-        }
     }
 }
 
@@ -462,34 +604,51 @@ impl Progress for TerminalBar {
 mod tests {
     use super::*;
 
+    fn parsed(args: &[&str]) -> Result<Cli, i32> {
+        let v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
+        parse(&v)
+    }
+
     #[test]
-    fn single_dash_options_are_normalised() {
-        let args = [
+    fn compile_tool_spellings_parse() {
+        let cli = parsed(&[
             "bsp2vdg",
             "-sd",
             "16",
             "-savesamples",
+            "-lowpriority",
+            "-logfile",
+            "x.log",
+            "-estimate",
+            "-chart",
+            "-dev",
+            "2",
+            "-force",
+            "--source-name",
+            "m.bsp",
             "-o",
             "x.vdg",
-            "-5",
-            "--json",
-            "-subset",
-        ];
-        let out = normalise_args(args.iter().map(|s| s.to_string()));
+        ])
+        .unwrap();
+        assert_eq!(cli.sample_spacing, 16.0);
+        assert!(cli.save_samples && cli.low && cli.estimate && cli.chart && cli.force);
+        assert_eq!(cli.logfile.as_deref(), Some(Path::new("x.log")));
+        assert_eq!(cli.dev, Some(2));
+        // --source-name takes a value only with '=': the next word is still a map.
+        assert_eq!(cli.source_name.as_deref(), Some(""));
+        assert_eq!(cli.maps, [PathBuf::from("m.bsp")]);
+        let cli = parsed(&["bsp2vdg", "--source-name=a.bsp", "-low", "m.bsp"]).unwrap();
+        assert_eq!(cli.source_name.as_deref(), Some("a.bsp"));
+    }
+
+    #[test]
+    fn usage_errors_exit_2() {
+        assert_eq!(parsed(&["bsp2vdg", "-savesample", "m.bsp"]).err(), Some(2));
         assert_eq!(
-            out,
-            [
-                "bsp2vdg",
-                "--sd",
-                "16",
-                "--savesamples",
-                "-o",
-                "x.vdg",
-                "-5",
-                "--json",
-                "--subset"
-            ]
+            parsed(&["bsp2vdg", "-low", "-high", "m.bsp"]).err(),
+            Some(2)
         );
+        assert_eq!(parsed(&["bsp2vdg"]).err(), Some(2));
     }
 
     #[test]

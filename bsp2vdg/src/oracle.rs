@@ -19,6 +19,9 @@
 use crate::bsp::{Bsp, contents};
 use crate::util::sub;
 
+mod trace;
+pub use trace::{DIST_EPSILON, Trace};
+
 /// Which contents count as obstacles.
 #[derive(Debug, Clone, Default)]
 pub struct OracleOptions {
@@ -89,6 +92,16 @@ impl Hull {
         let mut n = self.root;
         while n >= 0 {
             // Validated on load: every child index is in range and the tree is acyclic.
+            let node = &self.nodes[n as usize];
+            n = node.children[(side_distance(node, p) < 0.0) as usize];
+        }
+        n
+    }
+
+    /// The contents at `p` below node (or contents value) `n`.
+    #[inline]
+    fn contents_from(&self, mut n: i32, p: [f64; 3]) -> i32 {
+        while n >= 0 {
             let node = &self.nodes[n as usize];
             n = node.children[(side_distance(node, p) < 0.0) as usize];
         }

@@ -89,6 +89,9 @@ pub struct CompileOptions {
     pub stop_after: Stage,
     /// Where the `.vdg` goes; other outputs go beside it.
     pub output: PathBuf,
+    /// The source name recorded in the `.vdg` (`--source-name`); by default none, so
+    /// the output does not depend on the map file's name.
+    pub source_name: Option<String>,
 }
 
 impl CompileOptions {
@@ -106,6 +109,7 @@ impl CompileOptions {
             samples_format: SamplesFormat::Xyz,
             stop_after: Stage::Reduce,
             output,
+            source_name: None,
         }
     }
 }
@@ -235,6 +239,15 @@ pub enum CompileError {
         error: String,
     },
     NotBuilt(Stage),
+    /// A BSP of an engine whose format this version does not read.
+    OtherFormat {
+        path: PathBuf,
+        format: String,
+    },
+    /// No vertex (or no face) survived: nothing to write.
+    EmptyGraph {
+        min_clearance: f64,
+    },
 }
 
 impl fmt::Display for CompileError {
@@ -252,6 +265,15 @@ impl fmt::Display for CompileError {
             CompileError::Vdg { path, error } => {
                 write!(f, "cannot write {}: {error}", path.display())
             }
+            CompileError::OtherFormat { path, format } => write!(
+                f,
+                "{}: {format}, which bsp2vdg does not read (it reads GoldSrc BSP v30 and Quake BSP29, BSP2 and 2PSB maps)",
+                path.display()
+            ),
+            CompileError::EmptyGraph { min_clearance } => write!(
+                f,
+                "the graph is empty: no free space with at least -md {min_clearance} units of clearance survived (is the map sealed, or -md too large?); nothing written"
+            ),
             CompileError::NotBuilt(stage) => write!(
                 f,
                 "the {} stage is not built yet in this version",
@@ -274,9 +296,15 @@ pub fn compile(
     let mut stats = Stats::default();
 
     let t = Instant::now();
-    let bsp = Bsp::open(map).map_err(|error| CompileError::Bsp {
-        path: map.to_path_buf(),
-        error,
+    let bsp = Bsp::open(map).map_err(|error| match other_format(map) {
+        Some(format) => CompileError::OtherFormat {
+            path: map.to_path_buf(),
+            format,
+        },
+        None => CompileError::Bsp {
+            path: map.to_path_buf(),
+            error,
+        },
     })?;
     let world = bsp.world();
     stats.version = bsp.version.name().to_string();
@@ -490,6 +518,11 @@ fn later_stages(
         graph
     };
 
+    if graph.vertices.is_empty() || graph.faces.is_empty() {
+        return Err(CompileError::EmptyGraph {
+            min_clearance: options.min_clearance,
+        });
+    }
     let t = Instant::now();
     let bytes = write_vdg(map, options, &graph)?;
     stats.seconds.push(("write", t.elapsed().as_secs_f64()));
@@ -519,21 +552,11 @@ fn write_vdg(map: &Path, options: &CompileOptions, graph: &Graph) -> Result<usiz
     for f in &graph.faces {
         b.add_face(*f);
     }
-    let name = map
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    b.set_source(&name, vdgformat::xxh64(&source, 0))
-        .set_tool("bsp2vdg", env!("CARGO_PKG_VERSION"))
-        .set_leaf_size(options.tree_leaf_size as f32)
-        .set_metadata("sd", &options.sampling.spacing.to_string())
-        .set_metadata("ms", &options.sampling.max_samples.to_string())
-        .set_metadata("rl", &options.reduction_limit.to_string())
-        .set_metadata("md", &options.min_clearance.to_string())
-        .set_metadata("bb", &options.tree_leaf_size.to_string())
-        .set_metadata("subset", &options.sampling.subset.to_string())
-        .set_metadata("liquids_solid", &options.liquids_are_solid.to_string())
-        .set_metadata("entities", &options.entity_classes.join(","));
+    b.set_source_hash(vdgformat::xxh64(&source, 0))
+        .set_leaf_size(options.tree_leaf_size as f32);
+    for (key, value) in crate::uptodate::recorded_options(options) {
+        b.set_metadata(&key, &value);
+    }
     let bytes = b.to_bytes().map_err(|e| vdg_err(e.to_string()))?;
     let len = bytes.len();
     write_atomic(&options.output, |w| w.write_all(&bytes))?;
@@ -564,6 +587,33 @@ fn log_samples(log: &Log, s: &Samples) {
         "Sky faces {} (sampled at twice the spacing); {} points merged within {:.3} units",
         s.sky_faces, s.merged, s.merge_tolerance
     ));
+}
+
+/// Names the engine of a BSP file the reader refused, from its magic and version, so the
+/// user learns "a Quake 3 map" rather than a number.
+pub fn other_format(map: &Path) -> Option<String> {
+    use std::io::Read;
+    let mut head = [0u8; 8];
+    std::fs::File::open(map).ok()?.read_exact(&mut head).ok()?;
+    let version = i32::from_le_bytes([head[4], head[5], head[6], head[7]]);
+    let engine = match (&head[..4], version) {
+        (b"IBSP", 38) => "a Quake 2 map",
+        (b"IBSP", 46) => "a Quake 3 map",
+        (b"IBSP", 47) => "a Quake Live map",
+        (b"IBSP", _) => "an id Tech 2/3 map",
+        (b"VBSP", _) => "a Source engine map",
+        (b"RBSP", _) => "a Raven map (Jedi Knight, Soldier of Fortune 2)",
+        (b"FBSP", _) => "a QFusion map (Warsow)",
+        (b"QBSP", _) => "a Qfusion/Quake 2 extended map",
+        (b"EF2!", _) => "a Star Trek: Elite Force 2 map",
+        (b"FAKK", _) => "a Heavy Metal: F.A.K.K. 2 map",
+        (b"2PSB", _) | (b"BSP2", _) => return None,
+        _ => return None,
+    };
+    Some(format!(
+        "{engine} ({} version {version})",
+        String::from_utf8_lossy(&head[..4])
+    ))
 }
 
 /// The brush models used by entities of the given classnames, in model order.

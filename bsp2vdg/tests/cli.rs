@@ -289,3 +289,307 @@ fn the_log_goes_beside_the_output() {
         "the map's folder got a log"
     );
 }
+
+/// Compile-tool habits (issue 16): single-dash options of ericw-tools and VHLT are
+/// accepted, unknown ones are named with the nearest known one (exit 2).
+#[test]
+fn compile_tool_options_and_unknown_options() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("habits");
+    let log = dir.join("build.log");
+    let o = bsp2vdg(&[
+        "-lowpriority",
+        "-estimate",
+        "-chart",
+        "-dev",
+        "1",
+        "-logfile",
+        log.to_str().unwrap(),
+        "-rl",
+        "1.0",
+        "-o",
+        dir.join("m.vdg").to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("Stage chart"), "{out}");
+    assert!(log.is_file() && !dir.join("m.log").exists());
+    assert!(
+        std::fs::read_to_string(&log)
+            .unwrap()
+            .contains("Stage chart")
+    );
+
+    let o = bsp2vdg(&["-nolog", "-rl", "1.0", "-low", map.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!map.with_extension("log").exists(), "-nolog wrote a log");
+
+    for (args, want) in [
+        (
+            vec!["-savesample"],
+            "unknown option -savesample (did you mean -savesamples?)",
+        ),
+        (vec!["-lo"], "unknown option -lo (did you mean -low?)"),
+        (vec!["--jsn"], "unknown option --jsn (did you mean --json?)"),
+        (vec!["-low", "-high"], "cannot be used with"),
+    ] {
+        let mut a = args.clone();
+        a.push(map.to_str().unwrap());
+        let o = bsp2vdg(&a);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = stderr(&o);
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+    }
+}
+
+/// Each way a compile hurt a new user is one clear line and the right exit code.
+#[test]
+fn hurting_cases_give_one_line_and_the_right_exit_code() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("hurt");
+
+    // A folder as input.
+    let o = bsp2vdg(&[dir.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("is a folder, not a map file"),
+        "{}",
+        stderr(&o)
+    );
+
+    // An unwritable output is reported before compiling (no log of a compile).
+    let o = bsp2vdg(&["-o", "/nonexistent-dir/x.vdg", map.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("cannot write /nonexistent-dir/x.vdg"));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("Sampling"));
+
+    // A Quake 2 map names its format.
+    let q2 = dir.join("q2.bsp");
+    let mut bytes = b"IBSP".to_vec();
+    bytes.extend_from_slice(&38i32.to_le_bytes());
+    bytes.resize(200, 0);
+    std::fs::write(&q2, &bytes).unwrap();
+    let o = bsp2vdg(&[q2.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("a Quake 2 map (IBSP version 38)"),
+        "{}",
+        stderr(&o)
+    );
+
+    // An empty graph is a failure, with nothing written.
+    let out = dir.join("empty.vdg");
+    let o = bsp2vdg(&[
+        "-md",
+        "100000",
+        "-o",
+        out.to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("the graph is empty"), "{}", stderr(&o));
+    assert!(!out.exists());
+
+    // -quiet in batch mode: the failing map's error is still shown, the good map built.
+    let outdir = dir.join("batch");
+    std::fs::create_dir(&outdir).unwrap();
+    let o = bsp2vdg(&[
+        "-quiet",
+        "-rl",
+        "1.0",
+        "-o",
+        outdir.to_str().unwrap(),
+        map.to_str().unwrap(),
+        q2.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("q2.bsp") && err.contains("Quake 2"), "{err}");
+    assert!(o.stdout.is_empty());
+    let stem = map.file_stem().unwrap().to_str().unwrap();
+    assert!(outdir.join(format!("{stem}.vdg")).is_file());
+}
+
+/// VHLT's convention: `MAP.err` beside the output on failure, removed on success.
+#[test]
+fn err_file_on_failure_removed_on_success() {
+    let Some(map) = some_map() else { return };
+    let err_file = map.with_extension("err");
+    let o = bsp2vdg(&["-md", "100000", map.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let text = std::fs::read_to_string(&err_file).expect("MAP.err written");
+    assert!(text.contains("the graph is empty"), "{text}");
+    let o = bsp2vdg(&["-rl", "1.0", map.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!err_file.exists(), "MAP.err left after a success");
+}
+
+/// Batch mode skips maps whose output is current for the same map bytes, options and
+/// tool version; a change of an option, a changed map or -force rebuilds.
+#[test]
+fn batch_skips_up_to_date_outputs() {
+    let (Some(a), Some(b)) = (some_map(), some_map()) else {
+        return;
+    };
+    let b2 = b.with_file_name("second.bsp");
+    std::fs::rename(&b, &b2).unwrap();
+    let out = tempdir("uptodate");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["-rl", "1.0", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        args.extend([a.to_str().unwrap(), b2.to_str().unwrap()]);
+        let o = bsp2vdg(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    assert!(run(&[]).contains("2 compiled, 0 up to date"));
+    let second = run(&[]);
+    assert!(second.contains("0 compiled, 2 up to date"), "{second}");
+    assert!(second.contains("up to date (skipped; -force rebuilds)"));
+    assert!(run(&["-sd", "30"]).contains("2 compiled, 0 up to date"));
+    assert!(run(&["-sd", "30", "-force"]).contains("2 compiled, 0 up to date"));
+    // A changed map is rebuilt, the other skipped.
+    let mut bytes = std::fs::read(&b2).unwrap();
+    bytes.extend_from_slice(b"\0\0\0\0");
+    std::fs::write(&b2, &bytes).unwrap();
+    let third = run(&["-sd", "30"]);
+    assert!(third.contains("1 compiled, 1 up to date"), "{third}");
+}
+
+/// Renaming or moving the map does not change the output's bytes (build farms run
+/// steps in sandboxes with other paths); --source-name records the name when asked.
+#[test]
+fn output_does_not_depend_on_the_map_name() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("hermetic");
+    let renamed = dir.join("other-name.bsp");
+    std::fs::copy(&map, &renamed).unwrap();
+    let build = |m: &std::path::Path, out: &str, extra: &[&str]| {
+        let out = dir.join(out);
+        let mut args = vec!["-quiet", "-rl", "1.0", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        args.push(m.to_str().unwrap());
+        let o = bsp2vdg(&args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        std::fs::read(out).unwrap()
+    };
+    let a = build(&map, "a.vdg", &[]);
+    let b = build(&renamed, "b.vdg", &[]);
+    assert!(a == b, "renaming the map changed the output");
+    let c = build(&renamed, "c.vdg", &["--source-name"]);
+    let d = build(&map, "d.vdg", &["--source-name=other-name.bsp"]);
+    assert!(a != c, "--source-name recorded nothing");
+    assert!(
+        c == d,
+        "--source-name=NAME differs from the file's own name"
+    );
+}
+
+/// A run killed before its final rename leaves `.X.vdg.tmpPID-N`; the next run removes
+/// it (and the older `X.vdg.tmpPID` spelling).
+#[test]
+fn stale_temporaries_of_killed_runs_are_removed() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("stale");
+    let out = dir.join("m.vdg");
+    // Pids beyond Linux's limit (2^22) belong to no running process.
+    let stale = [
+        dir.join(".m.vdg.tmp4194304999-0"),
+        dir.join("m.vdg.tmp4194304998"),
+    ];
+    for s in &stale {
+        std::fs::write(s, b"half").unwrap();
+    }
+    let o = bsp2vdg(&[
+        "-rl",
+        "1.0",
+        "-o",
+        out.to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    if std::path::Path::new("/proc/self").exists() {
+        for s in &stale {
+            assert!(!s.exists(), "{} left", s.display());
+        }
+        assert!(
+            String::from_utf8_lossy(&o.stdout).contains("left behind by a run that was killed")
+        );
+    }
+}
+
+/// CI regression mode: an identical rebuild passes, a change of -sd is caught (exit 1),
+/// and --json gives the same verdicts.
+#[test]
+fn baseline_catches_a_change_of_sd_and_passes_a_rebuild() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("baseline");
+    let base = dir.join("base");
+    let m = map.to_str().unwrap();
+    let b = base.to_str().unwrap();
+    let common = ["-rl", "1.0", "--check-samples", "2000"];
+    let run = |extra: &[&str]| {
+        let mut args: Vec<&str> = common.to_vec();
+        args.extend_from_slice(extra);
+        args.push(m);
+        bsp2vdg(&args)
+    };
+    let o = run(&["--update-baseline", b]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stem = map.file_stem().unwrap().to_str().unwrap();
+    assert!(base.join(format!("{stem}.vdg")).is_file());
+    let stats: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(base.join(format!("{stem}.json"))).unwrap())
+            .unwrap();
+    assert!(stats["check"]["coverage"].is_number(), "{stats}");
+    assert!(stats["vertices"].as_u64().unwrap() > 0);
+
+    let o = run(&["--baseline", b]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("identical") && out.contains("0 regressions"),
+        "{out}"
+    );
+
+    let o = run(&["--baseline", b, "-sd", "40"]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("REGRESSION"), "{out}");
+
+    let o = run(&["--baseline", b, "-sd", "40", "--json"]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["regressed"], true);
+    let figs = v["maps"][0]["figures"].as_array().unwrap();
+    assert!(
+        figs.iter()
+            .any(|f| f["name"] == "vertices" && f["ok"] == false),
+        "{v}"
+    );
+
+    // Looser tolerances from a TOML file let the same change pass the counts.
+    let tol = dir.join("tol.toml");
+    std::fs::write(
+        &tol,
+        "counts = 10.0\nbytes = 10.0\nquality = 1.0\n[figures]\nleak = 1.0\nvisible_fp = 1.0\n",
+    )
+    .unwrap();
+    let o = run(&[
+        "--baseline",
+        b,
+        "-sd",
+        "40",
+        "--tolerances",
+        tol.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
+
+    // No baseline for a map: exit 1 with the reason.
+    let o = run(&["--baseline", dir.join("none").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("run --update-baseline first"));
+}

@@ -10,10 +10,14 @@ use serde_json::json;
 use flowtile_bake::bake::BakedTiling;
 use flowtile_bake::render::{RenderOptions, Style, render_to_file};
 use flowtile_bake::rng::Rng;
+use flowtile_bake::runtime::KeyBlend;
 use flowtile_bake::spec::Problem;
 use flowtile_bake::stats;
 use flowtile_bake::tileset::TileSet;
 use flowtile_bake::tiling::{Border, Conditions, Tiling};
+use flowtile_bake::world::{
+    AnimationOptions, Flow, Mesh, PictureOptions, WorldField, animate_gif, streamlines,
+};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -97,6 +101,77 @@ enum Command {
         /// Seed for streamline seeds and particles.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+    },
+    /// Place a baked tiling onto world triangles (OBJ with flow coordinates as
+    /// vt) and draw its streamlines in world space; optionally write a sampler
+    /// grid of world velocities.
+    Map {
+        /// Baked tiling file.
+        input: PathBuf,
+        /// Mesh: OBJ with `v` world positions (x, y used), `vt` flow coordinates.
+        #[arg(long)]
+        mesh: PathBuf,
+        /// Picture (PNG) to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Sampler file (JSON) of world velocities on a regular grid.
+        #[arg(long)]
+        sampler: Option<PathBuf>,
+        /// Sampler grid spacing in world units.
+        #[arg(long, default_value_t = 16.0)]
+        cell: f64,
+        /// Plot width in pixels.
+        #[arg(long, default_value_t = 800)]
+        width: u32,
+        /// Name of the world length unit for the axes.
+        #[arg(long, default_value = "units")]
+        units: String,
+        /// Seed for streamline seeds.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Build a time-varying flow from key tilings (a spec tiled with a random
+    /// key sequence, or baked keys) blended over a period, and write an
+    /// animated GIF of advected particles, in world space with --mesh.
+    Animate {
+        /// Spec file (TOML) to tile once per key, or baked key files (.ftb).
+        inputs: Vec<PathBuf>,
+        /// GIF to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Keys to tile from a spec (seeds seed, seed+1, ...).
+        #[arg(long, default_value_t = 4)]
+        keys: usize,
+        /// Flow time between consecutive keys (blend period).
+        #[arg(long, default_value_t = 2.0)]
+        period: f64,
+        /// Mesh (OBJ) placing the flow in the world; without it the world is flow space.
+        #[arg(long)]
+        mesh: Option<PathBuf>,
+        /// Frames of the GIF.
+        #[arg(long, default_value_t = 80)]
+        frames: usize,
+        /// Flow time per frame.
+        #[arg(long, default_value_t = 0.1)]
+        dt: f64,
+        /// Frame delay in hundredths of a second.
+        #[arg(long, default_value_t = 5)]
+        delay: u16,
+        /// Particles.
+        #[arg(long, default_value_t = 500)]
+        particles: usize,
+        /// Plot width in pixels.
+        #[arg(long, default_value_t = 640)]
+        width: u32,
+        /// Name of the world length unit for the axes.
+        #[arg(long, default_value = "tiles")]
+        units: String,
+        /// Seed of the key sequence (overrides the spec's) and of the particles.
+        #[arg(long)]
+        seed: Option<u64>,
+        /// Also write the keys' baked files as PREFIX-K.ftb.
+        #[arg(long)]
+        save_keys: Option<PathBuf>,
     },
     /// Describe a baked tiling and check it.
     Info {
@@ -186,7 +261,172 @@ pub fn run() -> Result<()> {
             Ok(())
         }
         Command::Info { input, json } => info(&input, json),
+        Command::Map {
+            input,
+            mesh,
+            output,
+            sampler,
+            cell,
+            width,
+            units,
+            seed,
+        } => map(
+            &input,
+            &mesh,
+            &output,
+            sampler.as_deref(),
+            cell,
+            width,
+            &units,
+            seed,
+        ),
+        Command::Animate {
+            inputs,
+            output,
+            keys,
+            period,
+            mesh,
+            frames,
+            dt,
+            delay,
+            particles,
+            width,
+            units,
+            seed,
+            save_keys,
+        } => {
+            let keys = load_keys(&inputs, keys, seed, save_keys.as_deref())?;
+            let blend = KeyBlend::new(keys, period)?;
+            let mesh = match &mesh {
+                Some(p) => read_mesh(p)?,
+                None => flow_space_mesh(blend.key(0)),
+            };
+            let field = WorldField::new(&mesh, Flow::Keys(blend.clone()))?;
+            let opt = PictureOptions {
+                width,
+                particles,
+                seed: seed.unwrap_or(1),
+                title: format!("{} keys, period {period}", blend.len()),
+                units,
+            };
+            let anim = AnimationOptions { frames, dt, delay };
+            let mut bytes = Vec::new();
+            animate_gif(&field, &opt, &anim, None, &mut bytes)?;
+            flowtile_bake::bake::write_atomic(&output, &bytes)
+                .with_context(|| format!("{}", output.display()))?;
+            println!(
+                "wrote {} ({} frames, {} keys, {} bytes)",
+                output.display(),
+                frames,
+                blend.len(),
+                bytes.len()
+            );
+            Ok(())
+        }
     }
+}
+
+fn read_mesh(path: &Path) -> Result<Mesh> {
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+    Mesh::from_obj(&text).with_context(|| format!("{}", path.display()))
+}
+
+/// The identity placement: the tiling's rectangle as two triangles, world = flow space.
+fn flow_space_mesh(b: &BakedTiling) -> Mesh {
+    let (w, h) = (b.width as f64, b.height as f64);
+    let corners = vec![[0.0, 0.0], [w, 0.0], [w, h], [0.0, h]];
+    Mesh {
+        world: corners.clone(),
+        flow: corners,
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    }
+}
+
+/// Key tilings: baked files as given, or one spec tiled `count` times with
+/// seeds `seed, seed + 1, ...` (a random key sequence).
+fn load_keys(
+    inputs: &[PathBuf],
+    count: usize,
+    seed: Option<u64>,
+    save: Option<&Path>,
+) -> Result<Vec<BakedTiling>> {
+    if inputs.is_empty() {
+        bail!("give a spec file or baked key files");
+    }
+    let is_spec = inputs.len() == 1 && inputs[0].extension().is_some_and(|e| e == "toml");
+    if !is_spec {
+        return inputs
+            .iter()
+            .map(|p| BakedTiling::read(p).with_context(|| format!("{}", p.display())))
+            .collect();
+    }
+    if count == 0 || count > 1000 {
+        bail!("--keys {count}: give 1..=1000 keys");
+    }
+    let path = &inputs[0];
+    let text = std::fs::read_to_string(path).with_context(|| format!("{}", path.display()))?;
+    let problem = Problem::from_toml(&text).with_context(|| format!("{}", path.display()))?;
+    let first = seed.unwrap_or(problem.seed);
+    let mut keys = Vec::with_capacity(count);
+    for k in 0..count as u64 {
+        let mut t = Tiling::new(
+            problem.set.clone(),
+            problem.width,
+            problem.height,
+            &problem.conditions,
+        )?;
+        if problem.fill_forced {
+            t.fill_forced()?;
+        }
+        t.random_fill_preferring(&mut Rng::new(first.wrapping_add(k)), &problem.preferences)?;
+        let b = BakedTiling::from_tiling(&t)?;
+        if let Some(prefix) = save {
+            let p = PathBuf::from(format!("{}-{k}.ftb", prefix.display()));
+            b.write(&p).with_context(|| format!("{}", p.display()))?;
+        }
+        keys.push(b);
+    }
+    Ok(keys)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn map(
+    input: &Path,
+    mesh: &Path,
+    output: &Path,
+    sampler: Option<&Path>,
+    cell: f64,
+    width: u32,
+    units: &str,
+    seed: u64,
+) -> Result<()> {
+    let baked = BakedTiling::read(input).with_context(|| format!("{}", input.display()))?;
+    let mesh = read_mesh(mesh)?;
+    let field = WorldField::new(&mesh, Flow::Steady(baked))?;
+    if let Some(path) = sampler {
+        let s = field.sample(cell, 0.0)?;
+        flowtile_bake::bake::write_atomic(path, s.to_json().as_bytes())
+            .with_context(|| format!("{}", path.display()))?;
+        println!(
+            "wrote {} ({}x{} samples, {} world units apart)",
+            path.display(),
+            s.cols,
+            s.rows,
+            cell
+        );
+    }
+    let opt = PictureOptions {
+        width,
+        particles: 0,
+        seed,
+        title: format!("{} on {} triangles", input.display(), mesh.triangles.len()),
+        units: units.to_string(),
+    };
+    let canvas = streamlines(&field, &opt, 0.0, None)?;
+    flowtile_bake::bake::write_atomic(output, &canvas.to_png()?)
+        .with_context(|| format!("{}", output.display()))?;
+    println!("wrote {}", output.display());
+    Ok(())
 }
 
 fn count(mx: u32, my: u32, corners: usize, classes: bool) -> Result<()> {

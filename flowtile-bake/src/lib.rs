@@ -36,3 +36,4 @@ pub mod spec;
 pub mod stats;
 pub mod tileset;
 pub mod tiling;
+pub mod world;

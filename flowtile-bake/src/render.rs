@@ -134,6 +134,45 @@ impl Canvas {
         }
     }
 
+    /// Width in pixels.
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    /// Height in pixels.
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+
+    /// Draws `text` in 8×8 bitmap glyphs (`font8x8`) with its top-left
+    /// corner at pixel `(x, y)`; non-ASCII characters show as `?`.
+    pub fn text(&mut self, x: f64, y: f64, text: &str, c: [f32; 3]) {
+        let (x, y) = (x.round() as i64, y.round() as i64);
+        for (i, ch) in text.chars().enumerate() {
+            let code = if ch.is_ascii() {
+                ch as usize
+            } else {
+                '?' as usize
+            };
+            let glyph = font8x8::legacy::BASIC_LEGACY[code];
+            for (row, bits) in glyph.iter().enumerate() {
+                for col in 0..8 {
+                    if bits & (1 << col) != 0 {
+                        self.blend(x + (i * 8) as i64 + col, y + row as i64, c, 1.0);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The pixels as 8-bit RGB triples, row by row from the top.
+    pub fn to_rgb8(&self) -> Vec<u8> {
+        self.rgb
+            .iter()
+            .flat_map(|p| p.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8))
+            .collect()
+    }
+
     /// Encodes the canvas as an 8-bit RGB PNG.
     pub fn to_png(&self) -> Result<Vec<u8>, RenderError> {
         let mut out = Vec::new();
@@ -145,12 +184,7 @@ impl Canvas {
             let mut w = enc
                 .write_header()
                 .map_err(|e| RenderError::Write(e.to_string()))?;
-            let bytes: Vec<u8> = self
-                .rgb
-                .iter()
-                .flat_map(|p| p.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8))
-                .collect();
-            w.write_image_data(&bytes)
+            w.write_image_data(&self.to_rgb8())
                 .map_err(|e| RenderError::Write(e.to_string()))?;
         }
         Ok(out)
@@ -158,7 +192,7 @@ impl Canvas {
 }
 
 /// Speed colour ramp: deep blue → teal → yellow → orange-red.
-fn ramp(t: f64) -> [f32; 3] {
+pub fn ramp(t: f64) -> [f32; 3] {
     const STOPS: [[f32; 3]; 5] = [
         [0.10, 0.18, 0.45],
         [0.05, 0.45, 0.60],

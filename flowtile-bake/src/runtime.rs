@@ -633,6 +633,26 @@ impl KeyBlend {
         Ok(KeyBlend { keys, period })
     }
 
+    /// Key tiling `i` (wrapping around the sequence).
+    pub fn key(&self, i: usize) -> &BakedTiling {
+        &self.keys[i % self.keys.len()]
+    }
+
+    /// Number of keys.
+    pub fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    /// Always false: a blend has at least one key.
+    pub fn is_empty(&self) -> bool {
+        self.keys.is_empty()
+    }
+
+    /// Time between keys.
+    pub fn period(&self) -> f64 {
+        self.period
+    }
+
     /// The two keys and the blend weight of the second at time `t`.
     fn frame(&self, t: f64) -> (usize, usize, f64) {
         let n = self.keys.len();

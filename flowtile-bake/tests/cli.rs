@@ -173,3 +173,75 @@ fn bad_inputs_fail_cleanly() {
     assert_clean_failure(&o, "pixels");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn map_and_animate_write_world_pictures() {
+    let dir = scratch("world");
+    let ftb = dir.join("river.ftb");
+    let o = run(&["tile", &spec("river.toml"), "-o", ftb.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let png = dir.join("bend.png");
+    let json = dir.join("bend.json");
+    let o = run(&[
+        "map",
+        ftb.to_str().unwrap(),
+        "--mesh",
+        &spec("river-bend.obj"),
+        "-o",
+        png.to_str().unwrap(),
+        "--sampler",
+        json.to_str().unwrap(),
+        "--cell",
+        "64",
+        "--width",
+        "200",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+    let s: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+    let (cols, rows) = (s["cols"].as_u64().unwrap(), s["rows"].as_u64().unwrap());
+    assert_eq!(s["vx"].as_array().unwrap().len() as u64, cols * rows);
+    let gif = dir.join("bend.gif");
+    let o = run(&[
+        "animate",
+        &spec("river.toml"),
+        "--keys",
+        "2",
+        "--frames",
+        "2",
+        "--particles",
+        "20",
+        "--width",
+        "120",
+        "--mesh",
+        &spec("river-bend.obj"),
+        "-o",
+        gif.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(std::fs::read(&gif).unwrap().starts_with(b"GIF89a"));
+    // Bad input: a clear one-line error, nothing written.
+    let bad = dir.join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nf 1/1 1/1 1/1\n").unwrap();
+    let out = dir.join("no.png");
+    let o = run(&[
+        "map",
+        ftb.to_str().unwrap(),
+        "--mesh",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "OBJ line 2");
+    assert!(!out.exists());
+    let o = run(&[
+        "animate",
+        &spec("river.toml"),
+        "--period",
+        "0",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "period");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

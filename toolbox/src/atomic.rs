@@ -60,7 +60,7 @@ pub fn write_atomic(
         let file = w.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         drop(file);
-        std::fs::rename(&tmp, path)
+        std::fs::rename(&tmp, path).map_err(|e| rename_error(e, &tmp))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
@@ -71,6 +71,25 @@ pub fn write_atomic(
         let _ = d.sync_all();
     }
     Ok(())
+}
+
+/// The final rename's error, naming the step and its usual cause: on Windows a file
+/// cannot be replaced while a program (a running game, a viewer) has it open or
+/// memory-mapped.
+fn rename_error(e: std::io::Error, tmp: &Path) -> std::io::Error {
+    let hint = if cfg!(windows) {
+        "; on Windows a file cannot be replaced while a program (a running game, a viewer) \
+         has it open or memory-mapped: close it, or load it from memory (vdg_open_memory)"
+    } else {
+        ""
+    };
+    std::io::Error::new(
+        e.kind(),
+        format!(
+            "the final rename of the finished temporary file {} failed: {e}{hint}",
+            tmp.display()
+        ),
+    )
 }
 
 /// [`write_atomic`] for bytes already in memory.
@@ -165,6 +184,27 @@ mod tests {
     fn unwritable_directory_is_an_error() {
         let p = Path::new("/nonexistent-dir-for-toolbox/a.bin");
         assert!(write_bytes_atomic(p, b"x").is_err());
+    }
+
+    #[test]
+    fn failed_rename_names_the_step_and_leaves_no_temporary() {
+        let dir = scratch("rename");
+        // A non-empty directory cannot be replaced by a file.
+        let target = dir.join("busy");
+        std::fs::create_dir_all(target.join("inside")).unwrap();
+        let e = write_bytes_atomic(&target, b"new").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("the final rename of the finished temporary file"),
+            "{e}"
+        );
+        assert!(target.join("inside").is_dir());
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "temporary left behind"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]

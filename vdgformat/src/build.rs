@@ -210,6 +210,13 @@ impl VdgBuilder {
         self.set_metadata("source.name", name)
     }
 
+    /// Records only the XXH64 of the source map's bytes, not its name: the output then
+    /// does not depend on what the map file was called (hermetic builds).
+    pub fn set_source_hash(&mut self, hash: u64) -> &mut Self {
+        self.source_hash = hash;
+        self
+    }
+
     /// Records the producing tool (`tool.name`, `tool.version`).
     pub fn set_tool(&mut self, name: &str, version: &str) -> &mut Self {
         self.set_metadata("tool.name", name);

@@ -9,6 +9,9 @@
 //! framebuffer in a minifb window: [`viewer`] is the window-independent state
 //! and console, [`view`] the event loop, [`hud`] the text).
 //!
+//! Issue 13's part: `replay` ([`replay`]) measures cameras (the VDG camera, Half-Life's
+//! chase cam, a spring arm) on routes made from the map against the BSP's ground truth.
+//!
 //! ```
 //! use vdgview::camera::Camera;
 //! use vdgview::raster::Framebuffer;
@@ -23,12 +26,15 @@
 //! ```
 
 pub mod camera;
-pub mod check;
+/// The quality figures against the map (`vdgview check`), from the compiler's library so
+/// `bsp2vdg --baseline` computes the same ones.
+pub use bsp2vdg::check;
 pub mod hud;
 pub mod info;
 pub mod query;
 pub mod raster;
 pub mod render;
+pub mod replay;
 pub mod scene;
 pub mod view;
 pub mod viewer;

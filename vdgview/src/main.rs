@@ -61,6 +61,67 @@ enum Command {
     View(ViewArgs),
     /// Headless, deterministic PNG render of a graph inside its map (no GPU needed).
     Render(RenderArgs),
+    /// Measure cameras (VDG camera, chase cam, spring arm) on routes made from the map,
+    /// against the map's BSP: solid, near plane, visibility, jumps, jerk, cuts, time.
+    Replay(ReplayArgs),
+    /// Chart of `replay --json` reports across maps (one panel per measure).
+    ReplaySummary {
+        /// Output PNG.
+        #[arg(short, long, value_name = "OUT.png")]
+        output: PathBuf,
+        /// Title of the chart.
+        #[arg(long, default_value = "camera measures per map")]
+        title: String,
+        /// `replay --json` outputs (the map label is the file stem).
+        #[arg(value_name = "REPORT.json", required = true)]
+        reports: Vec<PathBuf>,
+    },
+}
+
+#[derive(clap::Args, Debug)]
+struct ReplayArgs {
+    #[arg(value_name = "MAP.bsp")]
+    map: PathBuf,
+    #[arg(value_name = "MAP.vdg")]
+    vdg: PathBuf,
+    /// Target routes: spawns (pairs of player spawns walked on the floor), nav:FILE.nav
+    /// (a Counter-Strike bot nav mesh) or FILE.jsonl (recorded frames: t, origin, angles).
+    #[arg(long, default_value = "spawns")]
+    routes: String,
+    /// Cameras to compare, comma-separated.
+    #[arg(long, default_value = vdgview::replay::DEFAULT_CAMERAS)]
+    camera: String,
+    /// Camera parameters for the VDG camera (TOML).
+    #[arg(long, value_name = "cam.toml")]
+    params: Option<PathBuf>,
+    /// Frame time in seconds: 1/60, 1/30, 0.02 ...
+    #[arg(long, default_value = "1/60")]
+    dt: String,
+    /// Print one JSON object (per-camera summaries under cameras.<name>).
+    #[arg(long)]
+    json: bool,
+    /// Write every frame's measures as CSV into this folder (one file per camera,
+    /// plus outside.csv: the target positions outside Volume(VDG)).
+    #[arg(long, value_name = "DIR")]
+    csv: Option<PathBuf>,
+    /// Write speed, occlusion and summary charts (PNG) into this folder.
+    #[arg(long, value_name = "DIR")]
+    plots: Option<PathBuf>,
+    /// Write a contact sheet of frames seen from each camera into this folder.
+    #[arg(long, value_name = "DIR")]
+    frames: Option<PathBuf>,
+    /// Seed of the route choices (pairs, speeds, stops, turns, crouching).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Most routes per map (spawn pairs are capped with the seed on big maps).
+    #[arg(long, default_value_t = 8)]
+    max_routes: usize,
+    /// Also write the routes as JSONL (replayable with --routes FILE.jsonl).
+    #[arg(long, value_name = "FILE.jsonl")]
+    save_routes: Option<PathBuf>,
+    /// Treat water, slime and lava as walls.
+    #[arg(long)]
+    liquids_solid: bool,
 }
 
 #[derive(clap::Args, Debug)]
@@ -158,6 +219,12 @@ fn run(cli: Cli) -> Result<bool> {
         }
         Command::Render(args) => run_render(args).map(|()| true),
         Command::View(args) => run_view(args).map(|()| true),
+        Command::Replay(args) => run_replay(args).map(|()| true),
+        Command::ReplaySummary {
+            output,
+            title,
+            reports,
+        } => run_replay_summary(&output, &title, &reports).map(|()| true),
     }
 }
 
@@ -328,6 +395,117 @@ fn run_view(args: ViewArgs) -> Result<()> {
             seconds: args.seconds,
         },
     )
+}
+
+fn run_replay(args: ReplayArgs) -> Result<()> {
+    use vdgview::replay;
+    let dt = replay::parse_dt(&args.dt)?;
+    let source = replay::RouteSource::parse(&args.routes)?;
+    if args.max_routes == 0 {
+        bail!("--max-routes must be at least 1");
+    }
+    let names: Vec<String> = args
+        .camera
+        .split(',')
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .collect();
+    let params = args
+        .params
+        .as_deref()
+        .map(|p| std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display())))
+        .transpose()?;
+    replay::check_camera_names(&names)?;
+    let start = std::time::Instant::now();
+    let bsp = scene::open_map(&args.map)?;
+    let file = scene::open_graph(&args.vdg)?;
+    let graph = file.graph();
+    let options = bsp2vdg::oracle::OracleOptions {
+        liquids_are_solid: args.liquids_solid,
+        ..Default::default()
+    };
+    let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &options);
+    if oracle.clip_contents(1, [0.0; 3]).is_none() {
+        bail!(
+            "{}: the map has no clip hulls (needed to walk the player)",
+            args.map.display()
+        );
+    }
+    let walls = bsp2vdg::walls::Walls::of_map(&bsp, &options);
+    let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
+    eprintln!("replay: making routes ({}) ...", source.label());
+    let routes = replay::load_routes(&bsp, &oracle, &source, args.seed, args.max_routes)?;
+    eprintln!(
+        "replay: {} routes, {:.1} s of play ({} pairs unreachable); {} cameras at dt {:.4} s",
+        routes.routes.len(),
+        routes.routes.iter().map(|r| r.duration()).sum::<f64>(),
+        routes.unreachable,
+        cameras.len(),
+        dt
+    );
+    if let Some(p) = &args.save_routes {
+        vdgview::render::write_atomic(p, replay::jsonl::write(&routes.routes).as_bytes())?;
+    }
+    let mut progress = |cam: &str, k: usize, n: usize| {
+        eprint!("\rreplay: {cam:<12} route {k}/{n}   ");
+        if k == n {
+            eprintln!();
+        }
+    };
+    let report = replay::replay(
+        &oracle,
+        &walls,
+        &graph,
+        routes,
+        &mut cameras,
+        dt,
+        &mut progress,
+    );
+    if let Some(dir) = &args.csv {
+        report.write_csv(dir)?;
+    }
+    let map_name = args
+        .map
+        .file_stem()
+        .map_or("map".into(), |s| s.to_string_lossy().into_owned());
+    if let Some(dir) = &args.plots {
+        replay::plots::write_all(&report, &map_name, dir)?;
+    }
+    if let Some(dir) = &args.frames {
+        let scene = scene::Scene::new(&bsp, Some(&graph), Vec::new())?;
+        replay::frames::contact_sheet(&report, &scene, dir, 6)?;
+    }
+    if args.json {
+        println!("{}", report.to_json(&args.map, &args.vdg));
+    } else {
+        print!("{}", report.table());
+    }
+    eprintln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn run_replay_summary(output: &std::path::Path, title: &str, reports: &[PathBuf]) -> Result<()> {
+    let mut rows = Vec::new();
+    for p in reports {
+        let text =
+            std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?;
+        let v: serde_json::Value =
+            serde_json::from_str(&text).with_context(|| format!("{}: not JSON", p.display()))?;
+        let Some(cams) = v.get("cameras").and_then(|c| c.as_object()) else {
+            bail!(
+                "{}: no \"cameras\" object (not a replay --json report)",
+                p.display()
+            );
+        };
+        let label = p
+            .file_stem()
+            .map_or("?".into(), |s| s.to_string_lossy().into_owned());
+        rows.push((
+            label,
+            cams.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
+        ));
+    }
+    vdgview::replay::plots::summary_chart(&rows, title, output)
 }
 
 /// Parses `WIDTHxHEIGHT`.

@@ -1,5 +1,8 @@
-//! `vdgview check MAP.bsp FILE.vdg`: the quality of a graph measured against its map's
-//! own BSP (SPEC §8).
+//! The quality of a graph measured against its map's own BSP (SPEC §8): the figures of
+//! `vdgview check MAP.bsp FILE.vdg` and of `bsp2vdg --baseline`. It lives in the
+//! compiler's library, beside the BSP reader and oracle it measures with, so that both
+//! the viewer (which depends on this crate) and the compiler's CI mode call the same
+//! code without a dependency cycle; `vdgview::check` re-exports it.
 //!
 //! - **leak**: random points of Volume(VDG) (a face by volume, a point of its triangle,
 //!   a point of the ball of interpolated clearance there) that the BSP calls blocked.
@@ -18,10 +21,10 @@
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
+use crate::bsp::Bsp;
+use crate::oracle::{Oracle, OracleOptions};
+use crate::util::SplitMix64;
+use crate::walls::Walls;
 use rayon::prelude::*;
 use vdgformat::Vdg;
 
@@ -347,7 +350,7 @@ fn measure_visibility(
     r.false_negatives_inside = s[6];
 }
 
-pub use bsp2vdg::standing::{
+pub use crate::standing::{
     HEAD_ABOVE_GROUND, MIN_FLOOR_NORMAL_Z, ORIGIN_ABOVE_GROUND, column_floors,
 };
 

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# The camera measured on every GoldSrc map in ../shared/testmaps (issue 13): compiles each
+# map's graph, replays the spawn routes (and the nav-mesh routes where a .nav sits beside
+# the map) at each frame time with every camera, and writes
+#   OUT/report.md              Markdown table: one row per map, route source, dt and camera
+#   OUT/outside.md             where the target stood outside Volume(VDG), per map
+#   OUT/json/MAP-SRC-dtN.json  the replay --json reports
+#   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
+#   OUT/summary-dtN.png        the measures per camera across all maps
+# Progress goes to the terminal.
+#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-routes N] [-out DIR]
+#   MAPS="a.bsp b.bsp" scripts/camera-report.sh      (only these maps)
+#   SHARED=/path/to/shared                            (default ../shared)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+dts="1/60 1/30"
+cameras=""
+max_routes=8
+out=target/camera-report
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -dt) dts=$2; shift 2 ;;
+    -camera) cameras=$2; shift 2 ;;
+    -routes) max_routes=$2; shift 2 ;;
+    -out) out=$2; shift 2 ;;
+    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-routes N] [-out DIR]" >&2; exit 2 ;;
+  esac
+done
+shared=${SHARED:-../shared}
+echo "camera-report: building (release) ..." >&2
+cargo build --release -q -p bsp2vdg -p vdgview
+shopt -s nullglob
+if [ -n "${MAPS:-}" ]; then
+  # shellcheck disable=SC2206
+  maps=($MAPS)
+else
+  maps=("$shared"/testmaps/goldsrc/*.bsp "$shared"/testmaps/goldsrc/nonfree/*.bsp)
+fi
+if [ ${#maps[@]} -eq 0 ]; then
+  echo "camera-report: no GoldSrc maps under $shared/testmaps/goldsrc (set SHARED or MAPS)" >&2
+  exit 1
+fi
+mkdir -p "$out/graphs" "$out/json" "$out/plots" "$out/logs"
+camera_opt=()
+[ -n "$cameras" ] && camera_opt=(--camera "$cameras")
+i=0
+for m in "${maps[@]}"; do
+  i=$((i + 1))
+  name=$(basename "$m" .bsp)
+  vdg="$out/graphs/$name.vdg"
+  if [ ! -s "$vdg" ] || [ "$m" -nt "$vdg" ]; then
+    printf '[%d/%d] %s: compiling graph ...\n' "$i" "${#maps[@]}" "$name" >&2
+    if ! ./target/release/bsp2vdg -quiet -o "$vdg" "$m" 2> "$out/logs/$name.compile.err"; then
+      printf '[%d/%d] %s: compile failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$name.compile.err")" >&2
+      continue
+    fi
+  fi
+  sources=(spawns)
+  nav="${m%.bsp}.nav"
+  [ -f "$nav" ] && sources+=("nav:$nav")
+  for src in "${sources[@]}"; do
+    tag=${src%%:*}
+    for dt in $dts; do
+      dtn=${dt#1/}
+      key="$name-$tag-dt$dtn"
+      printf '[%d/%d] %s: %s routes, dt %s ...\n' "$i" "${#maps[@]}" "$name" "$tag" "$dt" >&2
+      if ! nice -n 10 ./target/release/vdgview replay "$m" "$vdg" --routes "$src" --dt "$dt" \
+          --max-routes "$max_routes" "${camera_opt[@]}" --json --plots "$out/plots/$key" \
+          > "$out/json/$key.json" 2> "$out/logs/$key.err"; then
+        printf '[%d/%d] %s: replay failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$key.err")" >&2
+        rm -f "$out/json/$key.json"
+      fi
+    done
+  done
+done
+for dt in $dts; do
+  dtn=${dt#1/}
+  reports=("$out"/json/*-dt"$dtn".json)
+  [ ${#reports[@]} -gt 0 ] && ./target/release/vdgview replay-summary -o "$out/summary-dt$dtn.png" \
+    --title "camera measures per map and route source, dt $dt s" "${reports[@]}"
+done
+python3 - "$out" <<'PY'
+import json, glob, os, sys
+out = sys.argv[1]
+rows, outside = [], []
+for p in sorted(glob.glob(os.path.join(out, "json", "*.json"))):
+    r = json.load(open(p))
+    key = os.path.basename(p)[:-5]
+    mapname, rest = key.rsplit("-", 2)[0], key.rsplit("-", 2)[1:]
+    src, dt = rest[0], "1/" + rest[1][2:]
+    routes = r["routes"]
+    outside.append((mapname, src, dt, r["target_outside_fraction"], r["target_outside"], routes))
+    for cam, c in r["cameras"].items():
+        rows.append((mapname, src, dt, cam, routes["count"], c))
+def pct(x): return f"{100*x:.2f}"
+with open(os.path.join(out, "report.md"), "w") as f:
+    f.write("| map | routes | dt | camera | frames | solid | near-plane | visible % | hull visible % | longest occlusion s | jumps | stalls | RMS jerk | mean abs(d-112) | cuts/min | median µs | target outside % |\n")
+    f.write("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+    for m, s, dt, cam, n, c in rows:
+        f.write(f"| {m} | {s} ({n}) | {dt} | {cam} | {c['frames']} | {c['solid_frames']} | {c['nearplane_frames']} | {pct(c['visible_fraction'])} | {pct(c['hull_visible_mean'])} | {c['longest_occlusion_s']:.2f} | {c['jumps']} | {c['stalls']} | {c['rms_jerk']:.0f} | {c['mean_abs_dist_error']:.1f} | {c['cuts_per_min']:.2f} | {c['median_us']:.1f} | {pct(c['target_outside_fraction'])} |\n")
+with open(os.path.join(out, "outside.md"), "w") as f:
+    f.write("# Target positions outside Volume(VDG)\n\n")
+    for m, s, dt, frac, runs, routes in outside:
+        if dt != "1/60":
+            continue
+        f.write(f"## {m} ({s}): {pct(frac)} % of {routes['frames']} frames, {len(runs)} runs\n\n")
+        for o in runs[:200]:
+            x, y, z = o["origin"]
+            f.write(f"- {o['route']} t {o['t0']:.2f}-{o['t1']:.2f} s at ({x:.0f}, {y:.0f}, {z:.0f})\n")
+        f.write("\n")
+print(f"camera-report: wrote {out}/report.md, {out}/outside.md and the plots", file=sys.stderr)
+PY
+cat "$out/report.md"

@@ -1,0 +1,414 @@
+//! `--plots DIR`: PNG charts people read at a glance, drawn with `plotters` (axes,
+//! units and a legend on every chart; text from an embedded font, so nothing depends
+//! on the fonts of the machine).
+//!
+//! - `speed.png`: camera speed per frame on one route, every camera on one axis (log
+//!   scale), with a one-second running mean and the player's 96–265 units/s band:
+//!   the thesis' figs. 7.2 and 7.3 side by side;
+//! - `occlusion.png`: per camera, when the target's eye was hidden, when the camera
+//!   was in a wall or clipping it with the near plane, over all routes;
+//! - `summary.png` (and [`summary_chart`] across maps): the key measures per camera.
+
+use super::Report;
+use anyhow::{Result, anyhow};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+const W: u32 = 1200;
+const H: u32 = 600;
+
+/// Colours per camera, in the order the cameras were given.
+pub const PALETTE: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(214, 39, 40),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+fn register_font() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The embedded font is valid; a failure would only leave text out.
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
+    anyhow!("plotting: {e}")
+}
+
+/// Draws into an RGB buffer with `draw` and writes it as a PNG.
+fn png(
+    path: &Path,
+    w: u32,
+    h: u32,
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> Result<()>,
+) -> Result<()> {
+    register_font();
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        draw(&root)?;
+        root.present().map_err(err)?;
+    }
+    let pixels: Vec<u32> = buf
+        .chunks_exact(3)
+        .map(|p| (p[0] as u32) << 16 | (p[1] as u32) << 8 | p[2] as u32)
+        .collect();
+    let bytes = crate::render::encode_png(&pixels, w as usize, h as usize)?;
+    crate::render::write_atomic(path, &bytes)
+}
+
+/// Writes `speed.png`, `occlusion.png` and `summary.png` into `dir`.
+pub fn write_all(report: &Report, map_name: &str, dir: &Path) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| anyhow!("creating {}: {e}", dir.display()))?;
+    speed(report, map_name, &dir.join("speed.png"))?;
+    occlusion(report, map_name, &dir.join("occlusion.png"))?;
+    let rows: Vec<(String, Vec<(String, serde_json::Value)>)> = vec![(
+        map_name.to_string(),
+        report
+            .cameras
+            .iter()
+            .map(|c| (c.name.clone(), c.summary.to_json()))
+            .collect(),
+    )];
+    summary_chart(
+        &rows,
+        &format!("{map_name}: camera measures"),
+        &dir.join("summary.png"),
+    )
+}
+
+/// The longest route's index.
+fn longest_route(report: &Report) -> usize {
+    (0..report.routes.routes.len())
+        .max_by_key(|&i| report.cameras.first().map_or(0, |c| c.routes[i].len()))
+        .unwrap_or(0)
+}
+
+fn speed(report: &Report, map_name: &str, path: &Path) -> Result<()> {
+    let k = longest_route(report);
+    let dt = report.dt;
+    let tmax = report
+        .cameras
+        .iter()
+        .filter_map(|c| c.routes[k].last().map(|m| m.t))
+        .fold(1.0, f64::max);
+    png(path, W, H, |root| {
+        let title = format!(
+            "{map_name}: camera speed per frame ({}, dt {:.4} s)",
+            report.routes.routes[k].name, dt
+        );
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0f64..tmax, (1f64..20_000f64).log_scale())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("time (s)")
+            .y_desc("camera speed (units/s, log scale)")
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(err)?;
+        for (band, label) in [(96.0, "crouch 96"), (265.0, "run 265")] {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(0.0, band), (tmax, band)],
+                    6,
+                    4,
+                    BLACK.mix(0.5).stroke_width(1),
+                ))
+                .map_err(err)?
+                .label(format!("player {label} units/s"))
+                .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+        }
+        let window = (1.0 / dt).round().max(1.0) as usize;
+        for (ci, c) in report.cameras.iter().enumerate() {
+            let col = PALETTE[ci % PALETTE.len()];
+            let ms = &c.routes[k];
+            let raw = ms.iter().map(|m| (m.t, (m.speed as f64).max(1.0)));
+            chart
+                .draw_series(LineSeries::new(raw, col.mix(0.35).stroke_width(1)))
+                .map_err(err)?;
+            let mut mean = Vec::with_capacity(ms.len());
+            let mut sum = 0.0;
+            for (i, m) in ms.iter().enumerate() {
+                sum += m.speed as f64;
+                if i >= window {
+                    sum -= ms[i - window].speed as f64;
+                }
+                mean.push((m.t, (sum / (i + 1).min(window) as f64).max(1.0)));
+            }
+            chart
+                .draw_series(LineSeries::new(mean, col.stroke_width(3)))
+                .map_err(err)?
+                .label(format!("{} (thin: per frame, thick: 1 s mean)", c.name))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], col.stroke_width(3))
+                });
+        }
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)
+    })
+}
+
+fn occlusion(report: &Report, map_name: &str, path: &Path) -> Result<()> {
+    let dt = report.dt;
+    let total = report.frames_per_camera as f64 * dt;
+    let n = report.cameras.len();
+    png(path, W, (140 + 60 * n as u32).max(300), |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "{map_name}: target hidden / camera in or near walls, all routes back to back"
+                ),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(110)
+            .build_cartesian_2d(0f64..total.max(dt), 0f64..n as f64)
+            .map_err(err)?;
+        let names: Vec<String> = report.cameras.iter().map(|c| c.name.clone()).collect();
+        chart
+            .configure_mesh()
+            .x_desc("replay time (s)")
+            .y_desc("camera")
+            .y_labels(n * 2 + 1)
+            .y_label_formatter(&|y| {
+                let f = y - y.floor();
+                if (f - 0.5).abs() < 0.01 {
+                    names.get(y.floor() as usize).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            })
+            .disable_y_mesh()
+            .label_style(("sans-serif", 14))
+            .draw()
+            .map_err(err)?;
+        let kinds: [(&str, RGBColor, f64, f64); 3] = [
+            (
+                "target eye hidden (BSP trace)",
+                RGBColor(214, 39, 40),
+                0.55,
+                0.9,
+            ),
+            (
+                "camera within 6.4 of a wall",
+                RGBColor(255, 160, 0),
+                0.3,
+                0.5,
+            ),
+            ("camera in solid", BLACK, 0.1, 0.25),
+        ];
+        for (kind, (label, col, y0, y1)) in kinds.iter().enumerate() {
+            let mut rects = Vec::new();
+            for (ci, c) in report.cameras.iter().enumerate() {
+                let mut t = 0.0;
+                for ms in &c.routes {
+                    for m in ms {
+                        let on = match kind {
+                            0 => !m.eye_visible,
+                            1 => !m.solid && (m.clearance as f64) < super::metrics::NEAR_PLANE,
+                            _ => m.solid,
+                        };
+                        if on {
+                            rects.push(Rectangle::new(
+                                [(t, ci as f64 + y0), (t + dt, ci as f64 + y1)],
+                                col.filled(),
+                            ));
+                        }
+                        t += dt;
+                    }
+                }
+            }
+            let col = *col;
+            chart
+                .draw_series(rects)
+                .map_err(err)?
+                .label(*label)
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 16, y + 5)], col.filled()));
+        }
+        chart
+            .configure_series_labels()
+            .label_font(("sans-serif", 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)
+    })
+}
+
+/// The measures of [`summary_chart`]: JSON key, panel title, scale.
+const PANELS: [(&str, &str, bool); 6] = [
+    (
+        "visible_fraction",
+        "target eye visible (% of frames)",
+        false,
+    ),
+    ("nearplane_frames", "near-plane or solid frames (%)", false),
+    ("jumps", "jumps per minute", false),
+    ("rms_jerk", "RMS jerk (units/s³, log)", true),
+    ("cuts_per_min", "cuts per minute", false),
+    ("median_us", "median µs per update (log)", true),
+];
+
+/// A chart of the key measures: one panel per measure, a group of bars per map
+/// (`rows`: map label → per-camera summary JSON), one colour per camera.
+pub fn summary_chart(
+    rows: &[(String, Vec<(String, serde_json::Value)>)],
+    title: &str,
+    path: &Path,
+) -> Result<()> {
+    let mut cams: Vec<String> = Vec::new();
+    for (_, cs) in rows {
+        for (c, _) in cs {
+            if !cams.contains(c) {
+                cams.push(c.clone());
+            }
+        }
+    }
+    let value = |v: &serde_json::Value, key: &str| -> f64 {
+        let g = |k: &str| v.get(k).and_then(|x| x.as_f64()).unwrap_or(0.0);
+        let frames = g("frames").max(1.0);
+        let minutes = (g("seconds") / 60.0).max(1e-9);
+        match key {
+            "visible_fraction" => 100.0 * g(key),
+            "nearplane_frames" => 100.0 * g(key) / frames,
+            "jumps" => g(key) / minutes,
+            _ => g(key),
+        }
+    };
+    let width = (W as usize).max(200 + rows.len() * cams.len() * 18) as u32;
+    png(path, width, 900, |root| {
+        let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
+        let areas = root.split_evenly((2, 3));
+        for (area, (key, label, log)) in areas.iter().zip(PANELS) {
+            let vals: Vec<Vec<f64>> = rows
+                .iter()
+                .map(|(_, cs)| {
+                    cams.iter()
+                        .map(|c| {
+                            cs.iter()
+                                .find(|(n, _)| n == c)
+                                .map_or(0.0, |(_, v)| value(v, key))
+                        })
+                        .collect()
+                })
+                .collect();
+            let max = vals.iter().flatten().copied().fold(0.0, f64::max);
+            let nx = rows.len() as f64;
+            let labels: Vec<String> = rows.iter().map(|(m, _)| m.clone()).collect();
+            let mut builder = ChartBuilder::on(area);
+            builder
+                .caption(label, ("sans-serif", 16))
+                .margin(8)
+                .x_label_area_size(if rows.len() > 1 { 70 } else { 30 })
+                .y_label_area_size(60);
+            let bar = 0.8 / cams.len().max(1) as f64;
+            let fmt = |x: &f64| {
+                let i = x.floor() as usize;
+                if (x - x.floor() - 0.5).abs() < 0.01 {
+                    labels.get(i).cloned().unwrap_or_default()
+                } else {
+                    String::new()
+                }
+            };
+            let rects = |floor: f64| {
+                let mut out = Vec::new();
+                for (mi, row) in vals.iter().enumerate() {
+                    for (ci, v) in row.iter().enumerate() {
+                        let x0 = mi as f64 + 0.1 + ci as f64 * bar;
+                        out.push(Rectangle::new(
+                            [(x0, floor), (x0 + bar * 0.9, v.max(floor))],
+                            PALETTE[ci % PALETTE.len()].filled(),
+                        ));
+                    }
+                }
+                out
+            };
+            if log {
+                let top = (max * 2.0).max(10.0);
+                let mut chart = builder
+                    .build_cartesian_2d(0f64..nx, (0.1f64..top).log_scale())
+                    .map_err(err)?;
+                chart
+                    .configure_mesh()
+                    .x_labels(rows.len() * 2 + 1)
+                    .x_label_formatter(&fmt)
+                    .disable_x_mesh()
+                    .label_style(("sans-serif", 12))
+                    .draw()
+                    .map_err(err)?;
+                chart.draw_series(rects(0.1)).map_err(err)?;
+                legend(&mut chart, &cams)?;
+            } else {
+                let top = if key == "visible_fraction" {
+                    100.0
+                } else {
+                    (max * 1.15).max(1.0)
+                };
+                let mut chart = builder
+                    .build_cartesian_2d(0f64..nx, 0f64..top)
+                    .map_err(err)?;
+                chart
+                    .configure_mesh()
+                    .x_labels(rows.len() * 2 + 1)
+                    .x_label_formatter(&fmt)
+                    .disable_x_mesh()
+                    .label_style(("sans-serif", 12))
+                    .draw()
+                    .map_err(err)?;
+                chart.draw_series(rects(0.0)).map_err(err)?;
+                legend(&mut chart, &cams)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+fn legend<'a, X, Y>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
+    cams: &[String],
+) -> Result<()>
+where
+    X: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
+{
+    for (ci, c) in cams.iter().enumerate() {
+        let col = PALETTE[ci % PALETTE.len()];
+        chart
+            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
+            .map_err(err)?
+            .label(c.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], col.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 12))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()
+        .map_err(err)
+}

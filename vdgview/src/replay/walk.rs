@@ -1,0 +1,337 @@
+//! The walker: turns a path on the floor into a player's motion, as a person plays:
+//! running at 250–265 units/s with Quake's acceleration and friction, stopping now
+//! and then, turning round (180°) to run back a little, crouching for stretches
+//! (96 units/s) and wherever the path is too low to stand. Every frame's origin is
+//! settled on the floor with the player's clip hull, so the route is physically
+//! possible in the map. All choices come from a seeded generator: the same path
+//! and seed give the same route.
+
+use super::route::{CROUCH_HALF, Route, STAND_HALF, TargetState, settle};
+use bsp2vdg::oracle::Oracle;
+use toolbox::SplitMix64;
+
+/// The walker's fixed step (the route is resampled at the replay's `--dt`).
+pub const STEP: f64 = 1.0 / 120.0;
+/// Crouched walking speed (the thesis' figure for GoldSrc).
+pub const CROUCH_SPEED: f64 = 96.0;
+/// `sv_accelerate` × wish speed: units/s² while speeding up.
+const ACCEL: f64 = 2500.0;
+/// Largest view turn rate of the player in degrees per second.
+const TURN_RATE: f64 = 720.0;
+
+/// A point of a path on the floor (`floor` is the height of the ground under it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Waypoint {
+    pub x: f64,
+    pub y: f64,
+    pub floor: f64,
+    /// The path must be crouched here.
+    pub crouch: bool,
+}
+
+impl Waypoint {
+    /// From a player origin (hull centre) and its crouch state.
+    pub fn from_origin(o: [f64; 3], crouch: bool) -> Waypoint {
+        let half = if crouch { CROUCH_HALF } else { STAND_HALF };
+        Waypoint {
+            x: o[0],
+            y: o[1],
+            floor: o[2] - half,
+            crouch,
+        }
+    }
+}
+
+/// What the player is doing besides running along the path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Act {
+    Run,
+    Stop { until: f64 },
+    Back { until: f64 },
+    Crouch { until: f64 },
+}
+
+/// Shortens a grid path to straight runs: from each point, the farthest later point
+/// (up to 24 ahead) that a straight walk reaches on the floor with unchanged crouch.
+pub fn string_pull(oracle: &Oracle, path: &[Waypoint]) -> Vec<Waypoint> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < path.len() {
+        out.push(path[i]);
+        if i + 1 == path.len() {
+            break;
+        }
+        let mut best = i + 1;
+        for j in (i + 2..path.len().min(i + 25)).rev() {
+            if straight_walkable(oracle, &path[i], &path[j]) {
+                best = j;
+                break;
+            }
+        }
+        i = best;
+    }
+    out
+}
+
+/// A straight walk from `a` to `b`: settled every 8 units, no step above 18 units,
+/// the same crouch state as the ends all along.
+fn straight_walkable(oracle: &Oracle, a: &Waypoint, b: &Waypoint) -> bool {
+    if a.crouch != b.crouch {
+        return false;
+    }
+    let len = ((b.x - a.x).powi(2) + (b.y - a.y).powi(2)).sqrt();
+    let n = (len / 8.0).ceil().max(1.0) as usize;
+    let mut floor = a.floor;
+    for k in 1..=n {
+        let f = k as f64 / n as f64;
+        let (x, y) = (a.x + f * (b.x - a.x), a.y + f * (b.y - a.y));
+        match settle(oracle, x, y, floor, a.crouch) {
+            Some((o, c)) if c == a.crouch => {
+                let nf = o[2] - if c { CROUCH_HALF } else { STAND_HALF };
+                if (nf - floor).abs() > 18.5 {
+                    return false;
+                }
+                floor = nf;
+            }
+            _ => return false,
+        }
+    }
+    (floor - b.floor).abs() < 4.0
+}
+
+/// The polyline with its cumulative lengths, for positions by arc length.
+struct Polyline<'a> {
+    points: &'a [Waypoint],
+    cum: Vec<f64>,
+}
+
+impl<'a> Polyline<'a> {
+    fn new(points: &'a [Waypoint]) -> Self {
+        let mut cum = vec![0.0];
+        for w in points.windows(2) {
+            let d = ((w[1].x - w[0].x).powi(2) + (w[1].y - w[0].y).powi(2)).sqrt();
+            cum.push(cum.last().unwrap() + d);
+        }
+        Polyline { points, cum }
+    }
+    fn length(&self) -> f64 {
+        *self.cum.last().unwrap()
+    }
+    /// Position, floor, crouch flag and unit xy direction at arc length `s`.
+    fn at(&self, s: f64) -> (f64, f64, f64, bool, [f64; 2]) {
+        let s = s.clamp(0.0, self.length());
+        let i = match self.cum.binary_search_by(|c| c.total_cmp(&s)) {
+            Ok(i) => i.min(self.points.len().saturating_sub(2)),
+            Err(i) => (i.max(1) - 1).min(self.points.len().saturating_sub(2)),
+        };
+        let (a, b) = (
+            self.points[i],
+            self.points[(i + 1).min(self.points.len() - 1)],
+        );
+        let seg = self.cum.get(i + 1).map_or(0.0, |c| c - self.cum[i]);
+        let f = if seg > 0.0 {
+            ((s - self.cum[i]) / seg).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dir = if seg > 0.0 {
+            [(b.x - a.x) / seg, (b.y - a.y) / seg]
+        } else {
+            [1.0, 0.0]
+        };
+        (
+            a.x + f * (b.x - a.x),
+            a.y + f * (b.y - a.y),
+            a.floor + f * (b.floor - a.floor),
+            a.crouch || b.crouch,
+            dir,
+        )
+    }
+}
+
+/// Statistics of one walk.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WalkStats {
+    /// Steps where no floor position was found and the player stayed put.
+    pub stuck_steps: usize,
+    pub stops: usize,
+    pub turns: usize,
+    pub crouch_stretches: usize,
+}
+
+/// Walks `path` (at least two points) as a player; `seed` picks the speed and the
+/// moments of stops, turns and crouching.
+pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route, WalkStats) {
+    let mut rng = SplitMix64::new(seed);
+    let line = Polyline::new(path);
+    let run_speed = rng.range(250.0, 265.0);
+    let mut stats = WalkStats::default();
+    let (mut s, mut v) = (0.0f64, 0.0f64); // arc position and signed speed along the path
+    let mut t = 0.0;
+    let mut act = Act::Run;
+    let mut next_event = rng.range(1.0, 3.0);
+    let (x0, y0, f0, c0, d0) = line.at(0.0);
+    let mut yaw = d0[1].atan2(d0[0]).to_degrees();
+    let mut last = settle(oracle, x0, y0, f0, c0).unwrap_or(([x0, y0, f0 + STAND_HALF], c0));
+    let mut states = Vec::new();
+    let mut prev_feet = [
+        last.0[0],
+        last.0[1],
+        last.0[2] - if last.1 { CROUCH_HALF } else { STAND_HALF },
+    ];
+    let limit = (line.length() / CROUCH_SPEED * 4.0 + 60.0) / STEP;
+    for _ in 0..limit as usize {
+        let (_, _, floor, must_crouch, dir) = line.at(s);
+        // What the player wants now.
+        match act {
+            Act::Run if t >= next_event && line.length() - s > 200.0 && !must_crouch => {
+                act = match rng.below(3) {
+                    0 => {
+                        stats.stops += 1;
+                        Act::Stop {
+                            until: t + rng.range(0.5, 1.2),
+                        }
+                    }
+                    1 if s > 150.0 => {
+                        stats.turns += 1;
+                        Act::Back {
+                            until: t + rng.range(0.8, 1.5),
+                        }
+                    }
+                    _ => {
+                        stats.crouch_stretches += 1;
+                        Act::Crouch {
+                            until: t + rng.range(1.0, 2.0),
+                        }
+                    }
+                };
+            }
+            Act::Stop { until } | Act::Back { until } | Act::Crouch { until } if t >= until => {
+                act = Act::Run;
+                next_event = t + rng.range(2.0, 5.0);
+            }
+            _ => {}
+        }
+        let crouch = must_crouch || matches!(act, Act::Crouch { .. });
+        let wish = match act {
+            Act::Stop { .. } => 0.0,
+            Act::Back { .. } => -run_speed,
+            _ if crouch => CROUCH_SPEED,
+            _ => run_speed,
+        };
+        v = approach_speed(v, wish, STEP);
+        s = (s + v * STEP).clamp(0.0, line.length());
+        // The view turns towards the motion (or the wished motion while stopped).
+        let facing = if wish < 0.0 || (wish == 0.0 && v < 0.0) {
+            [-dir[0], -dir[1]]
+        } else {
+            dir
+        };
+        let want = facing[1].atan2(facing[0]).to_degrees();
+        let d = (want - yaw + 540.0).rem_euclid(360.0) - 180.0;
+        yaw += d.clamp(-TURN_RATE * STEP, TURN_RATE * STEP);
+        yaw = yaw.rem_euclid(360.0);
+        // Settle on the floor; a crouch that cannot stand up stays crouched.
+        let (nx, ny, nfloor, _, _) = line.at(s);
+        let hint = if (nfloor - floor).abs() < 18.0 {
+            last.0[2] - if last.1 { CROUCH_HALF } else { STAND_HALF }
+        } else {
+            nfloor
+        };
+        match settle(oracle, nx, ny, hint, crouch)
+            .or_else(|| settle(oracle, nx, ny, nfloor, crouch))
+        {
+            Some(p) => last = p,
+            None => stats.stuck_steps += 1,
+        }
+        let o = last.0;
+        // Velocity of the feet: ducking moves the hull centre by 18 units at once
+        // (GoldSrc's PM_Duck), which is not motion.
+        let feet = [
+            o[0],
+            o[1],
+            o[2] - if last.1 { CROUCH_HALF } else { STAND_HALF },
+        ];
+        let vel = [0, 1, 2].map(|k| ((feet[k] - prev_feet[k]) / STEP) as f32);
+        prev_feet = feet;
+        states.push(TargetState {
+            t,
+            origin: o.map(|c| c as f32),
+            angles: [0.0, yaw as f32, 0.0],
+            velocity: vel,
+            crouch: last.1,
+        });
+        t += STEP;
+        if s >= line.length() {
+            if v.abs() < 1.0 {
+                break;
+            }
+            act = Act::Stop { until: f64::MAX };
+        }
+    }
+    if let Some(first) = states.first_mut() {
+        first.velocity = [0.0; 3];
+    }
+    (
+        Route {
+            name: name.to_string(),
+            states,
+        },
+        stats,
+    )
+}
+
+/// Quake-like speed change over `dt`: accelerate towards the wished speed, friction
+/// (4 × max(|v|, 100) units/s²) when the wish is to stop or turn round.
+fn approach_speed(v: f64, wish: f64, dt: f64) -> f64 {
+    let friction = 4.0 * v.abs().max(100.0) * dt;
+    if wish == 0.0 {
+        return if v.abs() <= friction {
+            0.0
+        } else {
+            v - v.signum() * friction
+        };
+    }
+    let cap = |nv: f64| {
+        if wish > 0.0 {
+            nv.min(wish)
+        } else {
+            nv.max(wish)
+        }
+    };
+    if v * wish < 0.0 {
+        // Turning round: friction and acceleration the other way.
+        return cap(v + wish.signum() * (friction + ACCEL * dt));
+    }
+    if v.abs() < wish.abs() {
+        cap(v + wish.signum() * ACCEL * dt)
+    } else {
+        // Slowing to a lower wish (crouching).
+        wish.signum() * (v.abs() - friction).max(wish.abs())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::approach_speed;
+
+    #[test]
+    fn speed_rises_stops_and_reverses() {
+        let mut v = 0.0;
+        for _ in 0..60 {
+            v = approach_speed(v, 250.0, 1.0 / 120.0);
+        }
+        assert_eq!(v, 250.0);
+        let mut n = 0;
+        while v > 0.0 {
+            v = approach_speed(v, 0.0, 1.0 / 120.0);
+            n += 1;
+        }
+        assert!(n > 10 && n < 200, "{n}");
+        v = 250.0;
+        for _ in 0..240 {
+            v = approach_speed(v, -250.0, 1.0 / 120.0);
+        }
+        assert!((v + 250.0).abs() < 1e-9, "{v}");
+    }
+}

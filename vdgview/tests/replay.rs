@@ -1,0 +1,244 @@
+//! `replay` on the generated maps, whose geometry is known exactly (mapgen): the routes
+//! stay on the floor and free for the player's hull, the chase cam and the spring arm
+//! behave as specified at a wall, and the CLI writes every output with the JSON keys
+//! the issue names.
+
+use bsp2vdg::bsp::Bsp;
+use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp2vdg::walls::Walls;
+use mapgen::world::Contents;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use vdgview::replay::cameras::{ChaseCam, ReplayCamera, SpringArm};
+use vdgview::replay::route::TargetState;
+use vdgview::replay::spawns;
+
+fn map(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../testdata/maps")
+        .join(format!("{name}.bsp"))
+}
+
+fn target(origin: [f32; 3], yaw: f32) -> TargetState {
+    TargetState {
+        t: 0.0,
+        origin,
+        angles: [0.0, yaw, 0.0],
+        velocity: [0.0; 3],
+        crouch: false,
+    }
+}
+
+#[test]
+fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
+    for world in mapgen::worlds::worlds() {
+        if world.spawn_points().len() < 2 {
+            continue;
+        }
+        let bsp = Bsp::open(map(&world.name)).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let (routes, stats, unreachable) = spawns::routes(&bsp, &oracle, 1, 2);
+        assert!(!routes.is_empty(), "{}: no route", world.name);
+        assert_eq!(unreachable, 0, "{}", world.name);
+        for (r, s) in routes.iter().zip(&stats) {
+            assert_eq!(s.stuck_steps, 0, "{} {}", world.name, r.name);
+            assert!(r.duration() > 1.0, "{} {}", world.name, r.name);
+            let mut top = 0.0f32;
+            for t in r.resample(1.0 / 60.0) {
+                let hull = if t.crouch { 3 } else { 1 };
+                let o = t.origin.map(f64::from);
+                // Exact geometry: the hull is free, and 2 units lower it is not (on the floor).
+                assert_eq!(
+                    world.hull_contents(hull, o),
+                    Contents::Empty,
+                    "{} {} t={:.2}: hull {hull} at {o:?} not free",
+                    world.name,
+                    r.name,
+                    t.t
+                );
+                assert_ne!(
+                    world.hull_contents(hull, [o[0], o[1], o[2] - 2.0]),
+                    Contents::Empty,
+                    "{} {} t={:.2}: floating at {o:?}",
+                    world.name,
+                    r.name,
+                    t.t
+                );
+                top = top.max(t.speed());
+            }
+            assert!(
+                top > 240.0 && top < 300.0,
+                "{}: top speed {top}",
+                world.name
+            );
+        }
+    }
+}
+
+#[test]
+fn chase_cam_sits_four_units_off_the_wall_and_the_spring_arm_a_radius_off() {
+    // box_room: free space 0..512 × 0..384 × 0..256; the player faces +x near x = 0.
+    let bsp = Bsp::open(map("box_room")).unwrap();
+    let oracle = Oracle::new(&bsp, &OracleOptions::default());
+    let walls = Walls::of_map(&bsp, &OracleOptions::default());
+    let mut chase = ChaseCam::new(&oracle);
+    // Far from walls: 112 back along the view, 28 above the origin.
+    let f = chase.update(&target([256.0, 192.0, 37.0], 0.0), 1.0 / 60.0);
+    assert!(
+        (f.eye[0] - 144.0).abs() < 1e-3 && (f.eye[2] - 65.0).abs() < 1e-3,
+        "{:?}",
+        f.eye
+    );
+    // At the wall: the trace stops at x = 0 (+ DIST_EPSILON), the camera 4 units out.
+    let f = chase.update(&target([64.0, 192.0, 37.0], 0.0), 1.0 / 60.0);
+    assert!((f.eye[0] - 4.03125).abs() < 1e-3, "{:?}", f.eye);
+    assert_eq!([f.eye[1], f.eye[2]], [192.0, 65.0]);
+    assert!(
+        walls.distance(f.eye.map(f64::from)) < 6.4,
+        "the chase cam clips the near plane there"
+    );
+    // Facing a corner diagonally: the hit plane's normal is axial, so the camera is
+    // pushed 4 units out along it.
+    let f = chase.update(&target([40.0, 60.0, 37.0], 45.0), 1.0 / 60.0);
+    assert!(
+        f.eye[0] >= 4.0 - 1e-3 && f.eye[1] >= 4.0 - 1e-3,
+        "{:?}",
+        f.eye
+    );
+
+    let mut arm = SpringArm::new(&walls);
+    let t = target([64.0, 192.0, 37.0], 0.0);
+    arm.reset(&t);
+    let f = arm.update(&t, 1.0 / 60.0);
+    assert!(
+        (f.eye[0] - 12.0).abs() < 0.2,
+        "sphere radius off the wall: {:?}",
+        f.eye
+    );
+    // Moving away from the wall, the arm returns exponentially, not at once.
+    let far = target([256.0, 192.0, 37.0], 0.0);
+    let f1 = arm.update(&far, 1.0 / 60.0);
+    let len1 = 256.0 - f1.eye[0];
+    assert!(
+        len1 > 52.0 && len1 < 112.0,
+        "retracted arm lags back: {len1}"
+    );
+    for _ in 0..120 {
+        arm.update(&far, 1.0 / 60.0);
+    }
+    let f2 = arm.update(&far, 1.0 / 60.0);
+    assert!((256.0 - f2.eye[0] - 112.0).abs() < 0.5, "{:?}", f2.eye);
+}
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("vdgview-replay-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn cli_writes_json_csv_plots_and_frames() {
+    let dir = tmpdir("cli");
+    let vdg = dir.join("two_rooms.vdg");
+    let options = bsp2vdg::pipeline::CompileOptions::new(vdg.clone());
+    bsp2vdg::pipeline::compile(
+        &map("two_rooms"),
+        &options,
+        &bsp2vdg::log::Log::new(bsp2vdg::log::Verbosity::Quiet, true),
+        &bsp2vdg::progress::NoProgress,
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vdgview"))
+        .arg("replay")
+        .arg(map("two_rooms"))
+        .arg(&vdg)
+        .args([
+            "--camera",
+            "chase,springarm",
+            "--max-routes",
+            "1",
+            "--dt",
+            "1/30",
+            "--json",
+        ])
+        .arg("--csv")
+        .arg(dir.join("csv"))
+        .arg("--plots")
+        .arg(dir.join("plots"))
+        .arg("--frames")
+        .arg(dir.join("frames"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for cam in ["chase", "springarm"] {
+        let c = &v["cameras"][cam];
+        for key in [
+            "frames",
+            "solid_frames",
+            "nearplane_frames",
+            "visible_fraction",
+            "jumps",
+            "rms_jerk",
+            "cuts_per_min",
+            "median_us",
+            "target_outside_fraction",
+        ] {
+            assert!(
+                c.get(key).is_some_and(|x| x.is_number()),
+                "{cam}.{key} missing: {c}"
+            );
+        }
+        assert!(c["frames"].as_u64().unwrap() > 30);
+        assert_eq!(c["solid_frames"], 0, "{cam} in solid in a plain room");
+    }
+    assert!(v["target_outside_fraction"].is_number());
+    for f in [
+        "csv/chase.csv",
+        "csv/springarm.csv",
+        "csv/outside.csv",
+        "plots/speed.png",
+        "plots/occlusion.png",
+        "plots/summary.png",
+        "frames/contact-sheet.png",
+    ] {
+        let len = std::fs::metadata(dir.join(f)).map(|m| m.len()).unwrap_or(0);
+        // The outside list holds only its header when every target lies inside the
+        // volume (the reduction keeps standing places inside it).
+        let empty_ok = f == "csv/outside.csv" && v["target_outside_fraction"] == 0.0;
+        assert!(len > 100 || (empty_ok && len > 0), "{f}: {len} bytes");
+    }
+    let csv = std::fs::read_to_string(dir.join("csv/chase.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count() as u64,
+        v["cameras"]["chase"]["frames"].as_u64().unwrap() + 1
+    );
+
+    // Bad options are one-line errors.
+    for args in [
+        vec!["--camera", "nope"],
+        vec!["--dt", "0"],
+        vec!["--routes", "weird"],
+        vec!["--routes", "nav:/nonexistent.nav"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_vdgview"))
+            .arg("replay")
+            .arg(map("two_rooms"))
+            .arg(&vdg)
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(
+            err.trim().lines().filter(|l| l.contains("error")).count(),
+            1,
+            "{args:?}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
