@@ -21,10 +21,10 @@
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
 
-use crate::bsp::Bsp;
-use crate::oracle::{Oracle, OracleOptions};
-use crate::util::SplitMix64;
-use crate::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::util::SplitMix64;
+use bsp::walls::Walls;
 use rayon::prelude::*;
 use vdgformat::Vdg;
 

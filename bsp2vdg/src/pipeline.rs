@@ -318,6 +318,12 @@ pub fn compile(
         bsp.models.len(),
         bsp.entities.len()
     ));
+    if bsp.unused_bad_records > 0 {
+        log.info(format!(
+            "Ignored {} unused records with bad indices (the game never reads them)",
+            bsp.unused_bad_records
+        ));
+    }
     log.info(format!(
         "Bounding Box ({:.1},{:.1},{:.1})-({:.1},{:.1},{:.1})",
         world.mins[0], world.mins[1], world.mins[2], world.maxs[0], world.maxs[1], world.maxs[2]

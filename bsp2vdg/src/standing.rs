@@ -14,7 +14,7 @@
 //! # Ok::<(), bsp2vdg::bsp::BspError>(())
 //! ```
 
-use crate::oracle::{Hull, Oracle};
+use bsp::oracle::{Hull, Oracle};
 
 /// The standing player's origin is 36 units above the ground (the middle of the
 /// 72-unit clip hull 1), the head (eyes) 64 units above it.

@@ -5,10 +5,10 @@
 //!
 //! `cargo run --release -p vdgview --example clearance_error -- [POINTS] [bsp2vdg options...]`
 
+use bsp::util::SplitMix64;
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
-use bsp2vdg::util::SplitMix64;
 use mapgen::world::World;
 use std::path::Path;
 

@@ -11,10 +11,10 @@
 //! `cargo run --release -p vdgview --example coverage_loss -- MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS] [--walkable]`
 
 use anyhow::{Context, bail};
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::util::SplitMix64;
+use bsp::walls::Walls;
 use std::collections::HashMap;
 
 fn quantiles(v: &mut [f64]) -> String {

@@ -18,9 +18,9 @@
 //! later use a shared .nav reader).
 
 use anyhow::{Context, Result, bail};
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::util::SplitMix64;
 use vdgview::check::{ORIGIN_ABOVE_GROUND, column_floors, standing_places};
 
 /// A nav area: a rectangle in x/y with the ground heights at its four corners.

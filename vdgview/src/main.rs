@@ -420,18 +420,18 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     let bsp = scene::open_map(&args.map)?;
     let file = scene::open_graph(&args.vdg)?;
     let graph = file.graph();
-    let options = bsp2vdg::oracle::OracleOptions {
+    let options = bsp::oracle::OracleOptions {
         liquids_are_solid: args.liquids_solid,
         ..Default::default()
     };
-    let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &options);
+    let oracle = bsp::oracle::Oracle::new(&bsp, &options);
     if oracle.clip_contents(1, [0.0; 3]).is_none() {
         bail!(
             "{}: the map has no clip hulls (needed to walk the player)",
             args.map.display()
         );
     }
-    let walls = bsp2vdg::walls::Walls::of_map(&bsp, &options);
+    let walls = bsp::walls::Walls::of_map(&bsp, &options);
     let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
     eprintln!("replay: making routes ({}) ...", source.label());
     let routes = replay::load_routes(&bsp, &oracle, &source, args.seed, args.max_routes)?;

@@ -4,9 +4,8 @@
 
 use crate::camera::Bounds;
 use anyhow::{Context, Result, bail};
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::sample::classify::FaceClass;
-use bsp2vdg::sample::collect_faces;
+use bsp::Bsp;
+use bsp::faces::FaceClass;
 use glam::Vec3;
 use std::path::Path;
 use vdgformat::Vdg;
@@ -85,7 +84,7 @@ impl Scene {
 /// liquids) into triangles.
 pub fn wall_triangles(bsp: &Bsp) -> Vec<WallTriangle> {
     let mut out = Vec::new();
-    for f in collect_faces(bsp, &[]) {
+    for f in bsp::faces::polygons(bsp, 0) {
         let sky = match f.class {
             FaceClass::Wall => false,
             FaceClass::Sky => true,

@@ -1,7 +1,7 @@
 //! `check` on the generated maps: the compiler's graphs must not leak or see through
 //! walls, and a graph that does must be caught.
 
-use bsp2vdg::bsp::Bsp;
+use bsp::Bsp;
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
@@ -161,7 +161,7 @@ fn exact_floors(world: &mapgen::world::World, x: f64, y: f64, top: f64, bottom: 
 /// of walkable slope (and none steeper).
 #[test]
 fn standing_places_are_the_exact_player_floors() {
-    use bsp2vdg::oracle::{Oracle, OracleOptions};
+    use bsp::oracle::{Oracle, OracleOptions};
     use vdgview::check::{column_floors, standing_places};
     for map in generated_maps() {
         let world = mapgen::world::World::from_manifest_json(
@@ -196,7 +196,7 @@ fn standing_places_are_the_exact_player_floors() {
         }
         let b = world.bounds();
         let (top, bottom) = (b.max[2] + 1.0, b.min[2] - 1.0);
-        let mut rng = bsp2vdg::util::SplitMix64::new(11);
+        let mut rng = bsp::util::SplitMix64::new(11);
         let (mut compared, mut found) = (0, 0);
         for _ in 0..300 {
             let (x, y) = (rng.range(b.min[0], b.max[0]), rng.range(b.min[1], b.max[1]));
@@ -263,7 +263,7 @@ fn standing_places_are_the_exact_player_floors() {
 /// the share of exact standing places inside the volume.
 #[test]
 fn walkable_coverage_of_generated_maps() {
-    use bsp2vdg::oracle::{Oracle, OracleOptions};
+    use bsp::oracle::{Oracle, OracleOptions};
     use vdgview::check::standing_places;
     let dir = tempdir();
     for map in generated_maps() {

@@ -29,7 +29,7 @@ fn vdgview(args: &[&str]) -> Output {
 /// A graph filling box_room's interior: a grid of triangles at mid height whose
 /// clearance falls off towards the walls (like a real medial-axis sheet).
 fn box_room_graph(dir: &Path) -> PathBuf {
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let inset = 40.0;
     let (x0, x1, y0, y1) = (lo[0] + inset, hi[0] - inset, lo[1] + inset, hi[1] - inset);
@@ -139,7 +139,7 @@ fn renders_are_non_empty_coloured_and_deterministic() {
 fn a_camera_inside_the_room_sees_walls_around_it() {
     let dir = tmpdir("camera");
     let g = box_room_graph(&dir);
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let c: Vec<f32> = (0..3).map(|i| (lo[i] + hi[i]) * 0.5).collect();
     let cam = format!(
@@ -182,7 +182,7 @@ fn info_and_queries_print_their_answers() {
     assert!(text.contains("vertices       169"), "{text}");
     assert!(text.contains("source.name = box_room.bsp"), "{text}");
 
-    let bsp = bsp2vdg::bsp::Bsp::open(map("box_room.bsp")).unwrap();
+    let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);
     let c: Vec<String> = (0..3)
         .map(|i| ((lo[i] + hi[i]) * 0.5).to_string())

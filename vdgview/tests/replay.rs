@@ -3,9 +3,9 @@
 //! behave as specified at a wall, and the CLI writes every output with the JSON keys
 //! the issue names.
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use mapgen::world::Contents;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -23,9 +23,8 @@ use crate::boundary::{self, BoundaryPolygon};
 use crate::bsp::Bsp;
 use crate::oracle::{Oracle, OracleOptions};
 use crate::util::SplitMix64;
-use crate::util::{cross, sub};
 use crate::walls::Walls;
-use classify::{FaceClass, SkipReason, classify_texture};
+use classify::{FaceClass, SkipReason};
 use grid::PointGrid;
 use rayon::prelude::*;
 
@@ -125,6 +124,18 @@ pub struct SampledFace {
     pub hidden: bool,
 }
 
+impl crate::walls::WallFace for SampledFace {
+    fn polygon(&self) -> &[[f64; 3]] {
+        &self.polygon
+    }
+    fn normal(&self) -> [f64; 3] {
+        self.normal
+    }
+    fn class(&self) -> FaceClass {
+        self.class
+    }
+}
+
 /// Marks the index of samples that come from a hidden (faceless) wall.
 pub const NO_FACE: u32 = u32::MAX;
 
@@ -159,29 +170,13 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
     );
     model_ids.dedup();
     for m in model_ids {
-        let model = &bsp.models[m];
-        let origin = if m == 0 {
-            [0.0; 3]
-        } else {
-            bsp.entity_of_model(m)
-                .and_then(|e| e.origin())
-                .unwrap_or([0.0; 3])
-                .map(f64::from)
-        };
-        let first = model.first_face as usize;
-        for (k, face) in bsp.model_faces(model).iter().enumerate() {
-            let polygon = bsp
-                .face_vertices(face)
-                .map(|v| [0, 1, 2].map(|i| v[i] as f64 + origin[i]))
-                .collect();
-            out.push(SampledFace {
-                index: (first + k) as u32,
-                polygon,
-                normal: bsp.face_normal(face).map(f64::from),
-                class: classify_texture(bsp.face_texture_name(face)),
-                hidden: false,
-            });
-        }
+        out.extend(bsp::faces::polygons(bsp, m).map(|f| SampledFace {
+            index: f.index,
+            polygon: f.polygon,
+            normal: f.normal,
+            class: f.class,
+            hidden: false,
+        }));
     }
     out
 }
@@ -394,16 +389,7 @@ pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64, budget: usize) -> (Vec<
     (points, tris)
 }
 
-/// Area of a planar polygon.
-pub fn polygon_area(p: &[[f64; 3]]) -> f64 {
-    let mut n = [0.0f64; 3];
-    for i in 1..p.len().saturating_sub(1) {
-        let (a, b) = (sub(p[i], p[0]), sub(p[i + 1], p[0]));
-        let c = cross(a, b);
-        n = [n[0] + c[0], n[1] + c[1], n[2] + c[2]];
-    }
-    0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
-}
+pub use crate::util::polygon_area;
 
 fn centroid(p: &[[f64; 3]]) -> [f64; 3] {
     let n = p.len().max(1) as f64;

@@ -11,8 +11,8 @@
 //!   returning exponentially (rate 10/s, Unreal's lag speed).
 
 use super::route::{TargetState, forward};
-use bsp2vdg::oracle::Oracle;
-use bsp2vdg::walls::Walls;
+use bsp::oracle::Oracle;
+use bsp::walls::Walls;
 
 /// What a camera shows in one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -15,8 +15,8 @@
 
 use super::cameras::Frame;
 use super::route::TargetState;
-use bsp2vdg::oracle::Oracle;
-use bsp2vdg::walls::Walls;
+use bsp::oracle::Oracle;
+use bsp::walls::Walls;
 
 /// Distance below which the near plane cuts into a wall.
 pub const NEAR_PLANE: f64 = 6.4;

@@ -11,7 +11,7 @@
 //!
 //! ```no_run
 //! use vdgview::replay::{cameras::{ChaseCam, ReplayCamera}, route::{Route, TargetState}};
-//! # let oracle: bsp2vdg::oracle::Oracle = unimplemented!();
+//! # let oracle: bsp::oracle::Oracle = unimplemented!();
 //! let mut cam = ChaseCam::new(&oracle);
 //! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false };
 //! cam.reset(&t);
@@ -30,9 +30,9 @@ pub mod spawns;
 pub mod walk;
 
 use anyhow::{Context, Result, bail};
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::Oracle;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::Oracle;
+use bsp::walls::Walls;
 use cameras::{ChaseCam, Frame, ReplayCamera, SpringArm};
 use metrics::{FrameMeasure, Summary};
 use rayon::prelude::*;

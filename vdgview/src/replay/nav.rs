@@ -11,7 +11,7 @@
 
 use super::route::{Route, settle};
 use super::walk::{WalkStats, Waypoint, walk};
-use bsp2vdg::oracle::Oracle;
+use bsp::oracle::Oracle;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use toolbox::SplitMix64;

@@ -6,7 +6,7 @@
 //! walker's fixed step, a recording's frames) and [`Route::resample`]d at the
 //! replay's `--dt`, so 1/60 and 1/30 replays see the same motion.
 
-use bsp2vdg::oracle::Oracle;
+use bsp::oracle::Oracle;
 
 /// Eye height above the origin of a standing player (`VEC_VIEW`).
 pub const STAND_VIEW: f32 = 28.0;

@@ -9,8 +9,8 @@
 
 use super::route::{CROUCH_HALF, Route, STAND_HALF, hull_fits, settle};
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::Oracle;
+use bsp::Bsp;
+use bsp::oracle::Oracle;
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use toolbox::SplitMix64;

@@ -7,7 +7,7 @@
 //! and seed give the same route.
 
 use super::route::{CROUCH_HALF, Route, STAND_HALF, TargetState, settle};
-use bsp2vdg::oracle::Oracle;
+use bsp::oracle::Oracle;
 use toolbox::SplitMix64;
 
 /// The walker's fixed step (the route is resampled at the replay's `--dt`).

@@ -9,14 +9,14 @@
 //! segment test cannot give. Solid brush models are not traced (world only).
 //!
 //! ```no_run
-//! use bsp2vdg::{bsp::Bsp, oracle::{Oracle, OracleOptions}};
+//! use bsp::{Bsp, oracle::{Oracle, OracleOptions}};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let oracle = Oracle::new(&bsp, &OracleOptions::default());
 //! let t = oracle.trace(0, [0.0, 0.0, 64.0], [512.0, 0.0, 64.0]).unwrap();
 //! if t.fraction < 1.0 {
 //!     println!("wall at {:?}, normal {:?}", t.end, t.normal);
 //! }
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
 use super::{Hull, Oracle, side_distance};
@@ -146,7 +146,7 @@ fn recursive(
 mod tests {
     use super::super::{HullNode, OracleOptions};
     use super::*;
-    use crate::bsp::contents;
+    use crate::contents;
 
     /// x < 0 solid, x >= 0 empty.
     fn oracle() -> Oracle {

@@ -12,6 +12,8 @@ pub enum BspError {
     TooShort { len: usize, need: usize },
     /// The first bytes name no BSP version we read.
     UnknownVersion { found: String },
+    /// A BSP format we recognise but do not read (yet).
+    Unsupported { format: &'static str },
     /// A lump's directory entry points outside the file.
     LumpOutOfBounds {
         lump: &'static str,
@@ -47,6 +49,10 @@ impl fmt::Display for BspError {
                     "file is {len} bytes, shorter than a BSP header ({need} bytes)"
                 )
             }
+            BspError::Unsupported { format } => write!(
+                f,
+                "{format} is not read yet (we read GoldSrc v30, Quake BSP29, BSP2 and 2PSB)"
+            ),
             BspError::UnknownVersion { found } => write!(
                 f,
                 "not a BSP file we read: version {found} (expected 29, 30, BSP2 or 2PSB)"

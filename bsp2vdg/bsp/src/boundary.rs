@@ -12,20 +12,20 @@
 //! clipped to the node's cell, is pushed down both subtrees and split by their planes.
 //!
 //! ```no_run
-//! use bsp2vdg::{boundary, bsp::Bsp, oracle::OracleOptions};
+//! use bsp::{boundary, Bsp, oracle::OracleOptions};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let walls = boundary::of_map(&bsp, &OracleOptions::default());
 //! let area: f64 = walls.iter().map(|w| w.area()).sum();
 //! println!("{} wall polygons, {area:.0} square units", walls.len());
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
-use crate::sample::polygon_area as area;
+use crate::util::polygon_area as area;
 use crate::util::{cross, dot};
 use rayon::prelude::*;
 
-use crate::bsp::{Bsp, contents};
 use crate::oracle::OracleOptions;
+use crate::{Bsp, contents};
 
 type P = [f64; 3];
 

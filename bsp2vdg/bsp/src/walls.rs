@@ -7,18 +7,27 @@
 //! "the nearest wall within r" by testing the few whose boxes come near, each exactly.
 //!
 //! ```no_run
-//! use bsp2vdg::{bsp::Bsp, walls::Walls};
+//! use bsp::{Bsp, walls::Walls};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let walls = Walls::of_map(&bsp, &Default::default());
 //! let d = walls.distance_within([0.0, 0.0, 64.0], 128.0); // None: no wall within 128
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
+use crate::Bsp;
 use crate::boundary::{self, BoundaryPolygon};
-use crate::bsp::Bsp;
+use crate::faces::FaceClass;
 use crate::oracle::OracleOptions;
-use crate::sample::{self, classify::FaceClass};
 use crate::util::{cross, dot, sub};
+
+/// A classified face polygon, as [`Walls::from_faces`] takes it.
+pub trait WallFace {
+    /// The convex polygon in world coordinates.
+    fn polygon(&self) -> &[[f64; 3]];
+    /// Its unit normal towards the side it is seen from.
+    fn normal(&self) -> [f64; 3];
+    fn class(&self) -> FaceClass;
+}
 
 /// Obstacle polygons in a bounding-volume hierarchy for nearest-wall queries.
 #[derive(Debug, Clone)]
@@ -76,12 +85,12 @@ impl Walls {
         Walls::new(polygons)
     }
 
-    /// The faces the sampler keeps (those not classified as skipped).
-    pub fn from_faces(faces: &[sample::SampledFace]) -> Walls {
+    /// The faces not classified as skipped (e.g. the compiler's sampled faces).
+    pub fn from_faces<F: WallFace>(faces: &[F]) -> Walls {
         let polygons = faces
             .iter()
-            .filter(|f| !matches!(f.class, FaceClass::Skip(_)) && f.polygon.len() >= 3)
-            .map(|f| (f.polygon.clone(), f.normal))
+            .filter(|f| !matches!(f.class(), FaceClass::Skip(_)) && f.polygon().len() >= 3)
+            .map(|f| (f.polygon().to_vec(), f.normal()))
             .collect::<Vec<_>>();
         Walls::new(polygons)
     }

@@ -2,12 +2,12 @@
 //! on one core, median of 7 runs. Target (issue 2): ≥ 5 million point queries per
 //! second per core.
 //!
-//! `cargo bench -p bsp2vdg --bench oracle [-- MAP.bsp ...]` — without maps it uses the
+//! `cargo bench -p bsp --bench oracle [-- MAP.bsp ...]` — without maps it uses the
 //! GoldSrc maps in ../shared/testmaps and the repository's generated demo map.
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::util::SplitMix64;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -18,7 +18,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 fn default_maps() -> Vec<PathBuf> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut maps = Vec::new();
     for dir in [
         "../shared/testmaps/goldsrc/nonfree",

@@ -8,16 +8,16 @@
 //! children are replaced by their contents value, so a query touches one array only.
 //!
 //! ```no_run
-//! use bsp2vdg::{bsp::Bsp, oracle::{Oracle, OracleOptions}};
+//! use bsp::{Bsp, oracle::{Oracle, OracleOptions}};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let oracle = Oracle::new(&bsp, &OracleOptions::default());
 //! let free = oracle.is_free([0.0, 0.0, 64.0]);
 //! let seen = oracle.segment_free([0.0, 0.0, 64.0], [512.0, 0.0, 64.0]);
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
-use crate::bsp::{Bsp, contents};
 use crate::util::sub;
+use crate::{Bsp, contents};
 
 mod trace;
 pub use trace::{DIST_EPSILON, Trace};
@@ -70,20 +70,16 @@ impl Hull {
         }
     }
 
-    /// Clip hull `hull` (1..=3) of model `model`, or `None` when the map has no clip nodes.
+    /// Clip hull `hull` (1..=3) of model `model`, or `None` when the map has no clip
+    /// nodes or the hull is unused (see [`crate::Model::clip_headnode`]).
     pub fn from_clipnodes(bsp: &Bsp, model: usize, hull: usize) -> Option<Hull> {
-        if bsp.clipnodes.is_empty() {
-            return None;
-        }
+        let root = bsp.models[model].clip_headnode(hull, bsp.clipnodes.len())?;
         let nodes = bsp
             .clipnodes
             .iter()
             .map(|n| hull_node(bsp, n.plane, n.children))
             .collect();
-        Some(Hull {
-            nodes,
-            root: bsp.models[model].headnode[hull],
-        })
+        Some(Hull { nodes, root })
     }
 
     /// The contents value at `p`.
