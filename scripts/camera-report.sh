@@ -66,9 +66,11 @@ for m in "${maps[@]}"; do
       printf '[%d/%d] %s: %s routes, dt %s ...\n' "$i" "${#maps[@]}" "$name" "$tag" "$dt" >&2
       if ! nice -n 10 ./target/release/vdgview replay "$m" "$vdg" --routes "$src" --dt "$dt" \
           --max-routes "$max_routes" "${camera_opt[@]}" --json --plots "$out/plots/$key" \
-          > "$out/json/$key.json" 2> "$out/logs/$key.err"; then
+          > "$out/json/$key.json.part" 2> "$out/logs/$key.err"; then
         printf '[%d/%d] %s: replay failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$key.err")" >&2
-        rm -f "$out/json/$key.json"
+        rm -f "$out/json/$key.json.part"
+      else
+        mv "$out/json/$key.json.part" "$out/json/$key.json"
       fi
     done
   done

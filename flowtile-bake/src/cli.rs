@@ -173,6 +173,49 @@ enum Command {
         #[arg(long)]
         save_keys: Option<PathBuf>,
     },
+    /// Derive a tiling spec from a map: the walkable floor at one level (where a
+    /// standing player fits, from the map's player clip hull), walls as blocked
+    /// slots, spawns/named entities as sources and sinks of a designed flow.
+    Region {
+        /// The map (GoldSrc or Quake BSP).
+        map: PathBuf,
+        /// Floor height of the level (default: the floor under the spawns).
+        #[arg(long, allow_hyphen_values = true)]
+        floor: Option<f64>,
+        /// Bot navigation mesh (.nav) instead of the hulls (not supported yet).
+        #[arg(long)]
+        nav: Option<PathBuf>,
+        /// Slot side in world units.
+        #[arg(long, default_value_t = 64.0)]
+        tile: f64,
+        /// Floors within this height of the level belong to it.
+        #[arg(long, default_value_t = 48.0)]
+        band: f64,
+        /// Entity class names that are flow sources (repeatable).
+        #[arg(long = "from")]
+        from: Vec<String>,
+        /// Entity class names that are flow sinks (repeatable).
+        #[arg(long = "to")]
+        to: Vec<String>,
+        /// Spec (TOML) to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Top-view picture (PNG) of the region over the map.
+        #[arg(long)]
+        picture: Option<PathBuf>,
+        /// Also tile the spec and draw its streamlines over the map's top view (PNG).
+        #[arg(long)]
+        flow_picture: Option<PathBuf>,
+        /// Also tile 4 keys of the spec and animate particles over the map (GIF).
+        #[arg(long)]
+        flow_gif: Option<PathBuf>,
+        /// Seed written into the spec.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Print statistics as JSON.
+        #[arg(long)]
+        json: bool,
+    },
     /// Describe a baked tiling and check it.
     Info {
         /// Baked tiling file.
@@ -261,6 +304,42 @@ pub fn run() -> Result<()> {
             Ok(())
         }
         Command::Info { input, json } => info(&input, json),
+        Command::Region {
+            map,
+            floor,
+            nav,
+            tile,
+            band,
+            from,
+            to,
+            output,
+            picture,
+            flow_picture,
+            flow_gif,
+            seed,
+            json,
+        } => {
+            let flows = [flow_picture.as_deref(), flow_gif.as_deref()];
+            if let Some(nav) = nav {
+                bail!(
+                    "--nav {}: reading bot navigation meshes is not supported yet (the .nav reader lives in vdgview); leave it out to use the map's hulls",
+                    nav.display()
+                );
+            }
+            region(
+                &map,
+                floor,
+                tile,
+                band,
+                from,
+                to,
+                &output,
+                picture.as_deref(),
+                flows,
+                seed,
+                json,
+            )
+        }
         Command::Map {
             input,
             mesh,
@@ -324,6 +403,158 @@ pub fn run() -> Result<()> {
             Ok(())
         }
     }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn region(
+    map: &Path,
+    floor: Option<f64>,
+    tile: f64,
+    band: f64,
+    mut from: Vec<String>,
+    mut to: Vec<String>,
+    output: &Path,
+    picture: Option<&Path>,
+    flows: [Option<&Path>; 2],
+    seed: u64,
+    json: bool,
+) -> Result<()> {
+    let t0 = Instant::now();
+    let bsp = bsp::Bsp::open(map).with_context(|| format!("{}", map.display()))?;
+    let read_s = t0.elapsed().as_secs_f64();
+    let has = |c: &str| bsp.entities.iter().any(|e| e.classname() == c);
+    if from.is_empty() && to.is_empty() {
+        // Counter-Strike: terrorists (info_player_deathmatch) towards the
+        // counter-terrorists (info_player_start); elsewhere away from the spawns.
+        if has("info_player_deathmatch") && has("info_player_start") {
+            from.push("info_player_deathmatch".into());
+            to.push("info_player_start".into());
+        } else {
+            for c in [
+                "info_player_start",
+                "info_player_deathmatch",
+                "info_player_coop",
+            ] {
+                if has(c) {
+                    from.push(c.into());
+                }
+            }
+        }
+    }
+    let opt = flowtile_bake::region::RegionOptions {
+        floor,
+        tile,
+        band,
+        sources: from,
+        sinks: to,
+        ..Default::default()
+    };
+    let name = map
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let t1 = Instant::now();
+    let region = flowtile_bake::region::extract(&bsp, &name, &opt)
+        .with_context(|| format!("{}", map.display()))?;
+    let extract_s = t1.elapsed().as_secs_f64();
+    let spec = region.to_spec_toml(seed);
+    // The spec must be a valid, completable problem before it is written.
+    let problem = Problem::from_toml(&spec).context("internal: region spec does not parse")?;
+    Tiling::new(
+        problem.set.clone(),
+        problem.width,
+        problem.height,
+        &problem.conditions,
+    )
+    .context("region spec")?;
+    flowtile_bake::bake::write_atomic(output, spec.as_bytes())
+        .with_context(|| format!("{}", output.display()))?;
+    if let Some(p) = picture {
+        let c = region.picture(800)?;
+        flowtile_bake::bake::write_atomic(p, &c.to_png()?)
+            .with_context(|| format!("{}", p.display()))?;
+    }
+    let [flow_png, flow_gif] = flows;
+    if flow_png.is_some() || flow_gif.is_some() {
+        let keys = (0..if flow_gif.is_some() { 4 } else { 1 })
+            .map(|k| {
+                let mut t = Tiling::new(
+                    problem.set.clone(),
+                    problem.width,
+                    problem.height,
+                    &problem.conditions,
+                )?;
+                t.random_fill_preferring(&mut Rng::new(seed + k), &problem.preferences)?;
+                Ok(BakedTiling::from_tiling(&t)?)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let mesh = region.mesh();
+        let bg = |c: &mut flowtile_bake::render::Canvas, v: &flowtile_bake::world::View| {
+            region.draw_top_view(c, v)
+        };
+        let opt = PictureOptions {
+            width: 800,
+            particles: 1500,
+            seed,
+            title: format!("{name}: designed flow at floor z {:.0}", region.floor),
+            units: "units".into(),
+        };
+        if let Some(p) = flow_png {
+            let field = WorldField::new(&mesh, Flow::Steady(keys[0].clone()))?;
+            let c = streamlines(&field, &opt, 0.0, Some(&bg))?;
+            flowtile_bake::bake::write_atomic(p, &c.to_png()?)
+                .with_context(|| format!("{}", p.display()))?;
+        }
+        if let Some(p) = flow_gif {
+            let field = WorldField::new(&mesh, Flow::Keys(KeyBlend::new(keys, 2.0)?))?;
+            let opt = PictureOptions { width: 480, ..opt };
+            let anim = AnimationOptions {
+                frames: 48,
+                dt: 0.1,
+                delay: 6,
+            };
+            let mut bytes = Vec::new();
+            animate_gif(&field, &opt, &anim, Some(&bg), &mut bytes)?;
+            flowtile_bake::bake::write_atomic(p, &bytes)
+                .with_context(|| format!("{}", p.display()))?;
+        }
+    }
+    let stats = json!({
+        "map": name,
+        "floor": region.floor,
+        "band": region.band,
+        "tile": region.tile,
+        "width": region.width,
+        "height": region.height,
+        "open_slots": region.open_slots(),
+        "sources": region.sources.len(),
+        "sinks": region.sinks.len(),
+        "read_seconds": read_s,
+        "extract_seconds": extract_s,
+        "output": output.display().to_string(),
+    });
+    if json {
+        println!("{stats}");
+    } else {
+        println!(
+            "{name}: floor z {:.1} ± {}, {}x{} slots of {} units, {} open; {} sources, {} sinks; read {:.3} s, region {:.3} s; wrote {}{}",
+            region.floor,
+            region.band,
+            region.width,
+            region.height,
+            region.tile,
+            region.open_slots(),
+            region.sources.len(),
+            region.sinks.len(),
+            read_s,
+            extract_s,
+            output.display(),
+            picture
+                .map(|p| format!(" and {}", p.display()))
+                .unwrap_or_default()
+        );
+    }
+    Ok(())
 }
 
 fn read_mesh(path: &Path) -> Result<Mesh> {

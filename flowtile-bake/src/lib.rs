@@ -29,6 +29,7 @@ pub mod bake;
 pub mod fill;
 pub mod flow;
 pub mod prefer;
+pub mod region;
 pub mod render;
 pub mod rng;
 pub mod runtime;

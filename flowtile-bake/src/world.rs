@@ -451,8 +451,8 @@ fn tick_step(extent: f64, count: f64) -> f64 {
 
 const INK: [f32; 3] = [0.15, 0.15, 0.18];
 
-/// Draws axes with ticks in world units, a title, and a speed legend.
-pub fn draw_axes(c: &mut Canvas, v: &View, title: &str, vmax: f64, units: &str) {
+/// Draws axes with ticks in world units, a title, and (with `vmax`) a speed legend.
+pub fn draw_axes(c: &mut Canvas, v: &View, title: &str, vmax: Option<f64>, units: &str) {
     let [w, h] = v.plot_size();
     let (l, t) = (v.left, v.top);
     for (a, b) in [
@@ -486,6 +486,7 @@ pub fn draw_axes(c: &mut Canvas, v: &View, title: &str, vmax: f64, units: &str) 
     c.text(4.0, t - 18.0, &format!("y ({units})"), INK);
     c.text(l + 40.0, 8.0, title, INK);
     // Legend: speed colour bar.
+    let Some(vmax) = vmax else { return };
     let (bx, by, bh) = (l + w + 16.0, t + 16.0, (h - 32.0).clamp(40.0, 300.0));
     c.text(bx, t, "speed", INK);
     for i in 0..bh as i64 {
@@ -554,10 +555,12 @@ fn base_canvas(field: &WorldField, view: &View, background: Option<Background>) 
             let (px, py) = (view.left + x as f64 + 0.5, view.top + y as f64 + 0.5);
             let p = view.world(px, py);
             if field.on_mesh(p) {
-                let (col, a) = if field.is_open(p) {
-                    ([0.80, 0.90, 0.97], 0.55)
-                } else {
-                    ([0.45, 0.45, 0.48], 0.8)
+                // Over a background only the open area is tinted.
+                let (col, a) = match (field.is_open(p), background.is_some()) {
+                    (true, false) => ([0.80, 0.90, 0.97], 0.55),
+                    (true, true) => ([0.80, 0.90, 0.97], 0.35),
+                    (false, false) => ([0.45, 0.45, 0.48], 0.8),
+                    (false, true) => ([0.45, 0.45, 0.48], 0.0),
                 };
                 c.fill_rect(px - 0.5, py - 0.5, px + 0.5, py + 0.5, col, a);
             }
@@ -627,7 +630,7 @@ pub fn streamlines(
         }
         y += spacing;
     }
-    draw_axes(&mut c, &view, &opt.title, vmax, &opt.units);
+    draw_axes(&mut c, &view, &opt.title, Some(vmax), &opt.units);
     Ok(c)
 }
 
@@ -736,7 +739,7 @@ pub fn animate_gif(
                 frame + 1,
                 anim.frames
             ),
-            vmax,
+            Some(vmax),
             &opt.units,
         );
         let mut f = gif::Frame::from_rgb_speed(cw as u16, ch as u16, &c.to_rgb8(), 10);
@@ -831,6 +834,26 @@ mod tests {
             checked += 1;
         }
         assert!(checked > 20, "{checked}");
+    }
+
+    /// Random damage to a valid OBJ: an error or a mesh, never a panic.
+    #[test]
+    fn damaged_obj_never_panics() {
+        let good = bend_obj().into_bytes();
+        let mut rng = Rng::new(17);
+        for _ in 0..2000 {
+            let mut b = good.clone();
+            for _ in 0..1 + rng.below(8) {
+                let i = rng.below(b.len() as u64) as usize;
+                const ALPHABET: &[u8] = b"0123456789-./ \nvtfe+x";
+                b[i] = ALPHABET[rng.below(ALPHABET.len() as u64) as usize];
+            }
+            let cut = rng.below(b.len() as u64 + 1) as usize;
+            let text = String::from_utf8_lossy(&b[..cut]);
+            if let Ok(m) = Mesh::from_obj(&text) {
+                let _ = WorldField::new(&m, Flow::Steady(river(1)));
+            }
+        }
     }
 
     #[test]

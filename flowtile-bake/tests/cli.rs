@@ -245,3 +245,69 @@ fn map_and_animate_write_world_pictures() {
     assert_clean_failure(&o, "period");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc
+/// and Quake map gives a spec that `tile` completes, and a picture. About ten
+/// seconds, so ignored by default; `scripts/flowtile-regions.sh` measures the
+/// same with timings. The quick test below runs two maps.
+#[test]
+#[ignore]
+fn region_from_every_shared_map() {
+    region_from_shared_maps(|_| true);
+}
+
+#[test]
+fn region_from_two_shared_maps() {
+    region_from_shared_maps(|p| {
+        let n = p.file_name().unwrap().to_string_lossy();
+        n.contains("de_dust2") || n.contains("qbsp-example-bsp29")
+    });
+}
+
+fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/testmaps");
+    if !root.is_dir() {
+        eprintln!("skip: {} not found", root.display());
+        return;
+    }
+    let dir = scratch("region");
+    let mut maps: Vec<PathBuf> = ["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"]
+        .iter()
+        .flat_map(|g| std::fs::read_dir(root.join(g)).into_iter().flatten())
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "bsp") && pick(p))
+        .collect();
+    maps.sort();
+    assert!(!maps.is_empty());
+    for map in &maps {
+        let spec = dir.join("r.toml");
+        let png = dir.join("r.png");
+        let o = run(&[
+            "region",
+            map.to_str().unwrap(),
+            "--tile",
+            "96",
+            "-o",
+            spec.to_str().unwrap(),
+            "--picture",
+            png.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+        assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+        let o = run(&["tile", spec.to_str().unwrap()]);
+        assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+    }
+    let o = run(&[
+        "region",
+        maps[0].to_str().unwrap(),
+        "--tile",
+        "2",
+        "-o",
+        "/tmp/x.toml",
+    ]);
+    assert_clean_failure(&o, "--tile 2");
+    let o = run(&["region", "/no/such.bsp", "-o", "/tmp/x.toml"]);
+    assert!(!o.status.success());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

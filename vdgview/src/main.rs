@@ -176,6 +176,13 @@ struct ViewArgs {
     /// Close after this many seconds and print the median frame time.
     #[arg(long)]
     seconds: Option<f64>,
+    /// Play a route with the VDG camera: spawns (the first spawn route), nav:FILE.nav or
+    /// FILE.jsonl (the first route in it). Needs the graph.
+    #[arg(long, value_name = "ROUTE")]
+    follow: Option<String>,
+    /// Camera for --follow: vdg, vdg-thesis, chase or springarm.
+    #[arg(long, default_value = "vdg")]
+    follow_camera: String,
 }
 
 fn main() {
@@ -241,6 +248,8 @@ fn run_check(
     }
     let bsp = scene::open_map(map)?;
     let file = scene::open_graph(vdg)?;
+    // Figures of a graph against another map mean nothing: refuse.
+    scene::same_map(map, vdg, &file.graph())?;
     let bytes = std::fs::metadata(vdg)
         .map(|m| m.len() as usize)
         .unwrap_or(0);
@@ -318,6 +327,12 @@ fn run_render(args: RenderArgs) -> Result<()> {
     };
     let bsp = scene::open_map(&args.map)?;
     let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if let (Some(f), Some(path)) = (&file, &args.graph)
+        && let Err(e) = scene::same_map(&args.map, path, &f.graph())
+    {
+        // A picture of a graph in another map can still be wanted (a moved map): warn.
+        eprintln!("vdgview: warning: {e}");
+    }
     if mode == Mode::ReductionCost && file.is_some() {
         anyhow::bail!(render::NO_REDUCTION_COST);
     }
@@ -358,6 +373,12 @@ fn run_view(args: ViewArgs) -> Result<()> {
     let (width, height) = parse_size(&args.size)?;
     let bsp = scene::open_map(&args.map)?;
     let file = args.graph.as_deref().map(scene::open_graph).transpose()?;
+    if let (Some(f), Some(path)) = (&file, &args.graph)
+        && let Err(e) = scene::same_map(&args.map, path, &f.graph())
+    {
+        // A picture of a graph in another map can still be wanted (a moved map): warn.
+        eprintln!("vdgview: warning: {e}");
+    }
     let samples = args
         .samples
         .as_deref()
@@ -374,6 +395,10 @@ fn run_view(args: ViewArgs) -> Result<()> {
         .filter(|e| e.classname().starts_with("info_player"))
         .find_map(|e| e.origin())
         .map(glam::Vec3::from);
+    let follow = match &args.follow {
+        Some(route) => follow_poses(&bsp, file.as_ref(), route, &args.follow_camera)?,
+        None => Vec::new(),
+    };
     let viewer = vdgview::viewer::Viewer::new(scene, file, spawn);
     let exec = args
         .exec
@@ -393,6 +418,8 @@ fn run_view(args: ViewArgs) -> Result<()> {
             exec,
             frames: args.frames,
             seconds: args.seconds,
+            follow,
+            follow_dt: FOLLOW_DT,
         },
     )
 }
@@ -482,6 +509,40 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     }
     eprintln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// Frame time of `view --follow`'s precomputed poses.
+const FOLLOW_DT: f64 = 1.0 / 60.0;
+
+/// The poses of one camera along the first route of `route` (eye, look-at, target).
+fn follow_poses(
+    bsp: &bsp::Bsp,
+    file: Option<&vdgformat::VdgFile>,
+    route: &str,
+    camera: &str,
+) -> Result<Vec<vdgview::view::FollowPose>> {
+    use vdgview::replay;
+    let Some(file) = file else {
+        bail!("--follow needs the graph (vdgview view MAP.bsp MAP.vdg --follow ROUTE)");
+    };
+    replay::check_camera_names(&[camera.to_string()])?;
+    let source = replay::RouteSource::parse(route)?;
+    let options = ::bsp::oracle::OracleOptions::default();
+    let oracle = ::bsp::oracle::Oracle::new(bsp, &options);
+    let walls = ::bsp::walls::Walls::of_map(bsp, &options);
+    let graph = file.graph();
+    let routes = replay::load_routes(bsp, &oracle, &source, 1, 1)?;
+    let mut cams = replay::make_cameras(&[camera.to_string()], &oracle, &walls, graph, None)?;
+    let states = routes.routes[0].resample(FOLLOW_DT);
+    let cam = &mut cams[0];
+    cam.reset(&states[0]);
+    Ok(states
+        .iter()
+        .map(|s| {
+            let f = cam.update(s, FOLLOW_DT as f32);
+            (f.eye, f.look_at, s.origin)
+        })
+        .collect())
 }
 
 fn run_replay_summary(output: &std::path::Path, title: &str, reports: &[PathBuf]) -> Result<()> {

@@ -183,7 +183,92 @@ pub fn render(scene: &Scene, req: &RenderRequest) -> Result<Vec<u32>> {
         ..req.style
     };
     draw_scene(&mut fb, scene, &style)?;
-    Ok(fb.downsample(ss))
+    // The legend is drawn at the final size, so its text stays crisp.
+    let mut out = Framebuffer::new(req.width, req.height, &camera, req.style.background);
+    out.color = fb.downsample(ss);
+    draw_legend(&mut out, scene, &camera, &style);
+    Ok(out.color)
+}
+
+/// Every picture says what it shows: for graphs coloured by clearance, a colour bar
+/// with the clearance in units at its ends and middle; and a scale bar of a round
+/// number of units (exact in the top view; in a perspective view it holds at the depth
+/// of the map's centre, and says so).
+fn draw_legend(fb: &mut Framebuffer, scene: &Scene, camera: &Camera, style: &Style) {
+    use crate::hud::{CELL, rect, text};
+    let white = [235, 235, 235];
+    let (w, h) = (fb.width as i64, fb.height as i64);
+    if w < 160 || h < 60 {
+        return; // too small for a readable legend
+    }
+    let x0 = 8;
+    let mut y = h - 8 - CELL as i64;
+    // Scale bar: the largest of 1, 2, 5 × 10^k units that fits in a fifth of the width.
+    let px_per_unit = match camera.projection {
+        crate::camera::Projection::Orthographic { half_height } => {
+            Some(fb.height as f32 / (2.0 * half_height))
+        }
+        crate::camera::Projection::Perspective { fov_deg } => {
+            let centre = (scene.bounds.min + scene.bounds.max) * 0.5;
+            let depth = (centre - camera.pos).dot(camera.basis().forward);
+            (depth > 1.0)
+                .then(|| fb.height as f32 / (2.0 * (fov_deg.to_radians() * 0.5).tan() * depth))
+        }
+    };
+    if let Some(ppu) = px_per_unit.filter(|p| p.is_finite() && *p > 0.0) {
+        let max_units = (fb.width as f32 / 5.0) / ppu;
+        let mut units = 1.0f32;
+        for k in 0..8 {
+            for m in [1.0, 2.0, 5.0] {
+                let u = m * 10f32.powi(k);
+                if u <= max_units {
+                    units = u;
+                }
+            }
+        }
+        let len = (units * ppu).round() as usize;
+        let label = match camera.projection {
+            crate::camera::Projection::Orthographic { .. } => format!("{units} units"),
+            _ => format!("{units} units at the map centre"),
+        };
+        rect(fb, x0, y + 2, len, 3, white);
+        rect(fb, x0, y - 2, 2, 11, white);
+        rect(fb, x0 + len as i64 - 2, y - 2, 2, 11, white);
+        text(fb, x0 + len as i64 + 6, y, &label, white);
+        y -= 2 * CELL as i64 + 4;
+    }
+    if let (Some(g), Mode::Clearance | Mode::Wireframe) = (&scene.graph, style.mode) {
+        let (lo, hi) = g.colour_range;
+        let bar = 160usize.min(fb.width / 3);
+        for i in 0..bar {
+            let c = ramp(i as f32 / (bar - 1) as f32);
+            rect(
+                fb,
+                x0 + i as i64,
+                y,
+                1,
+                CELL,
+                [c.x as u8, c.y as u8, c.z as u8],
+            );
+        }
+        let labels = format!("{lo:.0}");
+        text(fb, x0, y + CELL as i64 + 2, &labels, white);
+        let hi_label = format!("{hi:.0}");
+        text(
+            fb,
+            x0 + bar as i64 - (hi_label.len() * CELL) as i64,
+            y + CELL as i64 + 2,
+            &hi_label,
+            white,
+        );
+        text(
+            fb,
+            x0,
+            y - CELL as i64 - 2,
+            "colour = clearance (units)",
+            white,
+        );
+    }
 }
 
 /// The camera for a view of a scene.

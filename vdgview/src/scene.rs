@@ -198,6 +198,26 @@ pub fn open_graph(path: &Path) -> Result<vdgformat::VdgFile> {
         .map_err(|e| anyhow::anyhow!("cannot read graph {}: {e}", path.display()))
 }
 
+/// Whether the graph was built from this map: the `.vdg` records the XXH64 of its
+/// source map's bytes. `Err` names both files when it was built from another map (or
+/// another version of this one); graphs that record no hash (0) pass.
+pub fn same_map(map: &Path, graph_path: &Path, g: &vdgformat::Vdg<'_>) -> Result<()> {
+    let recorded = g.info().source_hash;
+    if recorded == 0 {
+        return Ok(());
+    }
+    let bytes = std::fs::read(map).with_context(|| format!("cannot read map {}", map.display()))?;
+    let hash = vdgformat::xxh64(&bytes, 0);
+    if hash != recorded {
+        anyhow::bail!(
+            "{} was built from another map than {} (source hash {recorded:016x}, the map's is {hash:016x}); compile the map again or give the map it was built from",
+            graph_path.display(),
+            map.display()
+        );
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

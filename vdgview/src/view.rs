@@ -3,6 +3,7 @@
 //! needs no GPU, no OpenGL/Vulkan driver and no system libraries at build time;
 //! under Xvfb it runs like on a desktop.
 
+use crate::camera::Camera;
 use crate::raster::Framebuffer;
 use crate::render;
 use crate::viewer::Viewer;
@@ -12,6 +13,9 @@ use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
 use std::cell::RefCell;
 use std::rc::Rc;
 use std::time::Instant;
+
+/// One frame of `view --follow`: camera eye, look-at point, target origin.
+pub type FollowPose = ([f32; 3], [f32; 3], [f32; 3]);
 
 /// Window options beyond the map and graph.
 #[derive(Debug, Clone, Default)]
@@ -24,6 +28,10 @@ pub struct ViewOptions {
     pub frames: Option<u64>,
     /// Close after this many seconds.
     pub seconds: Option<f64>,
+    /// `--follow`: camera poses to play back, one per `follow_dt` seconds (eye,
+    /// look-at point, target origin); the target is shown as the marked point.
+    pub follow: Vec<FollowPose>,
+    pub follow_dt: f64,
 }
 
 /// Units per second; Shift multiplies by 4.
@@ -103,6 +111,18 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             viewer.mark_crosshair();
         }
 
+        if !opts.follow.is_empty() && opts.follow_dt > 0.0 {
+            // Play the route in real time, looping.
+            let k =
+                (wall_start.elapsed().as_secs_f64() / opts.follow_dt) as usize % opts.follow.len();
+            let (eye, look, target) = opts.follow[k];
+            let projection = viewer.camera.projection;
+            viewer.camera = Camera {
+                projection,
+                ..Camera::look_at(eye.into(), look.into(), 74.0)
+            };
+            viewer.mark = Some(target.into());
+        }
         let t = Instant::now();
         viewer.draw(&mut fb, console.as_deref());
         viewer.record_frame(t.elapsed());

@@ -240,3 +240,58 @@ fn bad_input_gives_one_line_errors_and_no_output() {
         assert!(!out.exists());
     }
 }
+
+/// A graph built from another map: `check` refuses it in one line (exit 1), `render`
+/// warns and still draws. The .vdg records the XXH64 of its source map's bytes.
+#[test]
+fn a_graph_of_another_map_is_named() {
+    let dir = tmpdir("othermap");
+    let mut b = VdgBuilder::new();
+    let ids: Vec<u32> = [
+        [100.0, 100.0, 100.0],
+        [200.0, 100.0, 100.0],
+        [100.0, 200.0, 100.0],
+    ]
+    .iter()
+    .map(|&p| b.add_vertex(p, 30.0))
+    .collect();
+    b.add_face([ids[0], ids[1], ids[2]]);
+    let pillars = std::fs::read(map("pillars.bsp")).unwrap();
+    b.set_source("pillars.bsp", vdgformat::xxh64(&pillars, 0));
+    let graph = dir.join("from-pillars.vdg");
+    std::fs::write(&graph, b.to_bytes().unwrap()).unwrap();
+    let other = map("box_room.bsp");
+    let o = vdgview(&[
+        "check",
+        other.to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "--samples",
+        "100",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("was built from another map"), "{err}");
+    // The right map passes this test (its figures are another matter).
+    let o = vdgview(&[
+        "check",
+        map("pillars.bsp").to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "--samples",
+        "100",
+    ]);
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("another map"));
+    let png = dir.join("other.png");
+    let o = vdgview(&[
+        "render",
+        other.to_str().unwrap(),
+        graph.to_str().unwrap(),
+        "-o",
+        png.to_str().unwrap(),
+        "--size",
+        "64x48",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("warning:"));
+    assert!(png.is_file());
+}

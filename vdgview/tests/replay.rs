@@ -154,7 +154,7 @@ fn cli_writes_json_csv_plots_and_frames() {
         .arg(&vdg)
         .args([
             "--camera",
-            "chase,springarm",
+            "vdg,vdg-thesis,chase,springarm",
             "--max-routes",
             "1",
             "--dt",
@@ -175,7 +175,7 @@ fn cli_writes_json_csv_plots_and_frames() {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    for cam in ["chase", "springarm"] {
+    for cam in ["vdg", "vdg-thesis", "chase", "springarm"] {
         let c = &v["cameras"][cam];
         for key in [
             "frames",
@@ -194,7 +194,9 @@ fn cli_writes_json_csv_plots_and_frames() {
             );
         }
         assert!(c["frames"].as_u64().unwrap() > 30);
-        assert_eq!(c["solid_frames"], 0, "{cam} in solid in a plain room");
+        if cam != "vdg-thesis" {
+            assert_eq!(c["solid_frames"], 0, "{cam} in solid in a plain room");
+        }
     }
     assert!(v["target_outside_fraction"].is_number());
     for f in [
@@ -207,7 +209,10 @@ fn cli_writes_json_csv_plots_and_frames() {
         "frames/contact-sheet.png",
     ] {
         let len = std::fs::metadata(dir.join(f)).map(|m| m.len()).unwrap_or(0);
-        assert!(len > 100, "{f}: {len} bytes");
+        // The outside list holds only its header when every target lies inside the
+        // volume (the reduction keeps standing places inside it).
+        let empty_ok = f == "csv/outside.csv" && v["target_outside_fraction"] == 0.0;
+        assert!(len > 100 || (empty_ok && len > 0), "{f}: {len} bytes");
     }
     let csv = std::fs::read_to_string(dir.join("csv/chase.csv")).unwrap();
     assert_eq!(
@@ -235,6 +240,21 @@ fn cli_writes_json_csv_plots_and_frames() {
             err.trim().lines().filter(|l| l.contains("error")).count(),
             1,
             "{args:?}: {err}"
+        );
+    }
+    // view --follow needs the graph; a bad route is a one-line error before any window opens.
+    for args in [vec!["--follow", "spawns"], vec!["--follow", "weird"]] {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_vdgview"));
+        cmd.arg("view").arg(map("two_rooms"));
+        if args[1] == "weird" {
+            cmd.arg(&vdg);
+        }
+        let out = cmd.args(&args).env_remove("DISPLAY").output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--follow") || err.contains("--routes"),
+            "{err}"
         );
     }
     std::fs::remove_dir_all(&dir).ok();

@@ -212,9 +212,10 @@ ptrdiff_t vdg_path(const struct vdg_graph *graph,
                    float *length);
 
 // A new automatic camera; NULL on failure. `params_toml` is NULL for the
-// default parameters, or TOML text setting any of the parameters (see
-// `camera.toml` in the docs; e.g. `"distance_mu = 96.0\n"`); unknown keys
-// and out-of-range values are errors. `graph` is the graph the camera will
+// default parameters, or TOML text setting any fields of vdgformat's
+// `CameraParams` (`vdgformat/src/camera/params.rs`; e.g.
+// `"distance_mu = 96.0\n"`); unknown keys and out-of-range values are
+// errors. `graph` is the graph the camera will
 // follow, or NULL: it is not retained, since every update names its graph.
 // Thread-safe.
 struct vdg_camera *vdg_camera_new(const struct vdg_graph *graph, const char *params_toml);

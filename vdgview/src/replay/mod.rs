@@ -27,6 +27,7 @@ pub mod nav;
 pub mod plots;
 pub mod route;
 pub mod spawns;
+pub mod vdgcam;
 pub mod walk;
 
 use anyhow::{Context, Result, bail};
@@ -91,9 +92,9 @@ pub fn parse_dt(s: &str) -> Result<f64> {
 }
 
 /// The cameras `replay` knows.
-pub const CAMERA_NAMES: [&str; 2] = ["chase", "springarm"];
+pub const CAMERA_NAMES: [&str; 4] = ["vdg", "vdg-thesis", "chase", "springarm"];
 /// The cameras compared when `--camera` is not given.
-pub const DEFAULT_CAMERAS: &str = "chase,springarm";
+pub const DEFAULT_CAMERAS: &str = "vdg,vdg-thesis,chase,springarm";
 
 /// Checks a `--camera` list before any work is done.
 pub fn check_camera_names(names: &[String]) -> Result<()> {
@@ -166,14 +167,17 @@ pub fn make_cameras<'a>(
     names: &[String],
     oracle: &'a Oracle,
     walls: &'a Walls,
-    _graph: Vdg<'a>,
-    _params: Option<&str>,
+    graph: Vdg<'a>,
+    params: Option<&str>,
 ) -> Result<Vec<Box<dyn ReplayCamera + 'a>>> {
     let mut out: Vec<Box<dyn ReplayCamera + 'a>> = Vec::new();
     for n in names {
         match n.as_str() {
             "chase" => out.push(Box::new(ChaseCam::new(oracle))),
             "springarm" => out.push(Box::new(SpringArm::new(walls))),
+            "vdg" | "vdg-thesis" => out.push(Box::new(
+                vdgcam::VdgCamera::new(n, graph, params).map_err(anyhow::Error::msg)?,
+            )),
             other => bail!(
                 "--camera {other:?}: unknown camera (known: {})",
                 CAMERA_NAMES.join(", ")

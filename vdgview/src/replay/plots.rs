@@ -205,7 +205,7 @@ fn occlusion(report: &Report, map_name: &str, path: &Path) -> Result<()> {
             .label_style(("sans-serif", 14))
             .draw()
             .map_err(err)?;
-        let kinds: [(&str, RGBColor, f64, f64); 3] = [
+        let kinds: [(&str, RGBColor, f64, f64); 4] = [
             (
                 "target eye hidden (BSP trace)",
                 RGBColor(214, 39, 40),
@@ -219,6 +219,12 @@ fn occlusion(report: &Report, map_name: &str, path: &Path) -> Result<()> {
                 0.5,
             ),
             ("camera in solid", BLACK, 0.1, 0.25),
+            (
+                "target outside Volume(VDG) (the graph's gap)",
+                RGBColor(150, 150, 150),
+                0.0,
+                0.07,
+            ),
         ];
         for (kind, (label, col, y0, y1)) in kinds.iter().enumerate() {
             let mut rects = Vec::new();
@@ -229,7 +235,8 @@ fn occlusion(report: &Report, map_name: &str, path: &Path) -> Result<()> {
                         let on = match kind {
                             0 => !m.eye_visible,
                             1 => !m.solid && (m.clearance as f64) < super::metrics::NEAR_PLANE,
-                            _ => m.solid,
+                            2 => m.solid,
+                            _ => m.target_outside,
                         };
                         if on {
                             rects.push(Rectangle::new(

@@ -117,7 +117,8 @@ impl<'a> Floor<'a> {
         let ix = ((origin[0] - self.x0) / CELL).round() as i32;
         let iy = ((origin[1] - self.y0) / CELL).round() as i32;
         let (x, y) = (self.x0 + ix as f64 * CELL, self.y0 + iy as f64 * CELL);
-        let (o, crouch) = settle(self.oracle, x, y, origin[2] - STAND_HALF, false)?;
+        let (o, crouch) = settle(self.oracle, x, y, origin[2] - STAND_HALF, false)
+            .or_else(|| drop_to_floor(self.oracle, [x, y, origin[2]]))?;
         Some(Cell {
             ix,
             iy,
@@ -307,6 +308,26 @@ fn shuffle<T>(v: &mut [T], rng: &mut SplitMix64) {
     for i in (1..v.len()).rev() {
         v.swap(i, rng.below(i + 1));
     }
+}
+
+/// The floor below `p` (a spawn's origin may float or sit a little in the ground):
+/// the standing, else the crouched hull, lifted by up to 36 units if it does not fit,
+/// dropped until it lands on walkable ground.
+fn drop_to_floor(oracle: &Oracle, p: [f64; 3]) -> Option<([f64; 3], bool)> {
+    for hull in [1usize, 3] {
+        for lift in [0.0, 18.0, 36.0] {
+            let q = [p[0], p[1], p[2] + lift];
+            if !hull_fits(oracle, hull, q) {
+                continue;
+            }
+            let t = oracle.trace(hull, q, [q[0], q[1], q[2] - 4096.0])?;
+            if !t.start_solid && t.fraction < 1.0 && t.normal[2] >= 0.7 {
+                return Some((t.end, hull == 3));
+            }
+            break;
+        }
+    }
+    None
 }
 
 /// A random origin where a standing player fits on the floor inside the world's bounds.
