@@ -22,7 +22,7 @@
 //! are the same for any thread count.
 
 use bsp::Bsp;
-use bsp::oracle::{Hull, Oracle, OracleOptions};
+use bsp::oracle::{Oracle, OracleOptions};
 use bsp::util::SplitMix64;
 use bsp::walls::Walls;
 use rayon::prelude::*;
@@ -350,13 +350,9 @@ fn measure_visibility(
     r.false_negatives_inside = s[6];
 }
 
-/// The GoldSrc standing player: the origin is 36 units above the ground (the middle of
-/// the 72-unit clip hull 1), the head (eyes) 64 units above it.
-pub const ORIGIN_ABOVE_GROUND: f64 = 36.0;
-pub const HEAD_ABOVE_GROUND: f64 = 64.0;
-/// The steepest floor a player stands on: the engine's ground test wants the plane's
-/// normal to have z ≥ 0.7 (steeper slopes are slid down).
-pub const MIN_FLOOR_NORMAL_Z: f32 = 0.7;
+pub use crate::standing::{
+    HEAD_ABOVE_GROUND, MIN_FLOOR_NORMAL_Z, ORIGIN_ABOVE_GROUND, column_floors,
+};
 
 /// A place where a standing player is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -365,42 +361,6 @@ pub struct Standing {
     pub origin: [f64; 3],
     /// The head, 28 units above the origin, or `None` where that point is in solid.
     pub head: Option<[f64; 3]>,
-}
-
-/// The player origins in the vertical column at (`x`, `y`) between heights `top` and
-/// `bottom`, from the top down: every place where clip hull 1 turns from free to
-/// blocked going down on a walkable slope (the origin dropped onto a floor).
-///
-/// ```no_run
-/// # let bsp = bsp::Bsp::open("map.bsp").unwrap();
-/// let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
-/// let hull = oracle.clip_hull(1).expect("the map has clip hulls");
-/// let floors = bsp2vdg::check::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
-/// ```
-pub fn column_floors(
-    hull: &Hull,
-    oracle: &Oracle,
-    x: f64,
-    y: f64,
-    top: f64,
-    bottom: f64,
-) -> Vec<f64> {
-    let mut floors = Vec::new();
-    // The exit plane of the last leaf when that leaf was free.
-    let mut above_free: Option<[f32; 3]> = None;
-    hull.segment_leaves([x, y, top], [x, y, bottom], |t0, t1, c, exit| {
-        if !oracle.blocks(c) {
-            above_free = Some(exit);
-        } else if t1 > t0 {
-            // A zero-length blocked piece is a touched edge, not a floor.
-            if let Some(n) = above_free.take()
-                && n[2].abs() >= MIN_FLOOR_NORMAL_Z
-            {
-                floors.push(top + t0 * (bottom - top));
-            }
-        }
-    });
-    floors
 }
 
 /// `n` random standing places, drawn column by column uniformly over the world's

@@ -5,7 +5,8 @@
 //! The pipeline has one module per stage: the map crate [`bsp`] reads the map and
 //! answers point-contents and segment queries (`oracle`) and finds the walls in the
 //! BSP tree (`boundary`, `walls`); `sample` places points on the walls, `delaunay`
-//! tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it.
+//! tetrahedralizes them, `voronoi` extracts the graph, `reduce` shrinks it; `standing` finds where a standing
+//! player is.
 
 /// The map crate, re-exported: reading moved out of the compiler into `bsp` so that
 /// the viewer and the flow-tile baker read maps without the compiler. New code should
@@ -26,5 +27,6 @@ pub mod pipeline;
 pub mod progress;
 pub mod reduce;
 pub mod sample;
+pub mod standing;
 pub mod uptodate;
 pub mod voronoi;

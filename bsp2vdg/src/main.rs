@@ -40,7 +40,9 @@ struct Cli {
     /// Reduction limit: 1.0 = no reduction, 0.0 = as far as possible.
     #[arg(long = "rl", value_name = "F", default_value_t = 0.025)]
     reduction_limit: f64,
-    /// Minimum clearance a Voronoi vertex must have to be kept.
+    /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
+    /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
+    /// vertices it keeps (condition A), so the written graph may hold smaller ones.
     #[arg(long = "md", value_name = "N", default_value_t = 20.0)]
     min_clearance: f64,
     /// Smallest leaf box of the face tree in the .vdg.

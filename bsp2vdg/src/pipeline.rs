@@ -17,6 +17,8 @@ use crate::walls::Walls;
 struct MapSpace<'a> {
     oracle: &'a Oracle,
     walls: Walls,
+    /// The world's bounds (mins, maxs).
+    bounds: ([f64; 3], [f64; 3]),
 }
 
 impl FreeSpace for MapSpace<'_> {
@@ -147,19 +149,29 @@ pub struct Stats {
 fn reduce_graph(
     graph: &Graph,
     limit: f64,
+    space: &MapSpace,
     log: &Log,
     progress: &dyn Progress,
 ) -> (Graph, (reduce::ReduceStats, f64)) {
     let t = Instant::now();
+    // Where a standing player is, the camera's target is: the reduction keeps those
+    // places inside the volume (a grid of floor points of clip hull 1).
+    let keep = crate::standing::grid_origins(
+        space.oracle,
+        space.bounds.0,
+        space.bounds.1,
+        crate::standing::KEEP_SPACING,
+    );
     let before = graph.vertices.len();
     log.info(format!(
         "Reducing to {} ({}) vertices...",
         (limit * before as f64).ceil() as usize,
         limit
     ));
-    let (reduced, rs) = reduce::reduce_with_ticks(
+    let (reduced, rs) = reduce::reduce_keeping(
         graph,
         &reduce::ReduceOptions { limit },
+        &keep,
         progress,
         &mut |k| {
             log.info(format!(
@@ -168,6 +180,12 @@ fn reduce_graph(
             ))
         },
     );
+    log.info(format!(
+        "Kept {} of {} standing player places (floors every {} units) inside the volume",
+        rs.kept_points,
+        keep.len(),
+        crate::standing::KEEP_SPACING
+    ));
     log.info(match rs.stop {
         reduce::StopReason::LimitReached => "Reduction limit reached.".to_string(),
         reduce::StopReason::NothingRemovable => {
@@ -372,9 +390,11 @@ pub fn compile(
     }
 
     let walls = Walls::from_boundary(&boundary);
+    let world = bsp.world();
     let space = MapSpace {
         oracle: &oracle,
         walls,
+        bounds: (world.mins.map(f64::from), world.maxs.map(f64::from)),
     };
     let result = later_stages(map, options, &samples, &space, log, progress, &mut stats);
     stats
@@ -476,7 +496,7 @@ fn later_stages(
     stats.seconds.push(("guard", t.elapsed().as_secs_f64()));
 
     let graph = if options.reduction_limit < 1.0 {
-        let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, log, progress);
+        let (reduced, rs) = reduce_graph(&graph, options.reduction_limit, space, log, progress);
         stats.seconds.push(("reduce", rs.1));
         stats.reduce = Some(rs.0);
         // Condition A keeps the reduced volume inside the guarded one; check it on

@@ -5,7 +5,10 @@
 //! 512 units). Also the coverage the reduced graph would have with the clearances
 //! its vertices had before the reduction (an upper bound for raising them back).
 //!
-//! `cargo run --release -p vdgview --example coverage_loss -- MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS]`
+//! With `--walkable`, the points are standing player origins (`vdgview check`'s
+//! walkable coverage) instead.
+//!
+//! `cargo run --release -p vdgview --example coverage_loss -- MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS] [--walkable]`
 
 use anyhow::{Context, bail};
 use bsp::Bsp;
@@ -33,7 +36,9 @@ fn quantiles(v: &mut [f64]) -> String {
 }
 
 fn main() -> anyhow::Result<()> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let walkable = args.iter().any(|a| a == "--walkable");
+    args.retain(|a| a != "--walkable");
     let [map, unreduced, reduced] = match args.get(..3) {
         Some([a, b, c]) => [a, b, c],
         _ => bail!("usage: coverage_loss MAP.bsp UNREDUCED.vdg REDUCED.vdg [POINTS]"),
@@ -89,13 +94,30 @@ fn main() -> anyhow::Result<()> {
     let (mut outside, mut depth, mut truec, mut rdepth) = (vec![], vec![], vec![], vec![]);
     let mut cells: HashMap<[i32; 3], usize> = HashMap::new();
     let mut bands = [0usize; 6];
-    while points < n {
-        let p = [0, 1, 2].map(|i| rng.range(lo[i], hi[i]) as f32);
+    let standing: Vec<[f64; 3]> = if walkable {
+        vdgview::check::standing_places(&bsp, &oracle, n, 1)
+            .iter()
+            .map(|s| s.origin)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let (mut lost_full, mut lost_full_truec) = (0usize, vec![]);
+    while points < n.min(if walkable { standing.len() } else { n }) {
+        let p = if walkable {
+            standing[points].map(|c| c as f32)
+        } else {
+            [0, 1, 2].map(|i| rng.range(lo[i], hi[i]) as f32)
+        };
         let q = p.map(f64::from);
-        if !oracle.is_free(q) || walls.distance_within(q, 32.0).is_some() {
+        if !walkable && (!oracle.is_free(q) || walls.distance_within(q, 32.0).is_some()) {
             continue;
         }
         points += 1;
+        if walkable && !full.contains(p) {
+            lost_full += 1;
+            lost_full_truec.push(walls.distance(q));
+        }
         let cf = full.contains(p);
         let cr = red.contains(p);
         in_full += cf as usize;
@@ -126,6 +148,12 @@ fn main() -> anyhow::Result<()> {
         in_raised as f64 / points as f64
     );
     println!("lost {} points", outside.len());
+    if walkable {
+        println!(
+            "not in the unreduced volume: {lost_full}, true clearance {}",
+            quantiles(&mut lost_full_truec)
+        );
+    }
     println!(
         "outside the reduced volume by (units) <1 {} <4 {} <16 {} <64 {} <256 {} more {}",
         bands[0], bands[1], bands[2], bands[3], bands[4], bands[5]

@@ -209,7 +209,10 @@ fn cli_writes_json_csv_plots_and_frames() {
         "frames/contact-sheet.png",
     ] {
         let len = std::fs::metadata(dir.join(f)).map(|m| m.len()).unwrap_or(0);
-        assert!(len > 100, "{f}: {len} bytes");
+        // The outside list holds only its header when every target lies inside the
+        // volume (the reduction keeps standing places inside it).
+        let empty_ok = f == "csv/outside.csv" && v["target_outside_fraction"] == 0.0;
+        assert!(len > 100 || (empty_ok && len > 0), "{f}: {len} bytes");
     }
     let csv = std::fs::read_to_string(dir.join("csv/chase.csv")).unwrap();
     assert_eq!(

@@ -5,7 +5,8 @@
 //! baker all read maps through it.
 //!
 //! The layout follows the `object` crate's `read/`: one folder per file format
-//! ([`goldsrc`]: GoldSrc v30, Quake BSP29, BSP2 and 2PSB), each producing the same
+//! ([`goldsrc`]: GoldSrc v30, Quake BSP29, BSP2 and 2PSB; [`quake2`]: IBSP 38 and
+//! Qbism's QBSP 38), each producing the same
 //! normalised [`Bsp`] (32-bit indices, contents in the Quake convention), one
 //! dispatch on the file's first bytes ([`Bsp::parse`]), and the common interface on
 //! top: [`oracle`] (point contents, traces, the player's clip hulls), [`boundary`]
@@ -25,10 +26,13 @@ mod entities;
 mod error;
 pub mod faces;
 pub mod goldsrc;
+mod lumps;
 mod map;
 pub mod oracle;
+pub mod quake2;
 mod read;
 pub mod util;
+mod validate;
 pub mod walls;
 
 pub use entities::{Entity, parse_entities};

@@ -59,6 +59,10 @@ pub enum BspVersion {
     Bsp2,
     /// The first BSP2 draft: 32-bit indices, 16-bit bounds.
     Bsp2psb,
+    /// Quake 2 (IBSP 38).
+    Quake2,
+    /// Quake 2 with Qbism's 32-bit indices (QBSP 38).
+    Quake2Qbism,
 }
 
 /// The game (engine family) a map is made for.
@@ -68,6 +72,8 @@ pub enum Game {
     Quake,
     /// Half-Life, Counter-Strike and the other GoldSrc games (v30).
     GoldSrc,
+    /// Quake 2 (IBSP 38, Qbism's QBSP 38).
+    Quake2,
 }
 
 impl Game {
@@ -76,6 +82,7 @@ impl Game {
         match self {
             Game::Quake => "Quake",
             Game::GoldSrc => "GoldSrc (Half-Life, Counter-Strike)",
+            Game::Quake2 => "Quake 2",
         }
     }
 }
@@ -87,6 +94,7 @@ impl BspVersion {
         match self {
             BspVersion::GoldSrc30 => Game::GoldSrc,
             BspVersion::Bsp29 | BspVersion::Bsp2 | BspVersion::Bsp2psb => Game::Quake,
+            BspVersion::Quake2 | BspVersion::Quake2Qbism => Game::Quake2,
         }
     }
 
@@ -96,6 +104,8 @@ impl BspVersion {
             BspVersion::GoldSrc30 => "BSP30 (GoldSrc)",
             BspVersion::Bsp2 => "BSP2",
             BspVersion::Bsp2psb => "2PSB",
+            BspVersion::Quake2 => "IBSP 38 (Quake 2)",
+            BspVersion::Quake2Qbism => "QBSP 38 (Quake 2, Qbism)",
         }
     }
 }
@@ -121,11 +131,36 @@ pub struct Node {
 /// A leaf of the hull-0 tree: a convex cell with one contents value.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaf {
+    /// In the Quake convention ([`contents`]) whatever the format stored.
     pub contents: i32,
+    /// As the file stored it: the same value in the Quake 1 family, the contents bit
+    /// flags in Quake 2 ([`crate::quake2::contents`]).
+    pub native_contents: i32,
     pub mins: [f32; 3],
     pub maxs: [f32; 3],
     pub first_marksurface: u32,
     pub num_marksurfaces: u32,
+    /// The brushes that touch the leaf, in [`Bsp::leaf_brushes`] (Quake 2; none in
+    /// the Quake 1 family, whose files keep no brushes).
+    pub first_brush: u32,
+    pub num_brushes: u32,
+}
+
+/// A convex brush of the source map (Quake 2 keeps them for collision): the
+/// intersection of its sides' back half-spaces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Brush {
+    pub first_side: u32,
+    pub num_sides: u32,
+    /// The format's native contents flags ([`crate::quake2::contents`]).
+    pub contents: i32,
+}
+
+/// A side of a brush: its plane faces out of the brush.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BrushSide {
+    pub plane: u32,
+    pub texinfo: i32,
 }
 
 /// A node of a clip hull. A child `c >= 0` is a clip node, `c < 0` is a contents value.
@@ -212,6 +247,10 @@ pub struct Bsp {
     pub edges: Vec<[u32; 2]>,
     pub surfedges: Vec<i32>,
     pub models: Vec<Model>,
+    /// Brush indices listed by the leaves (Quake 2).
+    pub leaf_brushes: Vec<u32>,
+    pub brushes: Vec<Brush>,
+    pub brush_sides: Vec<BrushSide>,
     /// Records no model's trees or faces reach that held bad indices (maps "protected"
     /// against decompilers carry such garbage; the engines never read it). Their bad
     /// indices were replaced by harmless ones; only reachable records are validated.
@@ -272,9 +311,20 @@ impl Bsp {
     }
 
     /// What a face is (wall, sky, or skipped and why), from the source the format
-    /// has: the texture name in the Quake 1 family.
+    /// has: the texture name in the Quake 1 family, the surface flags in Quake 2.
     pub fn face_class(&self, face: &Face) -> FaceClass {
-        classify_texture(self.face_texture_name(face))
+        match self.version.game() {
+            Game::Quake2 => crate::quake2::face_class(
+                self.texinfo[face.texinfo as usize].flags,
+                self.face_texture_name(face),
+            ),
+            Game::Quake | Game::GoldSrc => classify_texture(self.face_texture_name(face)),
+        }
+    }
+
+    /// The sides of a brush.
+    pub fn brush_sides(&self, brush: &Brush) -> &[BrushSide] {
+        &self.brush_sides[brush.first_side as usize..][..brush.num_sides as usize]
     }
 
     /// The world's bounding box (model 0's, as the compiler wrote it).

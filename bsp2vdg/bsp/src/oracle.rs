@@ -19,7 +19,10 @@
 use crate::util::sub;
 use crate::{Bsp, contents};
 
+mod brushes;
 mod trace;
+
+pub use brushes::BrushSet;
 pub use trace::{DIST_EPSILON, Trace};
 
 /// Which contents count as obstacles.
@@ -213,6 +216,26 @@ pub struct Oracle {
     clip_hulls: [Option<Hull>; 3],
     solid_models: Vec<SolidModel>,
     liquids_are_solid: bool,
+    /// The world's brushes where the map keeps them (Quake 2).
+    brushes: Option<BrushSet>,
+    game: crate::Game,
+}
+
+/// The player's two collision boxes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlayerHull {
+    Standing,
+    Crouched,
+}
+
+impl PlayerHull {
+    /// The Quake 2 player's box for this stance (`pmove`'s mins and maxs).
+    pub fn quake2_box(self) -> ([f64; 3], [f64; 3]) {
+        match self {
+            PlayerHull::Standing => ([-16.0, -16.0, -24.0], [16.0, 16.0, 32.0]),
+            PlayerHull::Crouched => ([-16.0, -16.0, -24.0], [16.0, 16.0, 4.0]),
+        }
+    }
 }
 
 impl Oracle {
@@ -242,6 +265,8 @@ impl Oracle {
             clip_hulls: [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h)),
             solid_models,
             liquids_are_solid: options.liquids_are_solid,
+            brushes: BrushSet::new(bsp, 0),
+            game: bsp.version.game(),
         }
     }
 
@@ -257,6 +282,43 @@ impl Oracle {
     #[inline]
     pub fn contents(&self, p: [f64; 3]) -> i32 {
         self.world.contents(p)
+    }
+
+    /// Whether a player's box with its origin at `p` is stuck (`SOLID`) or, if not,
+    /// the contents there, in the Quake convention; `None` when the map has no way to
+    /// tell (no clip hulls, no brushes).
+    ///
+    /// The common query of every format: GoldSrc collides the player with clip hull 1
+    /// (standing) or 3 (crouched), Quake with hull 1, Quake 2 with its brushes expanded
+    /// by the player's box ([`PlayerHull::quake2_box`]; player clip blocks).
+    ///
+    /// ```no_run
+    /// use bsp::oracle::{Oracle, PlayerHull};
+    /// let bsp = bsp::Bsp::open("maps/q2dm1.bsp")?;
+    /// let oracle = Oracle::new(&bsp, &Default::default());
+    /// let stuck = oracle.player_contents(PlayerHull::Standing, [0.0, 0.0, 24.0])
+    ///     == Some(bsp::contents::SOLID);
+    /// # Ok::<(), bsp::BspError>(())
+    /// ```
+    pub fn player_contents(&self, hull: PlayerHull, p: [f64; 3]) -> Option<i32> {
+        match self.game {
+            crate::Game::Quake2 => {
+                let (mins, maxs) = hull.quake2_box();
+                let flags = self.brushes.as_ref()?.box_contents(p, mins, maxs);
+                Some(if flags & crate::quake2::contents::MASK_PLAYERSOLID != 0 {
+                    contents::SOLID
+                } else {
+                    crate::quake2::to_quake_contents(flags)
+                })
+            }
+            crate::Game::GoldSrc if hull == PlayerHull::Crouched => self.clip_contents(3, p),
+            crate::Game::GoldSrc | crate::Game::Quake => self.clip_contents(1, p),
+        }
+    }
+
+    /// The world's brushes, where the map keeps them (Quake 2).
+    pub fn brushes(&self) -> Option<&BrushSet> {
+        self.brushes.as_ref()
     }
 
     /// Contents at `p` in clip hull 1..=3 of the world, if the map has clip hulls.

@@ -11,6 +11,8 @@ use crate::map::Bsp;
 pub(crate) enum Magic {
     /// Read by [`goldsrc`]: Quake BSP29, GoldSrc v30, BSP2, 2PSB.
     QuakeFamily,
+    /// Read by [`crate::quake2`]: IBSP 38, QBSP 38.
+    Quake2,
     /// A BSP format we recognise but do not read: its name for the error.
     Unsupported(&'static str),
     Unknown,
@@ -26,8 +28,7 @@ pub(crate) fn magic(bytes: &[u8]) -> Magic {
     let version = i32::from_le_bytes([head[4], head[5], head[6], head[7]]);
     match (&head[0..4], version) {
         (b"BSP2" | b"2PSB", _) => Magic::QuakeFamily,
-        (b"IBSP", 38) => Magic::Unsupported("Quake 2 BSP (IBSP 38)"),
-        (b"QBSP", 38) => Magic::Unsupported("Quake 2 Qbism BSP (QBSP 38)"),
+        (b"IBSP" | b"QBSP", 38) => Magic::Quake2,
         (b"IBSP", 46) => Magic::Unsupported("Quake 3 BSP (IBSP 46)"),
         (b"IBSP", 47) => Magic::Unsupported("Quake Live / Wolfenstein: ET BSP (IBSP 47)"),
         (b"RBSP", _) => Magic::Unsupported("Raven BSP (RBSP: Jedi Knight, Soldier of Fortune 2)"),
@@ -43,6 +44,7 @@ pub(crate) fn magic(bytes: &[u8]) -> Magic {
 pub(crate) fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
     match magic(bytes) {
         Magic::Unsupported(format) => Err(BspError::Unsupported { format }),
+        Magic::Quake2 => crate::quake2::parse(bytes),
         // The Quake family reader also reports short and unknown files.
         Magic::QuakeFamily | Magic::Unknown => goldsrc::parse(bytes),
     }

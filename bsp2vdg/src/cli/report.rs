@@ -78,6 +78,7 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
                 "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
                 "reduce_raise": s.reduce.as_ref().map(|r| [r.raised as f64, r.raised_by, r.raise_seconds]),
+                "reduce_kept_points": s.reduce.as_ref().map(|r| r.kept_points),
                 "reduce_refusals": s.reduce.as_ref().map(|r| {
                     r.refusals
                         .iter()

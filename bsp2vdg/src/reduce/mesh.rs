@@ -259,6 +259,11 @@ impl<'m> Edit<'m> {
         self.ch
     }
 
+    /// The changes so far.
+    pub fn changes(&self) -> &Changes {
+        &self.ch
+    }
+
     pub fn count(&mut self, op: Op) {
         self.ch.ops[op as usize] += 1;
     }

@@ -46,6 +46,7 @@
 
 #[cfg(debug_assertions)]
 mod check;
+mod keep;
 mod mesh;
 mod queue;
 mod raise;
@@ -59,6 +60,7 @@ use rayon::prelude::*;
 
 use crate::progress::Progress;
 use crate::voronoi::Graph;
+use keep::Keep;
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
 use remove::Refusal;
@@ -125,6 +127,8 @@ pub struct ReduceStats {
     pub raised_by: f64,
     /// Seconds the raise took (part of the reduction's time).
     pub raise_seconds: f64,
+    /// Points kept inside the volume (see [`reduce_keeping`]).
+    pub kept_points: usize,
     /// Batches of the main loop, removals costed in them (initial costs
     /// and the final sweep not counted), and costed removals put back into
     /// the queue because their cost had risen above the next one's.
@@ -189,6 +193,20 @@ pub fn reduce_with_ticks(
     progress: &dyn Progress,
     tick: &mut dyn FnMut(&Tick),
 ) -> (Graph, ReduceStats) {
+    reduce_keeping(graph, options, &[], progress, tick)
+}
+
+/// [`reduce_with_ticks`] keeping the points of `keep` that the graph's volume
+/// contains inside the reduced volume (e.g. where a standing player is, see
+/// [`crate::standing`]): a removal that would leave one outside is refused, so
+/// the reduction may stop above the limit.
+pub fn reduce_keeping(
+    graph: &Graph,
+    options: &ReduceOptions,
+    keep: &[[f64; 3]],
+    progress: &dyn Progress,
+    tick: &mut dyn FnMut(&Tick),
+) -> (Graph, ReduceStats) {
     // The main loop forks a parallel batch tens of thousands of times; from
     // a thread outside the pool each fork wakes a worker and puts the caller
     // to sleep. So the loop runs on a worker, and its ticks come back to
@@ -196,13 +214,13 @@ pub fn reduce_with_ticks(
     let ordered = in_hilbert_order(graph);
     let graph = &ordered;
     let (mut mesh, mut stats, ops) = if rayon::current_thread_index().is_some() {
-        run(graph, options, progress, tick)
+        run(graph, options, keep, progress, tick)
     } else {
         let (tx, rx) = std::sync::mpsc::channel::<Tick>();
         std::thread::scope(|s| {
             let worker = s.spawn(move || {
                 rayon::scope(|_| {
-                    run(graph, options, progress, &mut |t| {
+                    run(graph, options, keep, progress, &mut |t| {
                         let _ = tx.send(*t);
                     })
                 })
@@ -250,23 +268,27 @@ pub fn reduce_with_ticks(
 fn run(
     graph: &Graph,
     options: &ReduceOptions,
+    keep: &[[f64; 3]],
     progress: &dyn Progress,
     tick: &mut dyn FnMut(&Tick),
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
+    let mut kept = (!keep.is_empty()).then(|| Keep::new(&mesh, keep));
+    let keeping = kept.as_ref().map_or(0, Keep::len);
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
     let mut stats = ReduceStats {
         vertices_before: live,
         faces_before: faces,
         target: (options.limit.clamp(0.0, 1.0) * live as f64).ceil() as usize,
+        kept_points: keeping,
         ..ReduceStats::default()
     };
     let mut queue = CostQueue::new(mesh.pos.len());
     let initial: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
         .into_par_iter()
-        .map(|v| cost_of(&mesh, v))
+        .map(|v| cost_of(&mesh, kept.as_ref(), v))
         .collect();
     for (v, c) in initial.into_iter().enumerate() {
         queue.set(v as u32, c);
@@ -313,7 +335,7 @@ fn run(
             removals_at_sweep = stats.removals;
             let costs: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
                 .into_par_iter()
-                .map(|v| cost_of(&mesh, v))
+                .map(|v| cost_of(&mesh, kept.as_ref(), v))
                 .collect();
             for (v, c) in costs.into_iter().enumerate() {
                 if c.is_some() {
@@ -342,7 +364,7 @@ fn run(
                     .zip(&results)
                     .map(|(&(v, _), r)| match r {
                         Some(_) => None,
-                        None => costed(&mesh, v, batch_epoch),
+                        None => costed(&mesh, kept.as_ref(), v, batch_epoch),
                     })
                     .collect::<Vec<Option<Box<Costed>>>>()
             },
@@ -401,7 +423,14 @@ fn run(
             }
             let dead_faces = ch.removed.len();
             let new_faces = ch.new_faces.len();
+            let at_risk = kept
+                .as_ref()
+                .map(|k| k.before_apply(&ch, &mesh))
+                .unwrap_or_default();
             mesh.apply(ch);
+            if let Some(k) = kept.as_mut() {
+                k.rehome(&mesh, &at_risk, &touched);
+            }
             let after: usize = touched
                 .iter()
                 .filter(|&&t| !mesh.vfaces[t as usize].is_empty())
@@ -585,13 +614,15 @@ impl Claims {
     }
 }
 
-/// Cost of removing `v` from the mesh as it is, `None` if impossible.
-fn cost_of(mesh: &Mesh, v: u32) -> Option<f64> {
+/// Cost of removing `v` from the mesh as it is, `None` if impossible (or if
+/// it would leave a kept point outside the volume).
+fn cost_of(mesh: &Mesh, keep: Option<&Keep>, v: u32) -> Option<f64> {
     if mesh.vfaces[v as usize].is_empty() {
         return None;
     }
     let mut e = Edit::new(mesh);
-    remove::remove_vertex(&mut e, v)
+    let cost = remove::remove_vertex(&mut e, v)?;
+    keep.is_none_or(|k| k.holds(&e)).then_some(cost)
 }
 
 /// A removal costed on an overlay of the mesh as it was after removal
@@ -603,9 +634,12 @@ struct Costed {
 }
 
 /// Removes `v` on an overlay of the mesh: its cost and changes.
-fn costed(mesh: &Mesh, v: u32, epoch: u32) -> Option<Box<Costed>> {
+fn costed(mesh: &Mesh, keep: Option<&Keep>, v: u32, epoch: u32) -> Option<Box<Costed>> {
     let mut e = Edit::new(mesh);
     let cost = remove::remove_vertex(&mut e, v)?;
+    if keep.is_some_and(|k| !k.holds(&e)) {
+        return None;
+    }
     Some(Box::new(Costed {
         epoch,
         cost,
@@ -681,6 +715,53 @@ mod tests {
             g.faces.push([b, d, c]);
         }
         g
+    }
+
+    /// Whether `p` lies in the volume of some face of `g`.
+    fn inside(g: &Graph, p: [f64; 3]) -> bool {
+        g.faces.iter().any(|t| {
+            let balls = t.map(|v| (g.vertices[v as usize], g.clearance[v as usize]));
+            vdgformat::triangle_clearance(balls, p) > 0.0
+        })
+    }
+
+    #[test]
+    fn kept_points_stay_inside_the_volume() {
+        let g = sheet(14, 5);
+        let mut rng = SplitMix64::new(9);
+        // Points near the top of the volume, where lowered clearances lose them.
+        let keep: Vec<[f64; 3]> = (0..400)
+            .map(|_| {
+                [
+                    rng.range(0.0, 130.0),
+                    rng.range(0.0, 130.0),
+                    rng.range(4.0, 9.0),
+                ]
+            })
+            .filter(|&p| inside(&g, p))
+            .collect();
+        assert!(keep.len() > 100);
+        let options = ReduceOptions { limit: 0.0 };
+        let (plain, _) = reduce(&g, &options, &NoProgress);
+        let lost = keep.iter().filter(|&&p| !inside(&plain, p)).count();
+        assert!(
+            lost > 0,
+            "the plain reduction keeps every point: the test shows nothing"
+        );
+        let (kept, stats) = reduce_keeping(&g, &options, &keep, &NoProgress, &mut |_| {});
+        assert_eq!(stats.kept_points, keep.len());
+        let lost_kept: Vec<_> = keep.iter().filter(|&&p| !inside(&kept, p)).collect();
+        assert!(
+            lost_kept.is_empty(),
+            "{} lost: {lost_kept:?}",
+            lost_kept.len()
+        );
+        assert!(
+            kept.vertices.len() < g.vertices.len() / 2,
+            "{}",
+            kept.vertices.len()
+        );
+        assert!(kept.vertices.len() > plain.vertices.len());
     }
 
     fn components(g: &Graph) -> usize {

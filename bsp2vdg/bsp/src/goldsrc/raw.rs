@@ -9,21 +9,6 @@ use bytemuck::{Pod, Zeroable};
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-pub struct LumpEntry {
-    pub offset: i32,
-    pub length: i32,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-pub struct Plane {
-    pub normal: [f32; 3],
-    pub dist: f32,
-    pub kind: i32,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
 pub struct TexInfo {
     pub vecs: [[f32; 4]; 2],
     pub miptex: i32,
@@ -181,7 +166,6 @@ mod tests {
 
     #[test]
     fn record_sizes_match_the_file_format() {
-        assert_eq!(size_of::<Plane>(), 20);
         assert_eq!(size_of::<TexInfo>(), 40);
         assert_eq!(size_of::<Model>(), 64);
         assert_eq!(size_of::<MipTexHeader>(), 40);

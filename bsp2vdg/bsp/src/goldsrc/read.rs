@@ -1,10 +1,11 @@
 //! From bytes to a validated [`Bsp`]: header, lumps, normalisation, index checks.
 
-use super::raw::{self, LumpEntry};
+use super::raw;
 use crate::entities::parse_entities;
 use crate::error::BspError;
+use crate::lumps::{Directory, LumpEntry, check_finite, read_planes};
 use crate::map::*;
-use bytemuck::Pod;
+use crate::validate::{LumpNames, validate};
 
 const LUMP_NAMES: [&str; 15] = [
     "entities",
@@ -39,43 +40,19 @@ const MODELS: usize = 14;
 
 const HEADER_LEN: usize = 4 + 15 * 8;
 
-/// The lump directory after version detection.
-struct Directory<'a> {
-    bytes: &'a [u8],
-    entries: [LumpEntry; 15],
-}
-
-impl<'a> Directory<'a> {
-    /// The bytes of lump `i`, checked to lie inside the file.
-    fn lump(&self, i: usize) -> Result<&'a [u8], BspError> {
-        let e = self.entries[i];
-        let (offset, length) = (e.offset as i64, e.length as i64);
-        let end = offset + length;
-        if offset < 0 || length < 0 || end > self.bytes.len() as i64 {
-            return Err(BspError::LumpOutOfBounds {
-                lump: LUMP_NAMES[i],
-                offset,
-                length,
-                file_len: self.bytes.len(),
-            });
-        }
-        Ok(&self.bytes[offset as usize..end as usize])
-    }
-
-    /// Lump `i` read as an array of `T` records.
-    fn records<T: Pod>(&self, i: usize) -> Result<Vec<T>, BspError> {
-        let bytes = self.lump(i)?;
-        let size = std::mem::size_of::<T>();
-        if bytes.len() % size != 0 {
-            return Err(BspError::LumpSize {
-                lump: LUMP_NAMES[i],
-                length: bytes.len(),
-                record: size,
-            });
-        }
-        Ok(bytemuck::pod_collect_to_vec(bytes))
-    }
-}
+const NAMES: LumpNames = LumpNames {
+    nodes: "nodes",
+    leaves: "leaves",
+    marksurfaces: "marksurfaces",
+    faces: "faces",
+    surfedges: "surfedges",
+    edges: "edges",
+    models: "models",
+    clipnodes: "clipnodes",
+    leafbrushes: "leafbrushes",
+    brushes: "brushes",
+    brushsides: "brushsides",
+};
 
 fn read_i32(bytes: &[u8], at: usize) -> i32 {
     i32::from_le_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]])
@@ -102,19 +79,14 @@ pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
             }
         },
     };
-    let mut entries: [LumpEntry; 15] = bytemuck::pod_read_unaligned(&bytes[4..HEADER_LEN]);
-    swap_blue_shift_lumps(bytes, &mut entries);
-    let dir = Directory { bytes, entries };
-    // Lumps we do not read (visibility, lighting) still tell a truncated file.
-    for i in 0..LUMP_NAMES.len() {
-        dir.lump(i)?;
-    }
+    let mut dir = Directory::new(bytes, 4, &LUMP_NAMES)?;
+    swap_blue_shift_lumps(bytes, &mut dir.entries);
 
     let entities = parse_entities(dir.lump(ENTITIES)?)?;
-    let planes = read_planes(&dir)?;
+    let planes = read_planes(&dir, PLANES)?;
     let textures = read_textures(dir.lump(TEXTURES)?)?;
     let vertices: Vec<[f32; 3]> = dir.records(VERTICES)?;
-    check_finite(VERTICES, vertices.iter().map(|v| v.as_slice()))?;
+    check_finite(LUMP_NAMES[VERTICES], vertices.iter().map(|v| v.as_slice()))?;
     let texinfo: Vec<TexInfo> = dir
         .records::<raw::TexInfo>(TEXINFO)?
         .into_iter()
@@ -150,9 +122,12 @@ pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
         edges,
         surfedges,
         models,
+        leaf_brushes: Vec::new(),
+        brushes: Vec::new(),
+        brush_sides: Vec::new(),
         unused_bad_records: 0,
     };
-    validate(&mut bsp)?;
+    validate(&mut bsp, &NAMES)?;
     Ok(bsp)
 }
 
@@ -166,7 +141,7 @@ fn describe_magic(magic: &[u8], as_int: i32) -> String {
 
 /// Blue Shift's maps store the planes lump first and the entities second. The entity
 /// text starts with `{`, planes never do in practice, so the swap is detectable.
-fn swap_blue_shift_lumps(bytes: &[u8], entries: &mut [LumpEntry; 15]) {
+fn swap_blue_shift_lumps(bytes: &[u8], entries: &mut [LumpEntry]) {
     let starts_with_brace = |e: LumpEntry| {
         let (o, l) = (e.offset as usize, e.length as usize);
         e.offset >= 0
@@ -183,42 +158,6 @@ fn swap_blue_shift_lumps(bytes: &[u8], entries: &mut [LumpEntry; 15]) {
     {
         entries.swap(ENTITIES, PLANES);
     }
-}
-
-fn check_finite<'a>(lump: usize, values: impl Iterator<Item = &'a [f32]>) -> Result<(), BspError> {
-    for (i, v) in values.enumerate() {
-        if !v.iter().all(|x| x.is_finite()) {
-            return Err(BspError::Malformed {
-                lump: LUMP_NAMES[lump],
-                reason: format!("record {i} holds a non-finite number"),
-            });
-        }
-    }
-    Ok(())
-}
-
-fn read_planes(dir: &Directory) -> Result<Vec<Plane>, BspError> {
-    let planes: Vec<Plane> = dir
-        .records::<raw::Plane>(PLANES)?
-        .into_iter()
-        .map(|p| Plane {
-            normal: p.normal,
-            dist: p.dist,
-            kind: p.kind,
-        })
-        .collect();
-    for (i, p) in planes.iter().enumerate() {
-        let n = p.normal;
-        let len2 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
-        let finite = n.iter().all(|x| x.is_finite()) && p.dist.is_finite();
-        if !(finite && (0.9..=1.1).contains(&len2)) {
-            return Err(BspError::Malformed {
-                lump: "planes",
-                reason: format!("plane {i} has no unit normal or a non-finite distance"),
-            });
-        }
-    }
-    Ok(planes)
 }
 
 fn read_textures(bytes: &[u8]) -> Result<Vec<Option<Texture>>, BspError> {
@@ -274,7 +213,7 @@ fn read_models(dir: &Directory) -> Result<Vec<Model>, BspError> {
     let mut models = Vec::with_capacity(raw.len());
     for (i, m) in raw.iter().enumerate() {
         check_finite(
-            MODELS,
+            LUMP_NAMES[MODELS],
             [&m.mins[..], &m.maxs[..], &m.origin[..]].into_iter(),
         )?;
         models.push(Model {
@@ -331,10 +270,13 @@ fn read_narrow(dir: &Directory) -> Result<TreeLumps, BspError> {
             let (mins, maxs) = bounds16(l.mins, l.maxs);
             Leaf {
                 contents: l.contents,
+                native_contents: l.contents,
                 mins,
                 maxs,
                 first_marksurface: l.first_marksurface.into(),
                 num_marksurfaces: l.num_marksurfaces.into(),
+                first_brush: 0,
+                num_brushes: 0,
             }
         })
         .collect();
@@ -382,10 +324,13 @@ fn read_wide(dir: &Directory, version: BspVersion) -> Result<TreeLumps, BspError
             leaves
                 .map(|l| Leaf {
                     contents: l.contents,
+                    native_contents: l.contents,
                     mins: l.mins,
                     maxs: l.maxs,
                     first_marksurface: l.first_marksurface,
                     num_marksurfaces: l.num_marksurfaces,
+                    first_brush: 0,
+                    num_brushes: 0,
                 })
                 .collect(),
         )
@@ -401,10 +346,13 @@ fn read_wide(dir: &Directory, version: BspVersion) -> Result<TreeLumps, BspError
                     let (mins, maxs) = bounds16(l.mins, l.maxs);
                     Leaf {
                         contents: l.contents,
+                        native_contents: l.contents,
                         mins,
                         maxs,
                         first_marksurface: l.first_marksurface,
                         num_marksurfaces: l.num_marksurfaces,
+                        first_brush: 0,
+                        num_brushes: 0,
                     }
                 })
                 .collect(),
@@ -445,415 +393,4 @@ fn wide_node(plane: i32, children: [i32; 2], first_face: u32, num_faces: u32) ->
         first_face,
         num_faces,
     }
-}
-
-/// Checks what the engines read: the records reachable from the models' trees and
-/// face ranges, once, so that later stages can index without checks.
-///
-/// Records nothing reaches are never read by the game, and some maps fill them with
-/// garbage to break decompilers (a clip node with plane -2136128596, a surfedge past
-/// the edges). Those are not errors: their bad indices are replaced by harmless ones
-/// (an unused node or clip node leads to solid, an unused face gets no edges), so that
-/// code walking every record stays safe, and they are counted in
-/// [`Bsp::unused_bad_records`].
-fn validate(bsp: &mut Bsp) -> Result<(), BspError> {
-    let (np, nn, nl, nf) = (
-        bsp.planes.len(),
-        bsp.nodes.len(),
-        bsp.leaves.len(),
-        bsp.faces.len(),
-    );
-    let mut face_used = vec![false; nf];
-    let mut leaf_used = vec![false; nl];
-    let mut node_used = vec![false; nn];
-    for (i, m) in bsp.models.iter().enumerate() {
-        check_node_child(MODELS, i, m.headnode[0], nn, nl)?;
-        check_range(MODELS, i, "face range end", m.first_face, m.num_faces, nf)?;
-        mark(&mut face_used, m.first_face, m.num_faces);
-        if m.headnode[0] < 0 {
-            leaf_used[(-(m.headnode[0] as i64 + 1)) as usize] = true;
-        }
-    }
-    // Hull 0: every node reached from a model, its plane, children and faces.
-    walk_tree(
-        NODES,
-        nn,
-        bsp.models.iter().map(|m| m.headnode[0]),
-        &mut node_used,
-        |i| {
-            let n = &bsp.nodes[i];
-            check(NODES, i, "plane", n.plane as i32 as i64, np)?;
-            for c in n.children {
-                check_node_child(NODES, i, c, nn, nl)?;
-                if c < 0 {
-                    leaf_used[(-(c as i64 + 1)) as usize] = true;
-                }
-            }
-            check_range(NODES, i, "face range end", n.first_face, n.num_faces, nf)?;
-            mark(&mut face_used, n.first_face, n.num_faces);
-            Ok(n.children)
-        },
-    )?;
-    let mut mark_used = vec![false; bsp.marksurfaces.len()];
-    for (i, l) in bsp.leaves.iter().enumerate().filter(|(i, _)| leaf_used[*i]) {
-        check_range(
-            LEAVES,
-            i,
-            "marksurface range end",
-            l.first_marksurface,
-            l.num_marksurfaces,
-            bsp.marksurfaces.len(),
-        )?;
-        mark(&mut mark_used, l.first_marksurface, l.num_marksurfaces);
-    }
-    for (i, &m) in bsp
-        .marksurfaces
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| mark_used[*i])
-    {
-        check(MARKSURFACES, i, "face", m as i64, nf)?;
-        face_used[m as usize] = true;
-    }
-    let mut surfedge_used = vec![false; bsp.surfedges.len()];
-    for (i, f) in bsp.faces.iter().enumerate().filter(|(i, _)| face_used[*i]) {
-        check(FACES, i, "plane", f.plane as i32 as i64, np)?;
-        check(
-            FACES,
-            i,
-            "texinfo",
-            f.texinfo as i32 as i64,
-            bsp.texinfo.len(),
-        )?;
-        if f.num_edges < 3 {
-            return Err(BspError::Malformed {
-                lump: "faces",
-                reason: format!("face {i} has {} edges (at least 3 needed)", f.num_edges),
-            });
-        }
-        check(
-            FACES,
-            i,
-            "first_edge",
-            f.first_edge as i32 as i64,
-            bsp.surfedges.len(),
-        )?;
-        check_range(
-            FACES,
-            i,
-            "edge range end",
-            f.first_edge,
-            f.num_edges,
-            bsp.surfedges.len(),
-        )?;
-        mark(&mut surfedge_used, f.first_edge, f.num_edges);
-    }
-    let mut edge_used = vec![false; bsp.edges.len()];
-    for (i, &se) in bsp
-        .surfedges
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| surfedge_used[*i])
-    {
-        check(
-            SURFEDGES,
-            i,
-            "edge",
-            se.unsigned_abs() as i64,
-            bsp.edges.len(),
-        )?;
-        edge_used[se.unsigned_abs() as usize] = true;
-    }
-    for (i, e) in bsp.edges.iter().enumerate().filter(|(i, _)| edge_used[*i]) {
-        for v in e {
-            check(EDGES, i, "vertex", *v as i64, bsp.vertices.len())?;
-        }
-    }
-    // Clip hulls: the engines copy the headnodes unchecked and trace a hull only for
-    // the model's own entity. Compilers write the clip node count as the headnode of a
-    // hull that has no node at all, so an out-of-range headnode is an unused hull
-    // (see `Model::clip_headnode`), not an error.
-    let nc = bsp.clipnodes.len();
-    let mut clip_used = vec![false; nc];
-    walk_tree(
-        CLIPNODES,
-        nc,
-        bsp.models
-            .iter()
-            .flat_map(|m| m.headnode[1..].iter().copied())
-            .filter(|&h| (h as i64) < nc as i64),
-        &mut clip_used,
-        |i| {
-            let c = &bsp.clipnodes[i];
-            check(CLIPNODES, i, "plane", c.plane as i32 as i64, np)?;
-            for child in c.children {
-                if child >= 0 {
-                    check(CLIPNODES, i, "child", child as i64, nc)?;
-                }
-            }
-            Ok(c.children)
-        },
-    )?;
-    bsp.unused_bad_records = neutralise_unused(
-        bsp,
-        &node_used,
-        &leaf_used,
-        &mark_used,
-        &face_used,
-        &surfedge_used,
-        &edge_used,
-        &clip_used,
-    );
-    Ok(())
-}
-
-fn check(
-    lump: usize,
-    record: usize,
-    field: &'static str,
-    value: i64,
-    limit: usize,
-) -> Result<(), BspError> {
-    if value < 0 || value >= limit as i64 {
-        Err(BspError::BadIndex {
-            lump: LUMP_NAMES[lump],
-            record,
-            field,
-            value,
-            limit,
-        })
-    } else {
-        Ok(())
-    }
-}
-
-/// A range [first, first + count) must fit into `limit` elements.
-fn check_range(
-    lump: usize,
-    record: usize,
-    field: &'static str,
-    first: u32,
-    count: u32,
-    limit: usize,
-) -> Result<(), BspError> {
-    let end = first as i64 + count as i64;
-    if end > limit as i64 {
-        Err(BspError::BadIndex {
-            lump: LUMP_NAMES[lump],
-            record,
-            field,
-            value: end,
-            limit: limit + 1,
-        })
-    } else {
-        Ok(())
-    }
-}
-
-/// Marks `first..first + count` (already checked to fit).
-fn mark(used: &mut [bool], first: u32, count: u32) {
-    used[first as usize..first as usize + count as usize].fill(true);
-}
-
-/// Replaces the bad indices of records no model reaches (see [`validate`]); returns
-/// how many records were touched.
-#[allow(clippy::too_many_arguments)]
-fn neutralise_unused(
-    bsp: &mut Bsp,
-    node_used: &[bool],
-    leaf_used: &[bool],
-    mark_used: &[bool],
-    face_used: &[bool],
-    surfedge_used: &[bool],
-    edge_used: &[bool],
-    clip_used: &[bool],
-) -> usize {
-    let (np, nn, nl, nf) = (
-        bsp.planes.len(),
-        bsp.nodes.len(),
-        bsp.leaves.len(),
-        bsp.faces.len(),
-    );
-    let mut touched = 0;
-    let bad_child = |c: i32| {
-        if c >= 0 {
-            c as usize >= nn
-        } else {
-            (-(c as i64 + 1)) as usize >= nl
-        }
-    };
-    // Without planes or leaves no node is reachable; the unused ones are dropped
-    // (nothing refers to them), otherwise each bad one becomes a node of two solid
-    // leaf-0 children.
-    if np == 0 || nl == 0 {
-        touched += bsp.nodes.len();
-        bsp.nodes.clear();
-    } else {
-        for (n, _) in bsp.nodes.iter_mut().zip(node_used).filter(|(_, u)| !**u) {
-            let bad = n.plane as usize >= np
-                || n.children.iter().any(|&c| bad_child(c))
-                || n.first_face as u64 + n.num_faces as u64 > nf as u64;
-            if bad {
-                *n = Node {
-                    plane: 0,
-                    children: [-1, -1],
-                    first_face: 0,
-                    num_faces: 0,
-                };
-                touched += 1;
-            }
-        }
-    }
-    let nm = bsp.marksurfaces.len();
-    for (l, _) in bsp.leaves.iter_mut().zip(leaf_used).filter(|(_, u)| !**u) {
-        if l.first_marksurface as u64 + l.num_marksurfaces as u64 > nm as u64 {
-            (l.first_marksurface, l.num_marksurfaces) = (0, 0);
-            touched += 1;
-        }
-    }
-    for (m, _) in bsp
-        .marksurfaces
-        .iter_mut()
-        .zip(mark_used)
-        .filter(|(_, u)| !**u)
-    {
-        if *m as usize >= nf {
-            *m = 0;
-            touched += 1;
-        }
-    }
-    let (nt, ns) = (bsp.texinfo.len(), bsp.surfedges.len());
-    for (f, _) in bsp.faces.iter_mut().zip(face_used).filter(|(_, u)| !**u) {
-        let bad = f.plane as usize >= np
-            || f.texinfo as usize >= nt
-            || f.first_edge as u64 + f.num_edges as u64 > ns as u64;
-        if bad {
-            *f = Face {
-                plane: 0,
-                back_side: false,
-                first_edge: 0,
-                num_edges: 0,
-                texinfo: 0,
-            };
-            touched += 1;
-        }
-    }
-    let ne = bsp.edges.len();
-    for (se, _) in bsp
-        .surfedges
-        .iter_mut()
-        .zip(surfedge_used)
-        .filter(|(_, u)| !**u)
-    {
-        if se.unsigned_abs() as usize >= ne {
-            *se = 0;
-            touched += 1;
-        }
-    }
-    let nv = bsp.vertices.len();
-    for (e, _) in bsp.edges.iter_mut().zip(edge_used).filter(|(_, u)| !**u) {
-        if e.iter().any(|&v| v as usize >= nv) {
-            *e = [0, 0];
-            touched += 1;
-        }
-    }
-    let nc = bsp.clipnodes.len();
-    if np == 0 {
-        touched += nc;
-        bsp.clipnodes.clear();
-    } else {
-        for (c, _) in bsp
-            .clipnodes
-            .iter_mut()
-            .zip(clip_used)
-            .filter(|(_, u)| !**u)
-        {
-            if c.plane as usize >= np || c.children.iter().any(|&k| k >= 0 && k as usize >= nc) {
-                *c = ClipNode {
-                    plane: 0,
-                    children: [contents::SOLID; 2],
-                };
-                touched += 1;
-            }
-        }
-    }
-    touched
-}
-
-fn check_node_child(
-    lump: usize,
-    record: usize,
-    c: i32,
-    nodes: usize,
-    leaves: usize,
-) -> Result<(), BspError> {
-    let (field, value, limit) = if c >= 0 {
-        ("child node", c as i64, nodes)
-    } else {
-        ("child leaf", -(c as i64 + 1), leaves)
-    };
-    if value >= limit as i64 {
-        return Err(BspError::BadIndex {
-            lump: LUMP_NAMES[lump],
-            record,
-            field,
-            value,
-            limit,
-        });
-    }
-    Ok(())
-}
-
-/// Walks every tree from `roots` (negative roots are leaves), calling `visit` once per
-/// node reached; `visit` checks the node and returns its children (node children
-/// already checked to be in range). A corrupt file could make a walk loop forever, so
-/// a cycle is an error; shared subtrees are allowed. `reached` marks the nodes seen.
-fn walk_tree(
-    lump: usize,
-    count: usize,
-    roots: impl Iterator<Item = i32>,
-    reached: &mut [bool],
-    mut visit: impl FnMut(usize) -> Result<[i32; 2], BspError>,
-) -> Result<(), BspError> {
-    const UNSEEN: u8 = 0;
-    const OPEN: u8 = 1;
-    const DONE: u8 = 2;
-    let mut state = vec![UNSEEN; count];
-    let mut stack: Vec<(usize, [i32; 2], u8)> = Vec::new();
-    for root in roots {
-        if root < 0 || state[root as usize] == DONE {
-            continue;
-        }
-        state[root as usize] = OPEN;
-        reached[root as usize] = true;
-        stack.push((root as usize, visit(root as usize)?, 0));
-        while let Some((node, children, next)) = stack.last_mut() {
-            if *next == 2 {
-                state[*node] = DONE;
-                stack.pop();
-                continue;
-            }
-            let child = children[*next as usize];
-            *next += 1;
-            if child < 0 {
-                continue;
-            }
-            match state[child as usize] {
-                UNSEEN => {
-                    state[child as usize] = OPEN;
-                    reached[child as usize] = true;
-                    let grandchildren = visit(child as usize)?;
-                    stack.push((child as usize, grandchildren, 0));
-                }
-                OPEN => {
-                    return Err(BspError::Malformed {
-                        lump: LUMP_NAMES[lump],
-                        reason: format!("node {child} is its own ancestor (the tree has a cycle)"),
-                    });
-                }
-                _ => {}
-            }
-        }
-    }
-    Ok(())
 }

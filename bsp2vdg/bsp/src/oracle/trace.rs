@@ -164,6 +164,8 @@ mod tests {
             clip_hulls: [None, None, None],
             solid_models: Vec::new(),
             liquids_are_solid: OracleOptions::default().liquids_are_solid,
+            brushes: None,
+            game: crate::Game::GoldSrc,
         }
     }
 
