@@ -558,9 +558,15 @@ fn run_replay_summary(output: &std::path::Path, title: &str, reports: &[PathBuf]
                 p.display()
             );
         };
-        let label = p
+        let stem = p
             .file_stem()
             .map_or("?".into(), |s| s.to_string_lossy().into_owned());
+        // Short labels: camera-report's names without the source prefixes and the dt.
+        let mut label = stem.as_str();
+        for prefix in ["bspview-", "cstrike-", "halflife_", "allocblock-"] {
+            label = label.strip_prefix(prefix).unwrap_or(label);
+        }
+        let label = label.split("-dt").next().unwrap_or(label).to_string();
         rows.push((
             label,
             cams.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),

@@ -295,6 +295,14 @@ pub fn summary_chart(
             }
         }
     }
+    // The replay's own order (and colours) first, others after.
+    let rank = |c: &String| {
+        super::CAMERA_NAMES
+            .iter()
+            .position(|n| n == c)
+            .unwrap_or(usize::MAX)
+    };
+    cams.sort_by_key(rank);
     let value = |v: &serde_json::Value, key: &str| -> f64 {
         let g = |k: &str| v.get(k).and_then(|x| x.as_f64()).unwrap_or(0.0);
         let frames = g("frames").max(1.0);
@@ -306,7 +314,8 @@ pub fn summary_chart(
             _ => g(key),
         }
     };
-    let width = (W as usize).max(200 + rows.len() * cams.len() * 18) as u32;
+    // Room for each map's label under its group of bars (ab_glyph text is not rotated).
+    let width = (W as usize).max(3 * (100 + rows.len() * 95)) as u32;
     png(path, width, 900, |root| {
         let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
         let areas = root.split_evenly((2, 3));
@@ -330,7 +339,7 @@ pub fn summary_chart(
             builder
                 .caption(label, ("sans-serif", 16))
                 .margin(8)
-                .x_label_area_size(if rows.len() > 1 { 70 } else { 30 })
+                .x_label_area_size(30)
                 .y_label_area_size(60);
             let bar = 0.8 / cams.len().max(1) as f64;
             let fmt = |x: &f64| {
@@ -363,6 +372,7 @@ pub fn summary_chart(
                     .configure_mesh()
                     .x_labels(rows.len() * 2 + 1)
                     .x_label_formatter(&fmt)
+                    .x_label_style(label_style(rows.len()))
                     .disable_x_mesh()
                     .label_style(("sans-serif", 12))
                     .draw()
@@ -382,6 +392,7 @@ pub fn summary_chart(
                     .configure_mesh()
                     .x_labels(rows.len() * 2 + 1)
                     .x_label_formatter(&fmt)
+                    .x_label_style(label_style(rows.len()))
                     .disable_x_mesh()
                     .label_style(("sans-serif", 12))
                     .draw()
@@ -392,6 +403,16 @@ pub fn summary_chart(
         }
         Ok(())
     })
+}
+
+/// Map labels: upright for one map, turned 90° for many.
+fn label_style(n: usize) -> TextStyle<'static> {
+    let font = ("sans-serif", 12).into_font();
+    if n > 1 {
+        font.transform(FontTransform::Rotate90).into()
+    } else {
+        font.into()
+    }
 }
 
 fn legend<'a, X, Y>(
@@ -413,7 +434,7 @@ where
     chart
         .configure_series_labels()
         .label_font(("sans-serif", 12))
-        .background_style(WHITE.mix(0.85))
+        .background_style(WHITE.mix(0.6))
         .border_style(BLACK)
         .position(SeriesLabelPosition::UpperRight)
         .draw()
