@@ -6,23 +6,20 @@ use std::sync::OnceLock;
 use crate::bsp::{Compiled, compile};
 use crate::world::{Aabb, World};
 
-/// SplitMix64: deterministic, dependency-free.
-pub struct Rng(u64);
+/// The workspace's one generator (`toolbox::SplitMix64`) with the draws
+/// these tests use.
+pub struct Rng(toolbox::SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Rng(seed)
+        Rng(toolbox::SplitMix64::new(seed))
     }
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
     /// Uniform in [0, 1).
     pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.next_f64()
     }
     /// Uniform in the box grown by `margin`.
     pub fn point_in(&mut self, b: &Aabb, margin: f64) -> [f64; 3] {
