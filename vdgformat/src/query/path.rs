@@ -341,15 +341,8 @@ impl PathFinder {
         q_face: u32,
         q: [f32; 3],
     ) -> Option<VdgPath> {
-        let (ps, qs) = (V3::from_f32(p), V3::from_f32(q));
-        if p_face == q_face {
-            return Some(VdgPath {
-                length: (qs - ps).norm() as f32,
-                vertices: Vec::new(),
-            });
-        }
-        let starts = g.faces[p_face as usize].map(|v| (v, (g.pos(v) - ps).norm()));
-        self.run(g, &starts, &g.faces[q_face as usize], qs, f32::NEG_INFINITY)
+        // Every vertex admitted: the same search as for an agent of no size.
+        self.path_between_faces_with_clearance(g, p_face, p, q_face, q, f32::NEG_INFINITY)
     }
 
     /// [`Vdg::path_with_clearance`] with reused scratch.
