@@ -116,7 +116,7 @@ fn player_half_height(bsp: &Bsp) -> f64 {
     match bsp.version.game() {
         bsp::Game::GoldSrc => 36.0,
         // Quake 2: the player box is -24..32 about the origin.
-        bsp::Game::Quake | bsp::Game::Quake2 => 24.0,
+        bsp::Game::Quake | bsp::Game::Quake2 | bsp::Game::Quake3 => 24.0,
     }
 }
 

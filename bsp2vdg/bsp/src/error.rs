@@ -51,7 +51,7 @@ impl fmt::Display for BspError {
             }
             BspError::Unsupported { format } => write!(
                 f,
-                "{format} is not read yet (we read GoldSrc v30, Quake BSP29, BSP2, 2PSB and Quake 2 IBSP/QBSP 38)"
+                "{format} is not read yet (we read GoldSrc v30, Quake BSP29, BSP2, 2PSB, Quake 2 IBSP/QBSP 38 and Quake 3 IBSP 46)"
             ),
             BspError::UnknownVersion { found } => write!(
                 f,

@@ -6,7 +6,7 @@
 //!
 //! The layout follows the `object` crate's `read/`: one folder per file format
 //! ([`goldsrc`]: GoldSrc v30, Quake BSP29, BSP2 and 2PSB; [`quake2`]: IBSP 38 and
-//! Qbism's QBSP 38), each producing the same
+//! Qbism's QBSP 38; [`quake3`]: IBSP 46), each producing the same
 //! normalised [`Bsp`] (32-bit indices, contents in the Quake convention), one
 //! dispatch on the file's first bytes ([`Bsp::parse`]), and the common interface on
 //! top: [`oracle`] (point contents, traces, the player's clip hulls), [`boundary`]
@@ -30,6 +30,7 @@ mod lumps;
 mod map;
 pub mod oracle;
 pub mod quake2;
+pub mod quake3;
 mod read;
 pub mod util;
 mod validate;

@@ -63,6 +63,8 @@ pub enum BspVersion {
     Quake2,
     /// Quake 2 with Qbism's 32-bit indices (QBSP 38).
     Quake2Qbism,
+    /// Quake 3 (IBSP 46: OpenArena, ioquake3).
+    Quake3,
 }
 
 /// The game (engine family) a map is made for.
@@ -74,6 +76,8 @@ pub enum Game {
     GoldSrc,
     /// Quake 2 (IBSP 38, Qbism's QBSP 38).
     Quake2,
+    /// Quake 3 Arena and its heirs (IBSP 46: OpenArena, ioquake3).
+    Quake3,
 }
 
 impl Game {
@@ -83,6 +87,7 @@ impl Game {
             Game::Quake => "Quake",
             Game::GoldSrc => "GoldSrc (Half-Life, Counter-Strike)",
             Game::Quake2 => "Quake 2",
+            Game::Quake3 => "Quake 3 (OpenArena, ioquake3)",
         }
     }
 }
@@ -95,6 +100,7 @@ impl BspVersion {
             BspVersion::GoldSrc30 => Game::GoldSrc,
             BspVersion::Bsp29 | BspVersion::Bsp2 | BspVersion::Bsp2psb => Game::Quake,
             BspVersion::Quake2 | BspVersion::Quake2Qbism => Game::Quake2,
+            BspVersion::Quake3 => Game::Quake3,
         }
     }
 
@@ -106,6 +112,7 @@ impl BspVersion {
             BspVersion::Bsp2psb => "2PSB",
             BspVersion::Quake2 => "IBSP 38 (Quake 2)",
             BspVersion::Quake2Qbism => "QBSP 38 (Quake 2, Qbism)",
+            BspVersion::Quake3 => "IBSP 46 (Quake 3)",
         }
     }
 }
@@ -140,8 +147,8 @@ pub struct Leaf {
     pub maxs: [f32; 3],
     pub first_marksurface: u32,
     pub num_marksurfaces: u32,
-    /// The brushes that touch the leaf, in [`Bsp::leaf_brushes`] (Quake 2; none in
-    /// the Quake 1 family, whose files keep no brushes).
+    /// The brushes that touch the leaf, in [`Bsp::leaf_brushes`] (Quake 2 and 3; none
+    /// in the Quake 1 family, whose files keep no brushes).
     pub first_brush: u32,
     pub num_brushes: u32,
 }
@@ -187,7 +194,10 @@ pub struct TexInfo {
     pub vecs: [[f32; 4]; 2],
     /// Index into [`Bsp::textures`]; may be out of range in odd maps (treated as unnamed).
     pub miptex: i32,
+    /// Surface flags where the format has them (Quake 2 and 3).
     pub flags: i32,
+    /// The shader's contents flags (Quake 3, [`crate::quake3::contents`]); 0 elsewhere.
+    pub contents: i32,
 }
 
 /// A texture's name and size (the pixels are not needed here).
@@ -318,6 +328,10 @@ impl Bsp {
                 self.texinfo[face.texinfo as usize].flags,
                 self.face_texture_name(face),
             ),
+            Game::Quake3 => {
+                let t = &self.texinfo[face.texinfo as usize];
+                crate::quake3::face_class(t.flags, t.contents)
+            }
             Game::Quake | Game::GoldSrc => classify_texture(self.face_texture_name(face)),
         }
     }

@@ -236,6 +236,15 @@ impl PlayerHull {
             PlayerHull::Crouched => ([-16.0, -16.0, -24.0], [16.0, 16.0, 4.0]),
         }
     }
+
+    /// The Quake 3 player's box for this stance (`bg_pmove.c`: 15 units to each
+    /// side, 32 above the origin standing, 16 crouched, 24 below).
+    pub fn quake3_box(self) -> ([f64; 3], [f64; 3]) {
+        match self {
+            PlayerHull::Standing => ([-15.0, -15.0, -24.0], [15.0, 15.0, 32.0]),
+            PlayerHull::Crouched => ([-15.0, -15.0, -24.0], [15.0, 15.0, 16.0]),
+        }
+    }
 }
 
 impl Oracle {
@@ -289,8 +298,10 @@ impl Oracle {
     /// tell (no clip hulls, no brushes).
     ///
     /// The common query of every format: GoldSrc collides the player with clip hull 1
-    /// (standing) or 3 (crouched), Quake with hull 1, Quake 2 with its brushes expanded
-    /// by the player's box ([`PlayerHull::quake2_box`]; player clip blocks).
+    /// (standing) or 3 (crouched), Quake with hull 1, Quake 2 and 3 with their brushes
+    /// expanded by the player's box ([`PlayerHull::quake2_box`],
+    /// [`PlayerHull::quake3_box`]; player clip blocks; Quake 3's patches are brushes
+    /// too, see [`crate::quake3`]).
     ///
     /// ```no_run
     /// use bsp::oracle::{Oracle, PlayerHull};
@@ -309,6 +320,15 @@ impl Oracle {
                     contents::SOLID
                 } else {
                     crate::quake2::to_quake_contents(flags)
+                })
+            }
+            crate::Game::Quake3 => {
+                let (mins, maxs) = hull.quake3_box();
+                let flags = self.brushes.as_ref()?.box_contents(p, mins, maxs);
+                Some(if flags & crate::quake3::contents::MASK_PLAYERSOLID != 0 {
+                    contents::SOLID
+                } else {
+                    crate::quake3::to_quake_contents(flags)
                 })
             }
             crate::Game::GoldSrc if hull == PlayerHull::Crouched => self.clip_contents(3, p),

@@ -13,6 +13,8 @@ pub(crate) enum Magic {
     QuakeFamily,
     /// Read by [`crate::quake2`]: IBSP 38, QBSP 38.
     Quake2,
+    /// Read by [`crate::quake3`]: IBSP 46.
+    Quake3,
     /// A BSP format we recognise but do not read: its name for the error.
     Unsupported(&'static str),
     Unknown,
@@ -29,7 +31,7 @@ pub(crate) fn magic(bytes: &[u8]) -> Magic {
     match (&head[0..4], version) {
         (b"BSP2" | b"2PSB", _) => Magic::QuakeFamily,
         (b"IBSP" | b"QBSP", 38) => Magic::Quake2,
-        (b"IBSP", 46) => Magic::Unsupported("Quake 3 BSP (IBSP 46)"),
+        (b"IBSP", 46) => Magic::Quake3,
         (b"IBSP", 47) => Magic::Unsupported("Quake Live / Wolfenstein: ET BSP (IBSP 47)"),
         (b"RBSP", _) => Magic::Unsupported("Raven BSP (RBSP: Jedi Knight, Soldier of Fortune 2)"),
         (b"VBSP", _) => Magic::Unsupported("Source BSP (VBSP)"),
@@ -45,6 +47,7 @@ pub(crate) fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
     match magic(bytes) {
         Magic::Unsupported(format) => Err(BspError::Unsupported { format }),
         Magic::Quake2 => crate::quake2::parse(bytes),
+        Magic::Quake3 => crate::quake3::parse(bytes),
         // The Quake family reader also reports short and unknown files.
         Magic::QuakeFamily | Magic::Unknown => goldsrc::parse(bytes),
     }

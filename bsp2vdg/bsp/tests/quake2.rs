@@ -6,20 +6,12 @@ use bsp::oracle::{Oracle, OracleOptions, PlayerHull};
 use bsp::quake2::contents as q2;
 use bsp::util::SplitMix64;
 use bsp::{Bsp, Game, contents};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
+
+mod common;
 
 fn quake2_maps() -> Option<Vec<PathBuf>> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/testmaps/quake2");
-    let Ok(entries) = std::fs::read_dir(&dir) else {
-        eprintln!("skipped: {} is absent", dir.display());
-        return None;
-    };
-    let mut maps: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "bsp"))
-        .collect();
-    maps.sort();
-    Some(maps)
+    common::shared_maps("quake2")
 }
 
 #[test]
@@ -51,45 +43,8 @@ fn every_quake2_map_reads_with_spawns_free() {
     }
 }
 
-/// Points where the tree's leaf contents and the brushes disagree, out of `n` random
-/// points in the world's box. Quake 2 compilers fill the void outside the level with
-/// solid leaves that no brush covers, so a solid tree point without a brush counts
-/// only where it borders the level: free space within 4 units along an axis. Points
-/// within 0.01 units of a brush side are excepted (which side a plane belongs to is a
-/// convention there).
 fn disagreements(bsp: &Bsp, n: usize, seed: u64) -> usize {
-    let oracle = Oracle::new(bsp, &OracleOptions::default());
-    let brushes = oracle.brushes().unwrap();
-    let (lo, hi) = bsp.bounds();
-    let mut rng = SplitMix64::new(seed);
-    let solid = |f: i32| f & (q2::SOLID | q2::WINDOW) != 0;
-    let mut bad = 0;
-    for _ in 0..n {
-        let p = [0, 1, 2].map(|i| rng.range(lo[i] as f64, hi[i] as f64));
-        let tree_solid = oracle.contents(p) == contents::SOLID;
-        let brush_solid = solid(brushes.point_contents_exhaustive(p));
-        if tree_solid == brush_solid {
-            continue;
-        }
-        if tree_solid {
-            let borders_level = (0..6).any(|k| {
-                let mut q = p;
-                q[k / 2] += if k % 2 == 0 { 4.0 } else { -4.0 };
-                oracle.contents(q) != contents::SOLID
-            });
-            if !borders_level {
-                continue;
-            }
-        }
-        let near = [-0.01, 0.01].iter().any(|d| {
-            let f = brushes.point_contents_exhaustive([p[0] + d, p[1] + d, p[2] + d]);
-            solid(f) == tree_solid
-        });
-        if !near {
-            bad += 1;
-        }
-    }
-    bad
+    common::disagreements(bsp, n, seed, q2::SOLID | q2::WINDOW)
 }
 
 #[test]

@@ -91,6 +91,7 @@ pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
         .records::<raw::TexInfo>(TEXINFO)?
         .into_iter()
         .map(|t| TexInfo {
+            contents: 0,
             vecs: t.vecs,
             miptex: t.miptex,
             flags: t.flags,

@@ -133,6 +133,7 @@ fn read_texinfo(dir: &Directory) -> Result<(Vec<TexInfo>, Vec<Option<Texture>>),
                 names.len() as i32 - 1
             });
             TexInfo {
+                contents: 0,
                 vecs: t.vecs,
                 miptex,
                 flags: t.flags,

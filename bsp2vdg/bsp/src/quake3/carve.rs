@@ -1,0 +1,368 @@
+//! Carving brushes into a BSP tree, so that every leaf has one contents value.
+//!
+//! q3map2 builds the tree from structural brushes; detail brushes, player clip and
+//! liquids are only listed in the leaves they touch, and the game tests them one by
+//! one (`CM_TestInLeaf`). The tools here walk the tree and want leaves that are
+//! wholly solid or wholly free, so each leaf is refined: its cell (a convex polytope)
+//! is split by the side planes of each listed brush that cuts it, the pieces outside
+//! go on to the next brush and the piece inside takes the brush's contents. A piece
+//! inside a solid brush stops there. Brushes are visited solid first, which keeps the
+//! subtrees small (a solid piece needs no further splitting).
+
+use super::to_quake_contents;
+use crate::map::{Leaf, Node};
+use crate::util::{cross, dot, sub};
+
+type P = [f64; 3];
+
+/// Vertices closer than this to a plane count as on it: a cell is split only when it
+/// reaches further than this to both sides.
+const ON_PLANE: f64 = 0.01;
+
+/// A convex polytope as its faces' windings (orientation is not kept: only the
+/// vertices and edges matter for splitting).
+#[derive(Debug, Clone)]
+pub(super) struct Cell {
+    faces: Vec<Vec<P>>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Side {
+    Front,
+    Back,
+    Split,
+}
+
+impl Cell {
+    /// The box `lo..=hi`.
+    pub fn cube(lo: P, hi: P) -> Cell {
+        let c = |x: usize, y: usize, z: usize| [[lo, hi][x][0], [lo, hi][y][1], [lo, hi][z][2]];
+        let faces = vec![
+            vec![c(0, 0, 0), c(0, 1, 0), c(0, 1, 1), c(0, 0, 1)],
+            vec![c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)],
+            vec![c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)],
+            vec![c(0, 1, 0), c(1, 1, 0), c(1, 1, 1), c(0, 1, 1)],
+            vec![c(0, 0, 0), c(1, 0, 0), c(1, 1, 0), c(0, 1, 0)],
+            vec![c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)],
+        ];
+        Cell { faces }
+    }
+
+    fn vertices(&self) -> impl Iterator<Item = &P> {
+        self.faces.iter().flatten()
+    }
+
+    /// Where the cell lies with respect to the plane `n · x = d`.
+    pub fn side(&self, n: P, d: f64) -> Side {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for v in self.vertices() {
+            let s = dot(n, *v) - d;
+            lo = lo.min(s);
+            hi = hi.max(s);
+        }
+        if hi <= ON_PLANE {
+            Side::Back
+        } else if lo >= -ON_PLANE {
+            Side::Front
+        } else {
+            Side::Split
+        }
+    }
+
+    /// The parts in front of and behind the plane (call when [`Cell::side`] is
+    /// [`Side::Split`]).
+    pub fn split(&self, n: P, d: f64) -> (Cell, Cell) {
+        let (mut front, mut back, mut cap) = (Vec::new(), Vec::new(), Vec::new());
+        for w in &self.faces {
+            let (f, b) = clip(w, n, d, &mut cap);
+            if f.len() >= 3 {
+                front.push(f);
+            }
+            if b.len() >= 3 {
+                back.push(b);
+            }
+        }
+        if let Some(cap) = order_on_plane(cap, n) {
+            front.push(cap.clone());
+            back.push(cap);
+        }
+        (Cell { faces: front }, Cell { faces: back })
+    }
+
+    /// The bounding box.
+    pub fn bounds(&self) -> (P, P) {
+        let mut lo = [f64::INFINITY; 3];
+        let mut hi = [f64::NEG_INFINITY; 3];
+        for v in self.vertices() {
+            for i in 0..3 {
+                lo[i] = lo[i].min(v[i]);
+                hi[i] = hi[i].max(v[i]);
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// Splits a winding by the plane; points on the plane and crossings go to `cap`.
+fn clip(w: &[P], n: P, d: f64, cap: &mut Vec<P>) -> (Vec<P>, Vec<P>) {
+    let (mut f, mut b) = (Vec::new(), Vec::new());
+    for i in 0..w.len() {
+        let (p, q) = (w[i], w[(i + 1) % w.len()]);
+        let (sp, sq) = (dot(n, p) - d, dot(n, q) - d);
+        if sp >= -ON_PLANE {
+            f.push(p);
+        }
+        if sp <= ON_PLANE {
+            b.push(p);
+        }
+        if sp.abs() <= ON_PLANE {
+            cap.push(p);
+        }
+        if (sp > ON_PLANE && sq < -ON_PLANE) || (sp < -ON_PLANE && sq > ON_PLANE) {
+            let t = sp / (sp - sq);
+            let m = [0, 1, 2].map(|k| p[k] + t * (q[k] - p[k]));
+            f.push(m);
+            b.push(m);
+            cap.push(m);
+        }
+    }
+    (f, b)
+}
+
+/// The convex polygon of points lying on a plane with normal `n`, in angular order;
+/// `None` when they span no area.
+fn order_on_plane(mut pts: Vec<P>, n: P) -> Option<Vec<P>> {
+    if pts.len() < 3 {
+        return None;
+    }
+    let inv = 1.0 / pts.len() as f64;
+    let c = pts
+        .iter()
+        .fold([0.0; 3], |a, p| [a[0] + p[0], a[1] + p[1], a[2] + p[2]])
+        .map(|x| x * inv);
+    let axis = if n[0].abs() < 0.6 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let u = cross(n, axis);
+    let v = cross(n, u);
+    let mut keyed: Vec<(f64, P)> = pts
+        .drain(..)
+        .map(|p| {
+            let r = sub(p, c);
+            (dot(r, v).atan2(dot(r, u)), p)
+        })
+        .collect();
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut out: Vec<P> = Vec::with_capacity(keyed.len());
+    for (_, p) in keyed {
+        if out
+            .last()
+            .is_none_or(|q| dot(sub(p, *q), sub(p, *q)) > 1e-12)
+        {
+            out.push(p);
+        }
+    }
+    (out.len() >= 3).then_some(out)
+}
+
+/// A brush as the carver sees it: its side planes (indices) and contents flags.
+#[derive(Debug, Clone)]
+pub(super) struct CarveBrush {
+    pub planes: Vec<u32>,
+    pub contents: i32,
+}
+
+/// What carved leaves of one original leaf share: its face and brush lists.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct LeafLists {
+    pub marksurfaces: (u32, u32),
+    pub brushes: (u32, u32),
+}
+
+/// Builds carved subtrees into `nodes` and `leaves`.
+pub(super) struct Carver<'a> {
+    pub planes: &'a [(P, f64)],
+    pub brushes: &'a [CarveBrush],
+    pub nodes: Vec<Node>,
+    pub leaves: Vec<Leaf>,
+}
+
+fn blocks(flags: i32) -> bool {
+    to_quake_contents(flags) == crate::contents::SOLID
+}
+
+impl Carver<'_> {
+    /// The subtree for `cell` (`None`: a cell of no volume) with the brushes
+    /// `brushes` (sorted solid first) and the contents `flags` the whole cell has;
+    /// returns the child value (a node index, or `-(leaf + 1)`).
+    pub fn carve(
+        &mut self,
+        cell: Option<Cell>,
+        brushes: &[u32],
+        flags: i32,
+        lists: LeafLists,
+    ) -> i32 {
+        let Some(cell) = cell else {
+            return self.leaf(flags, None, lists);
+        };
+        if blocks(flags) {
+            return self.leaf(flags, Some(&cell), lists);
+        }
+        for (k, &b) in brushes.iter().enumerate() {
+            let brush = &self.brushes[b as usize];
+            if flags & brush.contents == brush.contents || brush.planes.is_empty() {
+                continue;
+            }
+            let mut inside = cell.clone();
+            let mut cuts: Vec<(u32, Cell)> = Vec::new();
+            let mut misses = false;
+            for &pl in &brush.planes {
+                let (n, d) = self.planes[pl as usize];
+                match inside.side(n, d) {
+                    Side::Front => {
+                        misses = true;
+                        break;
+                    }
+                    Side::Back => {}
+                    Side::Split => {
+                        let (f, b) = inside.split(n, d);
+                        cuts.push((pl, f));
+                        inside = b;
+                    }
+                }
+            }
+            if misses {
+                continue;
+            }
+            let rest = &brushes[k + 1..];
+            let contents = brush.contents;
+            let mut child = self.carve(Some(inside), rest, flags | contents, lists);
+            for (pl, front) in cuts.into_iter().rev() {
+                let outside = self.carve(Some(front), rest, flags, lists);
+                child = self.node(pl, outside, child);
+            }
+            return child;
+        }
+        self.leaf(flags, Some(&cell), lists)
+    }
+
+    pub fn node(&mut self, plane: u32, front: i32, back: i32) -> i32 {
+        self.nodes.push(Node {
+            plane,
+            children: [front, back],
+            first_face: 0,
+            num_faces: 0,
+        });
+        self.nodes.len() as i32 - 1
+    }
+
+    fn leaf(&mut self, flags: i32, cell: Option<&Cell>, lists: LeafLists) -> i32 {
+        let (mins, maxs) = cell.map_or(([0.0; 3], [0.0; 3]), |c| {
+            let (lo, hi) = c.bounds();
+            (lo.map(|x| x as f32), hi.map(|x| x as f32))
+        });
+        self.leaves.push(Leaf {
+            contents: to_quake_contents(flags),
+            native_contents: flags,
+            mins,
+            maxs,
+            first_marksurface: lists.marksurfaces.0,
+            num_marksurfaces: lists.marksurfaces.1,
+            first_brush: lists.brushes.0,
+            num_brushes: lists.brushes.1,
+        });
+        -(self.leaves.len() as i32)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contents as q;
+    use crate::quake3::contents as q3;
+
+    fn contents_at(nodes: &[Node], leaves: &[Leaf], planes: &[(P, f64)], root: i32, p: P) -> i32 {
+        let mut n = root;
+        while n >= 0 {
+            let node = &nodes[n as usize];
+            let (nn, d) = planes[node.plane as usize];
+            n = node.children[(dot(nn, p) - d < 0.0) as usize];
+        }
+        leaves[(-(n + 1)) as usize].contents
+    }
+
+    #[test]
+    fn a_split_cube_halves_its_volume() {
+        let c = Cell::cube([0.0; 3], [2.0; 3]);
+        assert_eq!(c.side([1.0, 0.0, 0.0], 3.0), Side::Back);
+        assert_eq!(c.side([1.0, 0.0, 0.0], -1.0), Side::Front);
+        assert_eq!(c.side([1.0, 0.0, 0.0], 1.0), Side::Split);
+        let (f, b) = c.split([1.0, 0.0, 0.0], 1.0);
+        assert_eq!(f.bounds(), ([1.0, 0.0, 0.0], [2.0, 2.0, 2.0]));
+        assert_eq!(b.bounds(), ([0.0; 3], [1.0, 2.0, 2.0]));
+        assert_eq!(f.faces.len(), 6);
+        // A diagonal cut leaves a triangular prism on one side.
+        let n = [
+            std::f64::consts::FRAC_1_SQRT_2,
+            std::f64::consts::FRAC_1_SQRT_2,
+            0.0,
+        ];
+        let (f, _) = c.split(n, 2.0 * n[0] * 1.5);
+        assert_eq!(f.faces.len(), 5);
+    }
+
+    #[test]
+    fn carving_gives_brush_contents_inside_and_keeps_the_rest() {
+        // A solid box 2..4 and water 3..6 along x, inside a cell 0..8.
+        let mut planes = Vec::new();
+        let mut boxed = |lo: f64, hi: f64| {
+            let first = planes.len() as u32;
+            for i in 0..3 {
+                let mut n = [0.0; 3];
+                n[i] = 1.0;
+                planes.push((n, hi));
+                planes.push((n.map(|x: f64| -x), -lo));
+            }
+            (first..first + 6).collect::<Vec<_>>()
+        };
+        let solid = boxed(2.0, 4.0);
+        let water = boxed(3.0, 6.0);
+        let brushes = vec![
+            CarveBrush {
+                planes: solid,
+                contents: q3::SOLID,
+            },
+            CarveBrush {
+                planes: water,
+                contents: q3::WATER,
+            },
+        ];
+        let mut carver = Carver {
+            planes: &planes,
+            brushes: &brushes,
+            nodes: Vec::new(),
+            leaves: Vec::new(),
+        };
+        let root = carver.carve(
+            Some(Cell::cube([0.0; 3], [8.0; 3])),
+            &[0, 1],
+            0,
+            LeafLists::default(),
+        );
+        let at = |p: P| contents_at(&carver.nodes, &carver.leaves, &planes, root, p);
+        assert_eq!(at([1.0; 3]), q::EMPTY);
+        assert_eq!(at([3.0; 3]), q::SOLID);
+        assert_eq!(at([3.9; 3]), q::SOLID);
+        assert_eq!(at([5.0; 3]), q::WATER);
+        assert_eq!(at([7.0; 3]), q::EMPTY);
+        assert_eq!(at([5.0, 5.0, 2.0]), q::EMPTY);
+        assert!(
+            carver
+                .leaves
+                .iter()
+                .all(|l| l.contents != q::SOLID || l.native_contents & q3::SOLID != 0)
+        );
+    }
+}
