@@ -182,7 +182,8 @@ enum Command {
         /// Floor height of the level (default: the floor under the spawns).
         #[arg(long, allow_hyphen_values = true)]
         floor: Option<f64>,
-        /// Bot navigation mesh (.nav) instead of the hulls (not supported yet).
+        /// Floors from the areas of this bot navigation mesh (Counter-Strike .nav,
+        /// v1-5) instead of the map's hulls.
         #[arg(long)]
         nav: Option<PathBuf>,
         /// Slot side in world units.
@@ -320,14 +321,9 @@ pub fn run() -> Result<()> {
             json,
         } => {
             let flows = [flow_picture.as_deref(), flow_gif.as_deref()];
-            if let Some(nav) = nav {
-                bail!(
-                    "--nav {}: reading bot navigation meshes is not supported yet (the .nav reader lives in vdgview); leave it out to use the map's hulls",
-                    nav.display()
-                );
-            }
             region(
                 &map,
+                nav.as_deref(),
                 floor,
                 tile,
                 band,
@@ -408,6 +404,7 @@ pub fn run() -> Result<()> {
 #[allow(clippy::too_many_arguments)]
 fn region(
     map: &Path,
+    nav: Option<&Path>,
     floor: Option<f64>,
     tile: f64,
     band: f64,
@@ -421,6 +418,22 @@ fn region(
 ) -> Result<()> {
     let t0 = Instant::now();
     let bsp = bsp::Bsp::open(map).with_context(|| format!("{}", map.display()))?;
+    let nav = match nav {
+        Some(p) => {
+            let mesh = navmesh::NavMesh::open(p).map_err(anyhow::Error::msg)?;
+            let size = std::fs::metadata(map).map(|m| m.len()).unwrap_or(0);
+            if mesh.bsp_size != 0 && u64::from(mesh.bsp_size) != size {
+                eprintln!(
+                    "warning: {} was made for a map of {} bytes, {} has {size} (an older build of the map?)",
+                    p.display(),
+                    mesh.bsp_size,
+                    map.display()
+                );
+            }
+            Some(mesh)
+        }
+        None => None,
+    };
     let read_s = t0.elapsed().as_secs_f64();
     let has = |c: &str| bsp.entities.iter().any(|e| e.classname() == c);
     if from.is_empty() && to.is_empty() {
@@ -454,7 +467,11 @@ fn region(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let t1 = Instant::now();
-    let region = flowtile_bake::region::extract(&bsp, &name, &opt)
+    let floors = match &nav {
+        Some(mesh) => flowtile_bake::region::Floors::Nav(mesh),
+        None => flowtile_bake::region::Floors::Hulls,
+    };
+    let region = flowtile_bake::region::extract_with(&bsp, floors, &name, &opt)
         .with_context(|| format!("{}", map.display()))?;
     let extract_s = t1.elapsed().as_secs_f64();
     let spec = region.to_spec_toml(seed);
@@ -527,6 +544,7 @@ fn region(
         "width": region.width,
         "height": region.height,
         "open_slots": region.open_slots(),
+        "floors_from": region.floors_from,
         "sources": region.sources.len(),
         "sinks": region.sinks.len(),
         "read_seconds": read_s,

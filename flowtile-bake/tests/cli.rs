@@ -311,3 +311,52 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
     assert!(!o.status.success());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `region --nav`: floors from the bot navigation mesh of de_dust2 (skipped
+/// without the shared maps); a corrupt mesh is a one-line error, no output.
+#[test]
+fn region_from_a_nav_mesh() {
+    let map = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/testmaps/goldsrc/nonfree/bspview-cstrike-de_dust2.bsp");
+    let nav = map.with_extension("nav");
+    if !nav.is_file() {
+        eprintln!("skip: {} not found", nav.display());
+        return;
+    }
+    let dir = scratch("region-nav");
+    let spec = dir.join("r.toml");
+    let o = run(&[
+        "region",
+        map.to_str().unwrap(),
+        "--nav",
+        nav.to_str().unwrap(),
+        "-o",
+        spec.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stats: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(stats["open_slots"].as_u64().unwrap() > 300, "{stats}");
+    assert!(
+        stats["floors_from"]
+            .as_str()
+            .unwrap()
+            .contains("navigation mesh")
+    );
+    let o = run(&["tile", spec.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bad = dir.join("bad.nav");
+    std::fs::write(&bad, &std::fs::read(&nav).unwrap()[..1000]).unwrap();
+    let out = dir.join("bad.toml");
+    let o = run(&[
+        "region",
+        map.to_str().unwrap(),
+        "--nav",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "bad.nav: area count 718");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
