@@ -715,8 +715,8 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             carve_order(&mut c);
             carver.carve(Some(model_cell(model)), &c, 0, list)
         };
-        let faces = face_start[model.first_surface as usize] as u32
-            ..face_start[(model.first_surface + model.num_surfaces) as usize] as u32;
+        let faces = face_start[model.first_surface as usize]
+            ..face_start[(model.first_surface + model.num_surfaces) as usize];
         models.push(Model {
             mins: model.mins,
             maxs: model.maxs,
