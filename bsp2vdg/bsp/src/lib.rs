@@ -22,6 +22,7 @@
 //! ```
 
 pub mod boundary;
+mod carve;
 mod entities;
 mod error;
 pub mod faces;

@@ -20,6 +20,7 @@ use crate::util::sub;
 use crate::{Bsp, contents};
 
 mod brushes;
+mod player_hull;
 mod trace;
 
 pub use brushes::BrushSet;
@@ -175,12 +176,16 @@ impl Hull {
 
 fn hull_node(bsp: &Bsp, plane: u32, children: [i32; 2]) -> HullNode {
     let p = &bsp.planes[plane as usize];
+    hull_node_on(p.normal, p.dist, children)
+}
+
+fn hull_node_on(normal: [f32; 3], dist: f32, children: [i32; 2]) -> HullNode {
     let axis = (0..3)
-        .find(|&i| p.normal[i] == 1.0 && p.normal.iter().filter(|&&c| c == 0.0).count() == 2)
+        .find(|&i| normal[i] == 1.0 && normal.iter().filter(|&&c| c == 0.0).count() == 2)
         .unwrap_or(3) as u32;
     HullNode {
-        normal: p.normal,
-        dist: p.dist,
+        normal,
+        dist,
         children,
         axis,
     }
@@ -269,9 +274,16 @@ impl Oracle {
                 }
             })
             .collect();
+        let mut clip_hulls = [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h));
+        if clip_hulls.iter().all(Option::is_none) {
+            // Quake 2 and 3 keep no clip hulls: build the standing (1) and crouched (3)
+            // player's from the brushes.
+            clip_hulls[0] = Hull::from_brushes(bsp, PlayerHull::Standing);
+            clip_hulls[2] = Hull::from_brushes(bsp, PlayerHull::Crouched);
+        }
         Oracle {
             world: Hull::from_nodes(bsp, 0),
-            clip_hulls: [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h)),
+            clip_hulls,
             solid_models,
             liquids_are_solid: options.liquids_are_solid,
             brushes: BrushSet::new(bsp, 0),

@@ -114,3 +114,17 @@ fn corrupt_quake2_maps_fail_cleanly_naming_the_lump() {
         }
     }
 }
+
+/// The standing player's clip hull built from the brushes agrees with the game's box
+/// test.
+#[test]
+fn player_hull_agrees_with_the_box_test() {
+    let Some(maps) = quake2_maps() else { return };
+    for m in &maps {
+        let bsp = Bsp::open(m).unwrap();
+        let (bad, tested) = common::hull_disagreements(&bsp, 20_000, 3);
+        eprintln!("{}: {bad} of {tested} free origins disagree", m.display());
+        assert!(tested > 100, "{}: {tested} free origins", m.display());
+        assert_eq!(bad, 0, "{}", m.display());
+    }
+}

@@ -57,23 +57,8 @@ impl BrushSet {
                 contents: b.contents,
             })
             .collect();
-        // The brushes of this model's leaves: every model has its own tree.
         let root = bsp.models[model].headnode[0];
-        let mut listed: Vec<u32> = Vec::new();
-        let mut stack = vec![root];
-        let mut seen = vec![false; bsp.nodes.len()];
-        while let Some(n) = stack.pop() {
-            if n < 0 {
-                let l = &bsp.leaves[(-(n + 1)) as usize];
-                listed.extend_from_slice(
-                    &bsp.leaf_brushes[l.first_brush as usize..][..l.num_brushes as usize],
-                );
-            } else if !std::mem::replace(&mut seen[n as usize], true) {
-                stack.extend(bsp.nodes[n as usize].children);
-            }
-        }
-        listed.sort_unstable();
-        listed.dedup();
+        let listed = listed_brushes(bsp, model);
         Some(BrushSet {
             listed,
             nodes,
@@ -140,6 +125,28 @@ impl BrushSet {
             .filter(|b| box_meets(b, p, [0.0; 3], [0.0; 3]))
             .fold(0, |f, b| f | b.contents)
     }
+}
+
+/// The brushes the leaves of model `model`'s tree list (every model has its own
+/// tree), sorted, each once.
+pub(crate) fn listed_brushes(bsp: &Bsp, model: usize) -> Vec<u32> {
+    let root = bsp.models[model].headnode[0];
+    let mut listed: Vec<u32> = Vec::new();
+    let mut stack = vec![root];
+    let mut seen = vec![false; bsp.nodes.len()];
+    while let Some(n) = stack.pop() {
+        if n < 0 {
+            let l = &bsp.leaves[(-(n + 1)) as usize];
+            listed.extend_from_slice(
+                &bsp.leaf_brushes[l.first_brush as usize..][..l.num_brushes as usize],
+            );
+        } else if !std::mem::replace(&mut seen[n as usize], true) {
+            stack.extend(bsp.nodes[n as usize].children);
+        }
+    }
+    listed.sort_unstable();
+    listed.dedup();
+    listed
 }
 
 /// Whether the box `p + mins ..= p + maxs` meets the brush's inside: `p` lies behind

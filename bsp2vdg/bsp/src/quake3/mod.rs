@@ -4,7 +4,7 @@
 //! collision code (`cm_*`) asks the brushes each leaf lists, with the contents flags
 //! of their shaders ([`contents`]), and q3map2 builds the tree from structural
 //! brushes only, so detail brushes lie inside "empty" leaves. [`parse`] therefore
-//! carves every leaf's brushes into the tree (`carve`): each leaf becomes a small
+//! carves every leaf's brushes into the tree (`crate::carve`): each leaf becomes a small
 //! subtree whose leaves have one contents value each, so the oracle, the boundary and
 //! every tool that walks the hull-0 tree see the same solids the game collides with.
 //! Faces are the draw surfaces: planar faces and triangle meshes from their draw
@@ -14,7 +14,6 @@
 //! (`misc_model`s) never collide in the game; q3map2 gives the clipped ones real
 //! clip brushes, which the tree then holds.
 
-mod carve;
 mod patch;
 mod raw;
 mod read;

@@ -14,8 +14,11 @@ use crate::util::{cross, dot, sub};
 
 type P = [f64; 3];
 
-/// Largest distance allowed between the curve and its tessellation, in units.
+/// Largest distance allowed between the curve and its drawn faces, in units.
 pub const TOLERANCE: f64 = 1.0;
+/// The same for the patch's volume (its brushes), coarser to keep the carved trees
+/// small: the game's own patch collision allows 16 units (`cm_patch.c`).
+pub const VOLUME_TOLERANCE: f64 = 4.0;
 /// Half the thickness of the slab an open patch becomes.
 pub const SLAB: f64 = 1.0;
 /// Most segments a biquadratic piece gets along one direction.
@@ -53,7 +56,7 @@ fn bezier(a: P, b: P, c: P, t: f64) -> P {
 
 /// Segments each piece of a row of quadratic curves gets: `rows` are the control
 /// rows, each `2 n + 1` points; piece `i` uses points `2i..=2i+2` of every row.
-fn segments(rows: &[&[P]]) -> Vec<usize> {
+fn segments(rows: &[&[P]], tolerance: f64) -> Vec<usize> {
     let pieces = (rows[0].len() - 1) / 2;
     (0..pieces)
         .map(|i| {
@@ -64,7 +67,7 @@ fn segments(rows: &[&[P]]) -> Vec<usize> {
                     norm([0, 1, 2].map(|k| a[k] - 2.0 * b[k] + c[k])) / 4.0
                 })
                 .fold(0.0, f64::max);
-            ((err / TOLERANCE).sqrt().ceil() as usize).clamp(1, MAX_SEGMENTS)
+            ((err / tolerance).sqrt().ceil() as usize).clamp(1, MAX_SEGMENTS)
         })
         .collect()
 }
@@ -81,11 +84,17 @@ fn eval_row(row: &[P], segs: &[usize]) -> Vec<P> {
 
 impl Grid {
     /// Tessellates a patch of `width × height` control points (row major), both odd
-    /// and at least 3 (the reader checks).
-    pub fn tessellate(control: &[P], normals: &[P], width: usize, height: usize) -> Grid {
+    /// and at least 3 (the reader checks), to within `tolerance` units.
+    pub fn tessellate(
+        control: &[P],
+        normals: &[P],
+        width: usize,
+        height: usize,
+        tolerance: f64,
+    ) -> Grid {
         debug_assert_eq!(control.len(), width * height);
         let rows: Vec<&[P]> = control.chunks(width).collect();
-        let useg = segments(&rows);
+        let useg = segments(&rows, tolerance);
         let cols_of = |r: &[&[P]], segs: &[usize]| -> Vec<Vec<P>> {
             r.iter().map(|row| eval_row(row, segs)).collect()
         };
@@ -98,7 +107,7 @@ impl Grid {
             .map(|k| across.iter().map(|r| r[k]).collect())
             .collect();
         let colrefs: Vec<&[P]> = columns.iter().map(|c| c.as_slice()).collect();
-        let vseg = segments(&colrefs);
+        let vseg = segments(&colrefs, tolerance);
         let down: Vec<Vec<P>> = columns.iter().map(|c| eval_row(c, &vseg)).collect();
         let ndown: Vec<Vec<P>> = (0..cols)
             .map(|k| {
@@ -300,7 +309,7 @@ mod tests {
     #[test]
     fn tessellation_follows_the_curve_within_tolerance() {
         let (pts, nrm) = pipe();
-        let g = Grid::tessellate(&pts, &nrm, 9, 3);
+        let g = Grid::tessellate(&pts, &nrm, 9, 3, TOLERANCE);
         assert!(g.cols > 9 && g.rows == 2, "{} x {}", g.rows, g.cols);
         for p in &g.points {
             let r = (p[0] * p[0] + p[1] * p[1]).sqrt();
@@ -320,7 +329,7 @@ mod tests {
     #[test]
     fn a_closed_pipe_is_filled_and_an_open_patch_is_a_slab() {
         let (pts, nrm) = pipe();
-        let g = Grid::tessellate(&pts, &nrm, 9, 3);
+        let g = Grid::tessellate(&pts, &nrm, 9, 3, TOLERANCE);
         let pieces = g.tube_pieces();
         assert_eq!(pieces.len(), g.rows - 1);
         let inside = |planes: &Planes, p: P| planes.iter().all(|(n, d)| dot(*n, p) <= *d);
@@ -331,7 +340,7 @@ mod tests {
         // Half of the pipe (an arch) is open: slabs around its surface only.
         let half: Vec<P> = pts.chunks(9).flat_map(|r| r[..5].to_vec()).collect();
         let hn: Vec<P> = nrm.chunks(9).flat_map(|r| r[..5].to_vec()).collect();
-        let g = Grid::tessellate(&half, &hn, 5, 3);
+        let g = Grid::tessellate(&half, &hn, 5, 3, TOLERANCE);
         assert!(!g.closed_across());
         let slabs = g.slabs();
         assert!(!slabs.iter().any(|pl| inside(pl, [0.0, 8.0, 32.0])));

@@ -3,9 +3,9 @@
 //! model built: draw surfaces as faces, patches as brushes, brushes carved into the
 //! tree.
 
-use super::carve::{CarveBrush, Carver, Cell, LeafLists, Side};
 use super::patch::{self, Grid};
 use super::{contents as q3, raw};
+use crate::carve::{CarveBrush, Carver, Cell, LeafLists, Side};
 use crate::entities::parse_entities;
 use crate::error::BspError;
 use crate::lumps::{Directory, check_finite};
@@ -481,7 +481,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
                 let (w, h) = (s.patch_width as usize, s.patch_height as usize);
                 let control: Vec<P> = verts.iter().map(|v| v.xyz.map(f64::from)).collect();
                 let normals: Vec<P> = verts.iter().map(normal_of).collect();
-                let grid = Grid::tessellate(&control, &normals, w, h);
+                let grid = Grid::tessellate(&control, &normals, w, h, patch::TOLERANCE);
                 let base = b.vertices.len() as u32;
                 b.vertices
                     .extend(grid.points.iter().map(|p| p.map(|x| x as f32)));
@@ -490,6 +490,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
                 }
                 let contents = raw.shaders[s.shader as usize].contents;
                 if contents & q3::RELEVANT != 0 {
+                    let grid = Grid::tessellate(&control, &normals, w, h, patch::VOLUME_TOLERANCE);
                     let pieces = if grid.closed_across() {
                         grid.tube_pieces()
                     } else if grid.transposed().closed_across() {
@@ -558,16 +559,24 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
         .iter()
         .map(|p| (p.normal.map(f64::from), p.dist as f64))
         .collect();
-    let carve_brushes: Vec<CarveBrush> = brushes
+    let mut carve_brushes: Vec<CarveBrush> = brushes
         .iter()
-        .map(|br| CarveBrush {
-            planes: brush_sides[br.first_side as usize..][..br.num_sides as usize]
+        .map(|br| {
+            let ids = brush_sides[br.first_side as usize..][..br.num_sides as usize]
                 .iter()
                 .map(|s| s.plane)
-                .collect(),
-            contents: br.contents,
+                .collect();
+            CarveBrush::new(ids, br.contents, &planes64)
         })
         .collect();
+    // Patch pieces have no axial sides: their patch's box.
+    for (pv, range) in patches.iter().zip(&patch_brushes) {
+        for b in range.clone() {
+            carve_brushes[b as usize].lo = pv.lo;
+            carve_brushes[b as usize].hi = pv.hi;
+        }
+    }
+    let carve_brushes = carve_brushes;
     // Solid first, then the rest; only what the tools tell apart.
     let carve_order = |list: &mut Vec<u32>| {
         list.retain(|&i| carve_brushes[i as usize].contents & q3::RELEVANT != 0);
@@ -620,6 +629,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
     // The world tree: the file's nodes first, every leaf replaced by its carving.
     let mut carver = Carver {
         planes: &planes64,
+        split_planes: Vec::new(),
         brushes: &carve_brushes,
         nodes: raw
             .nodes
@@ -632,6 +642,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             })
             .collect(),
         leaves: Vec::new(),
+        classify: super::to_quake_contents,
     };
     let world = &raw.models[0];
     let cell = model_cell(world);
@@ -726,7 +737,14 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             num_faces: faces.end - faces.start,
         });
     }
-    let Carver { nodes, leaves, .. } = carver;
+    let Carver {
+        nodes,
+        leaves,
+        split_planes,
+        ..
+    } = carver;
+    b.planes
+        .extend(split_planes.into_iter().map(|(n, d)| plane(n, d)));
     Bsp {
         version: BspVersion::Quake3,
         file_size,

@@ -66,3 +66,36 @@ pub fn disagreements(bsp: &Bsp, n: usize, seed: u64, solid_flags: i32) -> usize 
     }
     bad
 }
+
+/// Points where the player's clip hull 1 built from the brushes and the box test
+/// against the brushes (`player_contents`, the game's `CM_BoxTrace` answer) disagree
+/// about a standing player being stuck, out of `n` random origins in the world's box.
+/// Origins in the hull-0 solid (inside walls or the filled void, where no brush need
+/// be) and within 0.01 units of a moved-out plane are excepted.
+pub fn hull_disagreements(bsp: &Bsp, n: usize, seed: u64) -> (usize, usize) {
+    use bsp::oracle::PlayerHull;
+    let oracle = Oracle::new(bsp, &OracleOptions::default());
+    let (lo, hi) = bsp.bounds();
+    let mut rng = SplitMix64::new(seed);
+    let stuck =
+        |p: [f64; 3]| oracle.player_contents(PlayerHull::Standing, p) == Some(contents::SOLID);
+    let (mut bad, mut tested) = (0, 0);
+    for _ in 0..n {
+        let p = [0, 1, 2].map(|i| rng.range(lo[i] as f64, hi[i] as f64));
+        if oracle.contents(p) == contents::SOLID {
+            continue;
+        }
+        tested += 1;
+        let hull = oracle.clip_contents(1, p) == Some(contents::SOLID);
+        if hull == stuck(p) {
+            continue;
+        }
+        let near = [-0.01, 0.01]
+            .iter()
+            .any(|d| stuck([p[0] + d, p[1] + d, p[2] + d]) == hull);
+        if !near {
+            bad += 1;
+        }
+    }
+    (bad, tested)
+}

@@ -8,8 +8,10 @@
 //! go on to the next brush and the piece inside takes the brush's contents. A piece
 //! inside a solid brush stops there. Brushes are visited solid first, which keeps the
 //! subtrees small (a solid piece needs no further splitting).
+//!
+//! The same carving builds the player's clip hulls of Quake 2 and 3 from their
+//! brushes moved out by the player's box ([`crate::oracle::Hull::from_brushes`]).
 
-use super::to_quake_contents;
 use crate::map::{Leaf, Node};
 use crate::util::{cross, dot, sub};
 
@@ -22,12 +24,12 @@ const ON_PLANE: f64 = 0.01;
 /// A convex polytope as its faces' windings (orientation is not kept: only the
 /// vertices and edges matter for splitting).
 #[derive(Debug, Clone)]
-pub(super) struct Cell {
+pub(crate) struct Cell {
     faces: Vec<Vec<P>>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Side {
+pub(crate) enum Side {
     Front,
     Back,
     Split,
@@ -167,33 +169,69 @@ fn order_on_plane(mut pts: Vec<P>, n: P) -> Option<Vec<P>> {
     (out.len() >= 3).then_some(out)
 }
 
-/// A brush as the carver sees it: its side planes (indices) and contents flags.
+/// A brush as the carver sees it: its side planes (indices), contents flags and a
+/// box around it (cells outside the box are passed over without splitting).
 #[derive(Debug, Clone)]
-pub(super) struct CarveBrush {
+pub(crate) struct CarveBrush {
     pub planes: Vec<u32>,
     pub contents: i32,
+    pub lo: P,
+    pub hi: P,
+}
+
+impl CarveBrush {
+    /// A brush of planes `ids` (into `planes`), its box from its axial sides (the
+    /// compilers give every brush all six) or unbounded where one is missing.
+    pub fn new(ids: Vec<u32>, contents: i32, planes: &[(P, f64)]) -> CarveBrush {
+        let (mut lo, mut hi) = ([f64::NEG_INFINITY; 3], [f64::INFINITY; 3]);
+        for &i in &ids {
+            let (n, d) = planes[i as usize];
+            for k in 0..3 {
+                if n[k] == 1.0 {
+                    hi[k] = hi[k].min(d);
+                } else if n[k] == -1.0 {
+                    lo[k] = lo[k].max(-d);
+                }
+            }
+        }
+        CarveBrush {
+            planes: ids,
+            contents,
+            lo,
+            hi,
+        }
+    }
 }
 
 /// What carved leaves of one original leaf share: its face and brush lists.
 #[derive(Debug, Clone, Copy, Default)]
-pub(super) struct LeafLists {
+pub(crate) struct LeafLists {
     pub marksurfaces: (u32, u32),
     pub brushes: (u32, u32),
 }
 
+/// A cell with more candidate brushes than this is first halved by an axial plane
+/// (a k-d split): carving many brushes one after the other into one large cell
+/// fragments each brush over the pieces of all earlier ones.
+const KD_BRUSHES: usize = 6;
+
 /// Builds carved subtrees into `nodes` and `leaves`.
-pub(super) struct Carver<'a> {
+pub(crate) struct Carver<'a> {
     pub planes: &'a [(P, f64)],
+    /// Planes of the k-d splits, numbered on from `planes.len()`.
+    pub split_planes: Vec<(P, f64)>,
     pub brushes: &'a [CarveBrush],
     pub nodes: Vec<Node>,
     pub leaves: Vec<Leaf>,
-}
-
-fn blocks(flags: i32) -> bool {
-    to_quake_contents(flags) == crate::contents::SOLID
+    /// The Quake contents value of a set of native contents flags.
+    pub classify: fn(i32) -> i32,
 }
 
 impl Carver<'_> {
+    fn blocks(&self, flags: i32) -> bool {
+        (self.classify)(flags) == crate::contents::SOLID
+    }
+
     /// The subtree for `cell` (`None`: a cell of no volume) with the brushes
     /// `brushes` (sorted solid first) and the contents `flags` the whole cell has;
     /// returns the child value (a node index, or `-(leaf + 1)`).
@@ -207,19 +245,41 @@ impl Carver<'_> {
         let Some(cell) = cell else {
             return self.leaf(flags, None, lists);
         };
-        if blocks(flags) {
+        if self.blocks(flags) {
             return self.leaf(flags, Some(&cell), lists);
         }
-        for (k, &b) in brushes.iter().enumerate() {
+        let (clo, chi) = cell.bounds();
+        let meets = |brush: &CarveBrush, lo: P, hi: P| {
+            (0..3).all(|i| brush.lo[i] < hi[i] - ON_PLANE && brush.hi[i] > lo[i] + ON_PLANE)
+        };
+        let candidates: Vec<u32> = brushes
+            .iter()
+            .copied()
+            .filter(|&b| {
+                let brush = &self.brushes[b as usize];
+                flags & brush.contents != brush.contents
+                    && !brush.planes.is_empty()
+                    && meets(brush, clo, chi)
+            })
+            .collect();
+        if candidates.len() > KD_BRUSHES
+            && let Some(split) = self.kd_split(&candidates, clo, chi)
+        {
+            let (n, d) = split;
+            let (f, b) = cell.split(n, d);
+            let front = self.carve(Some(f), &candidates, flags, lists);
+            let back = self.carve(Some(b), &candidates, flags, lists);
+            self.split_planes.push(split);
+            let plane = (self.planes.len() + self.split_planes.len() - 1) as u32;
+            return self.node(plane, front, back);
+        }
+        for (k, &b) in candidates.iter().enumerate() {
             let brush = &self.brushes[b as usize];
-            if flags & brush.contents == brush.contents || brush.planes.is_empty() {
-                continue;
-            }
             let mut inside = cell.clone();
             let mut cuts: Vec<(u32, Cell)> = Vec::new();
             let mut misses = false;
             for &pl in &brush.planes {
-                let (n, d) = self.planes[pl as usize];
+                let (n, d) = self.plane(pl);
                 match inside.side(n, d) {
                     Side::Front => {
                         misses = true;
@@ -236,7 +296,7 @@ impl Carver<'_> {
             if misses {
                 continue;
             }
-            let rest = &brushes[k + 1..];
+            let rest = &candidates[k + 1..];
             let contents = brush.contents;
             let mut child = self.carve(Some(inside), rest, flags | contents, lists);
             for (pl, front) in cuts.into_iter().rev() {
@@ -246,6 +306,47 @@ impl Carver<'_> {
             return child;
         }
         self.leaf(flags, Some(&cell), lists)
+    }
+
+    /// Plane `i`: of the input, or of a k-d split.
+    pub fn plane(&self, i: u32) -> (P, f64) {
+        let i = i as usize;
+        match self.planes.get(i) {
+            Some(&p) => p,
+            None => self.split_planes[i - self.planes.len()],
+        }
+    }
+
+    /// An axial plane through the cell `lo..hi` at the median of the candidates'
+    /// centres along its longest side, if both halves then hold fewer candidates.
+    fn kd_split(&self, candidates: &[u32], lo: P, hi: P) -> Option<(P, f64)> {
+        let axis = (0..3).max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))?;
+        let mut centres: Vec<f64> = candidates
+            .iter()
+            .map(|&b| {
+                let br = &self.brushes[b as usize];
+                0.5 * (br.lo[axis].max(lo[axis]) + br.hi[axis].min(hi[axis]))
+            })
+            .collect();
+        centres.sort_by(f64::total_cmp);
+        let d = centres[centres.len() / 2].round();
+        if d <= lo[axis] + 1.0 || d >= hi[axis] - 1.0 {
+            return None;
+        }
+        let below = candidates
+            .iter()
+            .filter(|&&b| self.brushes[b as usize].lo[axis] < d)
+            .count();
+        let above = candidates
+            .iter()
+            .filter(|&&b| self.brushes[b as usize].hi[axis] > d)
+            .count();
+        if below >= candidates.len() || above >= candidates.len() {
+            return None;
+        }
+        let mut n = [0.0; 3];
+        n[axis] = 1.0;
+        Some((n, d))
     }
 
     pub fn node(&mut self, plane: u32, front: i32, back: i32) -> i32 {
@@ -264,7 +365,7 @@ impl Carver<'_> {
             (lo.map(|x| x as f32), hi.map(|x| x as f32))
         });
         self.leaves.push(Leaf {
-            contents: to_quake_contents(flags),
+            contents: (self.classify)(flags),
             native_contents: flags,
             mins,
             maxs,
@@ -351,7 +452,8 @@ mod tests {
             0,
             LeafLists::default(),
         );
-        let at = |p: P| contents_at(&carver.nodes, &carver.leaves, &planes, root, p);
+        let all: Vec<(P, f64)> = planes.iter().chain(&carver.split_planes).copied().collect();
+        let at = |p: P| contents_at(&carver.nodes, &carver.leaves, &all, root, p);
         assert_eq!(at([1.0; 3]), q::EMPTY);
         assert_eq!(at([3.0; 3]), q::SOLID);
         assert_eq!(at([3.9; 3]), q::SOLID);
