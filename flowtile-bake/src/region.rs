@@ -4,7 +4,9 @@
 //! A column of the map is walkable at the level when a standing player fits
 //! there: a downward trace through the player's clip hull (hull 1: the
 //! standing player of GoldSrc and Quake) from above the level finds a floor
-//! whose height lies within `band` of the level. Or, with a bot navigation
+//! whose height lies within `band` of the level (Quake 2 keeps no clip hulls:
+//! the point hull finds the floor and the oracle's player box, the brushes
+//! expanded by it, checks that the player fits). Or, with a bot navigation
 //! mesh ([`Floors::Nav`]), a column is walkable where an area of the mesh
 //! lies over it with its floor within `band` of the level. The map's area is cut into
 //! square slots of `tile` world units; a slot is open when most of its
@@ -20,7 +22,7 @@ use std::collections::VecDeque;
 use std::fmt;
 
 use bsp::Bsp;
-use bsp::oracle::{Hull, Oracle, OracleOptions};
+use bsp::oracle::{Hull, Oracle, OracleOptions, PlayerHull};
 use navmesh::NavMesh;
 
 use crate::render::Canvas;
@@ -181,13 +183,24 @@ pub enum Floors<'a> {
 }
 
 /// The map's collision as [`extract`] uses it: the standing player's clip hull,
-/// or (maps without clip hulls) the point hull with a headroom check.
+/// or (maps without clip hulls) the point hull to find floors and a check that
+/// the player stands there.
 struct Collision<'a> {
     hull: &'a Hull,
     /// Height of the player's origin above its feet (0 with the point hull).
     half: f64,
-    /// Free height needed above the floor (0 with the player's hull).
-    headroom: f64,
+    stand: Stand<'a>,
+}
+
+/// How [`Collision`] checks that a standing player fits on a floor found.
+enum Stand<'a> {
+    /// The hull is the player's clip hull: every floor it finds fits.
+    Hull,
+    /// The oracle's player box (Quake 2: brushes expanded by the player's
+    /// box, player clip included) at the floor.
+    Box(&'a Oracle, f64),
+    /// Nothing knows the player's width: free height above the floor.
+    Headroom(f64),
 }
 
 impl Collision<'_> {
@@ -198,12 +211,21 @@ impl Collision<'_> {
 
     /// Whether a player stands on floor `g` of column `(x, y)`.
     fn stands(&self, x: f64, y: f64, g: f64) -> bool {
-        self.headroom == 0.0
-            || self
+        match self.stand {
+            Stand::Hull => true,
+            Stand::Box(oracle, origin_height) => {
+                // Just above the floor: touching it is not meeting it.
+                let p = [x, y, g + origin_height + 0.5];
+                oracle
+                    .player_contents(PlayerHull::Standing, p)
+                    .is_some_and(|c| c != bsp::contents::SOLID)
+            }
+            Stand::Headroom(h) => self
                 .hull
-                .segment_clear([x, y, g + 1.0], [x, y, g + self.headroom], |c| {
+                .segment_clear([x, y, g + 1.0], [x, y, g + h], |c| {
                     c == bsp::contents::SOLID
-                })
+                }),
+        }
     }
 
     /// The floor of column `(x, y)` in `floor ± band` (the highest one, found from
@@ -370,14 +392,25 @@ pub fn extract_with(
         Some(hull) => Collision {
             hull,
             half: player_half_height(bsp),
-            headroom: 0.0,
+            stand: Stand::Hull,
         },
         None => {
             point_hull = Hull::from_nodes(bsp, 0);
+            // Quake 2 keeps no clip hulls: the common oracle's player box
+            // (brushes expanded by it) says where a standing player fits.
+            let probe = [0.0, 0.0, 1.0e5];
+            let stand = if oracle
+                .player_contents(PlayerHull::Standing, probe)
+                .is_some()
+            {
+                Stand::Box(&oracle, player_half_height(bsp))
+            } else {
+                Stand::Headroom(2.0 * player_half_height(bsp))
+            };
             Collision {
                 hull: &point_hull,
                 half: 0.0,
-                headroom: 2.0 * player_half_height(bsp),
+                stand,
             }
         }
     };
@@ -470,9 +503,19 @@ pub fn extract_with(
         directions: Vec::new(),
         strength: opt.strength,
         source: source.to_string(),
-        floors_from: match floors {
-            Floors::Hulls => "the map's player clip hull (a standing player fits)".into(),
-            Floors::Nav(m) => format!(
+        floors_from: match (floors, &hulls.stand) {
+            (Floors::Hulls, Stand::Hull) => {
+                "the map's player clip hull (a standing player fits)".into()
+            }
+            (Floors::Hulls, Stand::Box(..)) => {
+                "the map's brushes expanded by the player's box (a standing player fits)".into()
+            }
+            (Floors::Hulls, Stand::Headroom(h)) => {
+                format!(
+                    "the map's point hull with {h} units of headroom (no player hull in the map)"
+                )
+            }
+            (Floors::Nav(m), _) => format!(
                 "the areas of a bot navigation mesh (v{}, {} areas)",
                 m.version,
                 m.areas.len()
@@ -845,6 +888,67 @@ mod tests {
             b.to_spec_toml(1)
                 .contains("bot navigation mesh (v5, 718 areas)")
         );
+    }
+
+    /// Quake 2 keeps no clip hulls: floors come from the point hull and the
+    /// oracle's player box decides where a standing player fits. Checked
+    /// against the oracle: on every floor found the player's box is free and
+    /// rests on something solid, and the box rejects columns the point hull
+    /// alone would take (those hugging walls).
+    #[test]
+    fn quake2_floors_fit_the_players_box_when_present() {
+        let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../shared/testmaps/quake2/lq_e0m1-quake2.bsp");
+        if !map.is_file() {
+            eprintln!("skipped: {} absent", map.display());
+            return;
+        }
+        let bsp = Bsp::open(&map).unwrap();
+        let region = extract(&bsp, "lq_e0m1-quake2", &RegionOptions::default()).unwrap();
+        assert!(
+            region.floors_from.contains("player's box"),
+            "{}",
+            region.floors_from
+        );
+        assert!(region.open_slots() > 300, "{}", region.open_slots());
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let hull = Hull::from_nodes(&bsp, 0);
+        let boxed = Collision {
+            hull: &hull,
+            half: 0.0,
+            stand: Stand::Box(&oracle, 24.0),
+        };
+        let point = Collision {
+            hull: &hull,
+            half: 0.0,
+            stand: Stand::Hull,
+        };
+        let (mut found, mut only_point) = (0, 0);
+        for r in (0..region.height * 8).step_by(3) {
+            for c in (0..region.width * 8).step_by(3) {
+                let (x, y) = (
+                    region.origin[0] + c as f64 * 8.0,
+                    region.origin[1] + r as f64 * 8.0,
+                );
+                let Some(g) = boxed.floor_in_band(x, y, region.floor, region.band) else {
+                    only_point += point
+                        .floor_in_band(x, y, region.floor, region.band)
+                        .is_some() as u32;
+                    continue;
+                };
+                let stand =
+                    |dz: f64| oracle.player_contents(PlayerHull::Standing, [x, y, g + 24.0 + dz]);
+                assert_ne!(stand(0.5), Some(bsp::contents::SOLID), "({x}, {y}, {g})");
+                assert_eq!(
+                    stand(-2.0),
+                    Some(bsp::contents::SOLID),
+                    "({x}, {y}, {g}) floats"
+                );
+                found += 1;
+            }
+        }
+        eprintln!("lq_e0m1-quake2: {found} columns stand, {only_point} only for the point hull");
+        assert!(found > 1000 && only_point > 50, "{found} {only_point}");
     }
 
     #[test]

@@ -246,8 +246,8 @@ fn map_and_animate_write_world_pictures() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc
-/// and Quake map gives a spec that `tile` completes, and a picture. About ten
+/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc,
+/// Quake and Quake 2 map gives a spec that `tile` completes, and a picture. About ten
 /// seconds, so ignored by default; `scripts/flowtile-regions.sh` measures the
 /// same with timings. The quick test below runs two maps.
 #[test]
@@ -260,7 +260,7 @@ fn region_from_every_shared_map() {
 fn region_from_two_shared_maps() {
     region_from_shared_maps(|p| {
         let n = p.file_name().unwrap().to_string_lossy();
-        n.contains("de_dust2") || n.contains("qbsp-example-bsp29")
+        n.contains("de_dust2") || n.contains("qbsp-example-bsp29") || n == "lq_e0m1-quake2.bsp"
     });
 }
 
@@ -271,13 +271,19 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
         return;
     }
     let dir = scratch("region");
-    let mut maps: Vec<PathBuf> = ["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"]
-        .iter()
-        .flat_map(|g| std::fs::read_dir(root.join(g)).into_iter().flatten())
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "bsp") && pick(p))
-        .collect();
+    let mut maps: Vec<PathBuf> = [
+        "goldsrc",
+        "goldsrc/nonfree",
+        "quake1",
+        "quake1/nonfree",
+        "quake2",
+    ]
+    .iter()
+    .flat_map(|g| std::fs::read_dir(root.join(g)).into_iter().flatten())
+    .flatten()
+    .map(|e| e.path())
+    .filter(|p| p.extension().is_some_and(|e| e == "bsp") && pick(p))
+    .collect();
     maps.sort();
     assert!(!maps.is_empty());
     for map in &maps {
