@@ -219,11 +219,23 @@ struct SolidModel {
 pub struct Oracle {
     world: Hull,
     clip_hulls: [Option<Hull>; 3],
+    /// The player's hulls of games that keep none (Quake 2, 3), built from the
+    /// brushes on first use (seconds on large maps; most queries never need them)
+    /// and shared by the oracle's clones.
+    built_hulls: Option<std::sync::Arc<BuiltHulls>>,
     solid_models: Vec<SolidModel>,
     liquids_are_solid: bool,
     /// The world's brushes where the map keeps them (Quake 2).
     brushes: Option<BrushSet>,
     game: crate::Game,
+}
+
+/// The player's hulls built from a map's brushes, once.
+#[derive(Debug)]
+struct BuiltHulls {
+    source: Bsp,
+    standing: std::sync::OnceLock<Option<Hull>>,
+    crouched: std::sync::OnceLock<Option<Hull>>,
 }
 
 /// The player's two collision boxes.
@@ -274,14 +286,21 @@ impl Oracle {
                 }
             })
             .collect();
-        let mut clip_hulls = [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h));
-        if clip_hulls.iter().all(Option::is_none) {
-            // Quake 2 and 3 keep no clip hulls: build the standing (1) and crouched (3)
-            // player's from the brushes.
-            clip_hulls[0] = Hull::from_brushes(bsp, PlayerHull::Standing);
-            clip_hulls[2] = Hull::from_brushes(bsp, PlayerHull::Crouched);
-        }
+        let clip_hulls = [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h));
+        let built_hulls = (clip_hulls.iter().all(Option::is_none)
+            && matches!(
+                bsp.version.game(),
+                crate::Game::Quake2 | crate::Game::Quake3
+            ))
+        .then(|| {
+            std::sync::Arc::new(BuiltHulls {
+                source: bsp.clone(),
+                standing: std::sync::OnceLock::new(),
+                crouched: std::sync::OnceLock::new(),
+            })
+        });
         Oracle {
+            built_hulls,
             world: Hull::from_nodes(bsp, 0),
             clip_hulls,
             solid_models,
@@ -355,15 +374,24 @@ impl Oracle {
 
     /// Contents at `p` in clip hull 1..=3 of the world, if the map has clip hulls.
     pub fn clip_contents(&self, hull: usize, p: [f64; 3]) -> Option<i32> {
-        self.clip_hulls
-            .get(hull.wrapping_sub(1))?
-            .as_ref()
-            .map(|h| h.contents(p))
+        self.clip_hull(hull).map(|h| h.contents(p))
     }
 
-    /// Clip hull `hull` (1..=3) of the world, if the map has clip hulls.
+    /// Clip hull `hull` (1..=3) of the world, if the map has clip hulls. Quake 2 and
+    /// 3 keep none: their hull 1 (standing player) and 3 (crouched) are built from
+    /// the brushes ([`Hull::from_brushes`]) the first time they are asked for.
     pub fn clip_hull(&self, hull: usize) -> Option<&Hull> {
-        self.clip_hulls.get(hull.wrapping_sub(1))?.as_ref()
+        match (&self.built_hulls, hull) {
+            (Some(b), 1) => b
+                .standing
+                .get_or_init(|| Hull::from_brushes(&b.source, PlayerHull::Standing))
+                .as_ref(),
+            (Some(b), 3) => b
+                .crouched
+                .get_or_init(|| Hull::from_brushes(&b.source, PlayerHull::Crouched))
+                .as_ref(),
+            _ => self.clip_hulls.get(hull.wrapping_sub(1))?.as_ref(),
+        }
     }
 
     /// Whether `p` is in free space.

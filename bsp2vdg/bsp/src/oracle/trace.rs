@@ -46,7 +46,7 @@ impl Oracle {
     pub fn trace(&self, hull: usize, a: [f64; 3], b: [f64; 3]) -> Option<Trace> {
         let h = match hull {
             0 => &self.world,
-            1..=3 => self.clip_hulls[hull - 1].as_ref()?,
+            1..=3 => self.clip_hull(hull)?,
             _ => return None,
         };
         let mut t = Trace {
@@ -162,6 +162,7 @@ mod tests {
         Oracle {
             world,
             clip_hulls: [None, None, None],
+            built_hulls: None,
             solid_models: Vec::new(),
             liquids_are_solid: OracleOptions::default().liquids_are_solid,
             brushes: None,

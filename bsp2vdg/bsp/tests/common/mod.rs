@@ -28,10 +28,16 @@ pub fn shared_maps(dir: &str) -> Option<Vec<PathBuf>> {
 
 /// Points where the tree's leaf contents and the brushes disagree, out of `n` random
 /// points in the world's box; a brush is solid when its native contents meet
-/// `solid_flags`. Compilers fill the void outside the level with solid leaves that no
-/// brush covers, so a solid tree point without a brush counts only where it borders
-/// the level: free space within 4 units along an axis. Points within 0.01 units of a
-/// brush side are excepted (which side a plane belongs to is a convention there).
+/// `solid_flags`. Compilers fill every empty space no entity reaches with solid
+/// leaves that no brush covers (qbsp's `FillOutside`): the void outside the level,
+/// and pockets sealed between brushes (gaps of a unit or two where brushes nearly
+/// meet; the game's `CM_PointContents`, which reads the leaves, says solid there
+/// too). So a solid tree point without a brush counts only where it opens onto the
+/// level: free tree space within 4 units along an axis, reached by a straight line
+/// that crosses no solid brush. Points within 0.1 units of a brush side are
+/// excepted: qbsp classifies brush fragments against its splitting planes with an
+/// `ON_EPSILON` of 0.1, so leaves may end that far from the brush faces (one point in
+/// 10^6 on lq_e0m4, 0.013 units outside a brush in a solid leaf).
 pub fn disagreements(bsp: &Bsp, n: usize, seed: u64, solid_flags: i32) -> usize {
     let oracle = Oracle::new(bsp, &OracleOptions::default());
     let brushes = oracle.brushes().unwrap();
@@ -47,24 +53,44 @@ pub fn disagreements(bsp: &Bsp, n: usize, seed: u64, solid_flags: i32) -> usize 
             continue;
         }
         if tree_solid {
-            let borders_level = (0..6).any(|k| {
+            let opens_onto_level = (0..6).any(|k| {
+                let step = if k % 2 == 0 { 0.125 } else { -0.125 };
                 let mut q = p;
-                q[k / 2] += if k % 2 == 0 { 4.0 } else { -4.0 };
+                q[k / 2] += 32.0 * step;
                 oracle.contents(q) != contents::SOLID
+                    && (1..=32).all(|s| {
+                        let mut r = p;
+                        r[k / 2] += s as f64 * step;
+                        !solid(brushes.point_contents_exhaustive(r))
+                    })
             });
-            if !borders_level {
+            if !opens_onto_level {
                 continue;
             }
         }
-        let near = [-0.01, 0.01].iter().any(|d| {
-            let f = brushes.point_contents_exhaustive([p[0] + d, p[1] + d, p[2] + d]);
-            solid(f) == tree_solid
-        });
-        if !near {
+        if !near_brush_side(p, 0.1, |q| {
+            solid(brushes.point_contents_exhaustive(q)) == tree_solid
+        }) {
             bad += 1;
         }
     }
     bad
+}
+
+/// Whether `agrees` holds somewhere within `r` of `p`: along the six axes and the
+/// eight diagonals.
+fn near_brush_side(p: [f64; 3], r: f64, agrees: impl Fn([f64; 3]) -> bool) -> bool {
+    let d = r / 3f64.sqrt();
+    let axes = (0..6).map(|k| {
+        let mut q = p;
+        q[k / 2] += if k % 2 == 0 { r } else { -r };
+        q
+    });
+    let diagonals = (0..8).map(|k| {
+        let s = |b: usize| if k >> b & 1 == 0 { d } else { -d };
+        [p[0] + s(0), p[1] + s(1), p[2] + s(2)]
+    });
+    axes.chain(diagonals).any(agrees)
 }
 
 /// Points where the player's clip hull 1 built from the brushes and the box test
