@@ -431,20 +431,16 @@ mod tests {
         let solid = boxed(2.0, 4.0);
         let water = boxed(3.0, 6.0);
         let brushes = vec![
-            CarveBrush {
-                planes: solid,
-                contents: q3::SOLID,
-            },
-            CarveBrush {
-                planes: water,
-                contents: q3::WATER,
-            },
+            CarveBrush::new(solid, q3::SOLID, &planes),
+            CarveBrush::new(water, q3::WATER, &planes),
         ];
         let mut carver = Carver {
             planes: &planes,
+            split_planes: Vec::new(),
             brushes: &brushes,
             nodes: Vec::new(),
             leaves: Vec::new(),
+            classify: crate::quake3::to_quake_contents,
         };
         let root = carver.carve(
             Some(Cell::cube([0.0; 3], [8.0; 3])),

@@ -143,15 +143,8 @@ impl Hull {
                     continue;
                 }
                 let leaf = &bsp.leaves[(-(c + 1)) as usize];
-                let new = if leaf.contents == contents::SOLID || piece.is_none() {
-                    let flags = if leaf.contents == contents::SOLID {
-                        mask
-                    } else {
-                        leaf.native_contents
-                    };
-                    carver.carve(None, &[], flags, LeafLists::default())
-                } else {
-                    let (clo, chi) = piece.as_ref().unwrap().bounds();
+                let new = if let (false, Some(cell)) = (leaf.contents == contents::SOLID, &piece) {
+                    let (clo, chi) = cell.bounds();
                     let list: Vec<u32> = order
                         .iter()
                         .copied()
@@ -166,6 +159,13 @@ impl Hull {
                         leaf.native_contents & mask,
                         LeafLists::default(),
                     )
+                } else {
+                    let flags = if leaf.contents == contents::SOLID {
+                        mask
+                    } else {
+                        leaf.native_contents
+                    };
+                    carver.carve(None, &[], flags, LeafLists::default())
                 };
                 carver.nodes[n].children[side] = new;
             }
