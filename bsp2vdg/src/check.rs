@@ -37,6 +37,7 @@ pub struct CheckOptions {
     pub coverage_clearance: f64,
     pub seed: u64,
     pub liquids_are_solid: bool,
+    pub clip_is_solid: bool,
 }
 
 impl Default for CheckOptions {
@@ -46,6 +47,7 @@ impl Default for CheckOptions {
             coverage_clearance: 32.0,
             seed: 1,
             liquids_are_solid: false,
+            clip_is_solid: false,
         }
     }
 }
@@ -161,6 +163,7 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         bsp,
         &OracleOptions {
             liquids_are_solid: options.liquids_are_solid,
+            clip_is_solid: options.clip_is_solid,
             ..Default::default()
         },
     );
@@ -168,6 +171,7 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         bsp,
         &OracleOptions {
             liquids_are_solid: options.liquids_are_solid,
+            clip_is_solid: options.clip_is_solid,
             ..Default::default()
         },
     );

@@ -78,6 +78,10 @@ struct Cli {
     /// Treat water, slime and lava as walls (by default they are free space).
     #[arg(long)]
     liquids_solid: bool,
+    /// Treat player and monster clip brushes as walls (Quake 2/3 PLAYERCLIP, GoldSrc
+    /// clip; by default free space, as cameras pass through them).
+    #[arg(long)]
+    clip_solid: bool,
     /// Brush entity classnames whose models are walls too (comma separated), e.g. func_wall.
     #[arg(long, value_name = "CLASSES", value_delimiter = ',')]
     entities: Vec<String>,
@@ -559,6 +563,7 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
         min_clearance: cli.min_clearance,
         tree_leaf_size: cli.tree_leaf_size,
         liquids_are_solid: cli.liquids_solid,
+        clip_is_solid: cli.clip_solid,
         entity_classes: cli.entities.clone(),
         save_samples: cli.save_samples,
         samples_format: match cli.samples_format {

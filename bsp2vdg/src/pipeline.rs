@@ -82,6 +82,8 @@ pub struct CompileOptions {
     /// `-bb`: the smallest leaf box of the face tree.
     pub tree_leaf_size: f64,
     pub liquids_are_solid: bool,
+    /// Player and monster clip brushes are walls (`--clip-solid`).
+    pub clip_is_solid: bool,
     /// Brush entity classnames whose models are walls too.
     pub entity_classes: Vec<String>,
     pub save_samples: bool,
@@ -104,6 +106,7 @@ impl CompileOptions {
             min_clearance: 20.0,
             tree_leaf_size: 256.0,
             liquids_are_solid: false,
+            clip_is_solid: false,
             entity_classes: Vec::new(),
             save_samples: false,
             samples_format: SamplesFormat::Xyz,
@@ -343,6 +346,7 @@ pub fn compile(
     }
     let oracle_options = OracleOptions {
         liquids_are_solid: options.liquids_are_solid,
+        clip_is_solid: options.clip_is_solid,
         solid_models: sampling.models.clone(),
     };
     let oracle = Oracle::new(&bsp, &oracle_options);
@@ -562,6 +566,11 @@ fn write_vdg(map: &Path, options: &CompileOptions, graph: &Graph) -> Result<usiz
         .set_leaf_size(options.tree_leaf_size as f32);
     for (key, value) in crate::uptodate::recorded_options(options) {
         b.set_metadata(&key, &value);
+    }
+    // What the source is, for `vdgview info` (from its bytes: no path recorded).
+    if let Some(v) = crate::bsp::BspVersion::identify(&source) {
+        b.set_metadata("source.game", v.game().name());
+        b.set_metadata("source.format", v.name());
     }
     let bytes = b.to_bytes().map_err(|e| vdg_err(e.to_string()))?;
     let len = bytes.len();

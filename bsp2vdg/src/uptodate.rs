@@ -32,6 +32,7 @@ pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
         ("bb", options.tree_leaf_size.to_string()),
         ("subset", options.sampling.subset.to_string()),
         ("liquids_solid", options.liquids_are_solid.to_string()),
+        ("clip_solid", options.clip_is_solid.to_string()),
         ("entities", options.entity_classes.join(",")),
     ]
     .into_iter()

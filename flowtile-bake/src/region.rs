@@ -890,11 +890,11 @@ mod tests {
         );
     }
 
-    /// Quake 2 keeps no clip hulls: floors come from the point hull and the
-    /// oracle's player box decides where a standing player fits. Checked
-    /// against the oracle: on every floor found the player's box is free and
-    /// rests on something solid, and the box rejects columns the point hull
-    /// alone would take (those hugging walls).
+    /// Quake 2 keeps no clip hulls: the oracle builds the player's hull 1 from
+    /// the brushes, and the region's floors come from it. The point hull with
+    /// the oracle's player box is checked too: on every floor it finds the
+    /// player's box is free and rests on something solid, and the box rejects
+    /// columns the point hull alone would take (those hugging walls).
     #[test]
     fn quake2_floors_fit_the_players_box_when_present() {
         let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -906,7 +906,7 @@ mod tests {
         let bsp = Bsp::open(&map).unwrap();
         let region = extract(&bsp, "lq_e0m1-quake2", &RegionOptions::default()).unwrap();
         assert!(
-            region.floors_from.contains("player's box"),
+            region.floors_from.contains("player clip hull"),
             "{}",
             region.floors_from
         );

@@ -1,6 +1,7 @@
 //! `vdgview info`: the thesis' `stats` for a `.vdg` file — counts, bounds, a
-//! clearance histogram, and the build options and source map recorded in the
-//! metadata.
+//! clearance histogram, and the build options and source map (its game and format)
+//! recorded in the metadata — and the same overview of a `.bsp` map
+//! ([`map_summary`]): which game and format, counts, bounds, spawns.
 
 use std::fmt::Write;
 use vdgformat::Vdg;
@@ -12,6 +13,10 @@ const BINS: usize = 10;
 pub fn summary(g: &Vdg<'_>) -> String {
     let info = g.info();
     let mut s = String::new();
+    if let Some(game) = g.metadata_value("source.game") {
+        let format = g.metadata_value("source.format").unwrap_or("");
+        let _ = writeln!(s, "source game    {game}, {format}");
+    }
     let _ = writeln!(s, "vertices       {}", info.vertex_count);
     let _ = writeln!(s, "faces          {}", info.face_count);
     let edges: usize = (0..g.vertex_count() as u32)
@@ -65,6 +70,42 @@ pub fn summary(g: &Vdg<'_>) -> String {
     s
 }
 
+/// A human-readable overview of a map: its game and format, what it holds, bounds.
+pub fn map_summary(bsp: &bsp::Bsp) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "game           {}", bsp.version.game().name());
+    let _ = writeln!(s, "format         {}", bsp.version.name());
+    let _ = writeln!(s, "file size      {} bytes", bsp.file_size);
+    let _ = writeln!(
+        s,
+        "tree           {} nodes, {} leaves, {} planes, {} clip nodes",
+        bsp.nodes.len(),
+        bsp.leaves.len(),
+        bsp.planes.len(),
+        bsp.clipnodes.len()
+    );
+    let _ = writeln!(
+        s,
+        "geometry       {} faces, {} vertices, {} brushes, {} models",
+        bsp.faces.len(),
+        bsp.vertices.len(),
+        bsp.brushes.len(),
+        bsp.models.len()
+    );
+    let (lo, hi) = bsp.bounds();
+    let _ = writeln!(s, "world bounds   {} .. {}", fmt3(lo), fmt3(hi));
+    let _ = writeln!(s, "entities       {}", bsp.entities.len());
+    let _ = writeln!(s, "spawns         {}", bsp.spawns().len());
+    if bsp.unused_bad_records > 0 {
+        let _ = writeln!(
+            s,
+            "unused records {} with bad indices (never read)",
+            bsp.unused_bad_records
+        );
+    }
+    s
+}
+
 /// A text histogram of sorted values in [`BINS`] equal-width bins.
 fn histogram(sorted: &[f32]) -> String {
     let (lo, hi) = (sorted[0], sorted[sorted.len() - 1]);
@@ -112,8 +153,14 @@ mod tests {
         b.add_face([v[0], v[1], v[2]]);
         b.add_face([v[1], v[3], v[2]]);
         b.set_metadata("source.name", "m.bsp");
+        b.set_metadata("source.game", "Quake 3 (OpenArena, ioquake3)");
+        b.set_metadata("source.format", "IBSP 46 (Quake 3)");
         let file = VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
         let s = summary(&file.graph());
+        assert!(
+            s.contains("source game    Quake 3 (OpenArena, ioquake3), IBSP 46 (Quake 3)"),
+            "{s}"
+        );
         assert!(s.contains("vertices       4"), "{s}");
         assert!(s.contains("faces          2"), "{s}");
         assert!(s.contains("edges          5"), "{s}");

@@ -37,13 +37,17 @@ enum Command {
         /// Treat water, slime and lava as walls.
         #[arg(long)]
         liquids_solid: bool,
+        /// Treat player and monster clip brushes as walls (as `bsp2vdg --clip-solid`).
+        #[arg(long)]
+        clip_solid: bool,
         /// Print one JSON object instead of the table.
         #[arg(long)]
         json: bool,
     },
-    /// Counts, bounds, clearance histogram, build options and source map of a .vdg.
+    /// Counts, bounds, clearance histogram, build options and source map (its game)
+    /// of a .vdg; given a .bsp, the map's game, format, counts and bounds.
     Info {
-        #[arg(value_name = "FILE.vdg")]
+        #[arg(value_name = "FILE.vdg|MAP.bsp")]
         graph: PathBuf,
     },
     /// Runtime queries: `clearance X Y Z`, `visible X1 Y1 Z1 X2 Y2 Z2`, `path X1 Y1 Z1 X2 Y2 Z2`.
@@ -207,11 +211,20 @@ fn run(cli: Cli) -> Result<bool> {
             samples,
             seed,
             liquids_solid,
+            clip_solid,
             json,
-        } => run_check(&map, &vdg, samples, seed, liquids_solid, json),
+        } => run_check(&map, &vdg, samples, seed, (liquids_solid, clip_solid), json),
         Command::Info { graph } => {
-            let file = scene::open_graph(&graph)?;
-            print!("{}", info::summary(&file.graph()));
+            let mut head = [0u8; 8];
+            let is_map = std::fs::File::open(&graph)
+                .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+                .is_ok_and(|n| bsp::BspVersion::identify(&head[..n]).is_some());
+            if is_map {
+                print!("{}", info::map_summary(&scene::open_map(&graph)?));
+            } else {
+                let file = scene::open_graph(&graph)?;
+                print!("{}", info::summary(&file.graph()));
+            }
             Ok(true)
         }
         Command::Query {
@@ -240,7 +253,7 @@ fn run_check(
     vdg: &std::path::Path,
     samples: usize,
     seed: u64,
-    liquids_solid: bool,
+    (liquids_solid, clip_solid): (bool, bool),
     json: bool,
 ) -> Result<bool> {
     if samples == 0 {
@@ -257,6 +270,7 @@ fn run_check(
         samples,
         seed,
         liquids_are_solid: liquids_solid,
+        clip_is_solid: clip_solid,
         ..Default::default()
     };
     let r = check(&bsp, &file.graph(), bytes, &options);

@@ -181,6 +181,12 @@ fn info_and_queries_print_their_answers() {
     let text = String::from_utf8(info.stdout).unwrap();
     assert!(text.contains("vertices       169"), "{text}");
     assert!(text.contains("source.name = box_room.bsp"), "{text}");
+    // Given the map, info names its game and format.
+    let info = vdgview(&["info", map("box_room.bsp").to_str().unwrap()]);
+    assert!(info.status.success());
+    let text = String::from_utf8(info.stdout).unwrap();
+    assert!(text.contains("game           GoldSrc"), "{text}");
+    assert!(text.contains("format         BSP30 (GoldSrc)"), "{text}");
 
     let bsp = bsp::Bsp::open(map("box_room.bsp")).unwrap();
     let (lo, hi) = (bsp.world().mins, bsp.world().maxs);

@@ -69,10 +69,7 @@ impl BoundaryPolygon {
 /// sky, liquids too when they block) and the trees of the blocking brush models, placed
 /// at their entities' origins. Deterministic: the order follows the trees.
 pub fn of_map(bsp: &Bsp, options: &OracleOptions) -> Vec<BoundaryPolygon> {
-    let liquids = options.liquids_are_solid;
-    let mut out = of_tree(bsp, 0, [0.0; 3], |c| {
-        c == contents::SOLID || c == contents::SKY || (liquids && contents::is_liquid(c))
-    });
+    let mut out = of_tree(bsp, 0, [0.0; 3], |c| options.blocks(c));
     for &m in &options.solid_models {
         if m == 0 || m >= bsp.models.len() {
             continue;

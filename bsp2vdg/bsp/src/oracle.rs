@@ -31,8 +31,37 @@ pub use trace::{DIST_EPSILON, Trace};
 pub struct OracleOptions {
     /// Treat water, slime and lava as obstacles (by default they are free space).
     pub liquids_are_solid: bool,
+    /// Treat player and monster clip as obstacles ([`contents::CLIP`]: GoldSrc's
+    /// clip, Quake 2's and 3's `PLAYERCLIP`/`MONSTERCLIP` brushes). By default they
+    /// are free space: they keep players off ledges and out of corners, but cameras
+    /// and sight lines pass through them. The player's hulls always collide with
+    /// them, as the games do.
+    pub clip_is_solid: bool,
     /// Brush models (by index `*N`) whose solid volume also blocks, e.g. func_wall.
     pub solid_models: Vec<usize>,
+}
+
+impl OracleOptions {
+    /// Whether a Quake contents value is an obstacle under these options: solid and
+    /// sky always, liquids and clip when asked.
+    ///
+    /// ```
+    /// use bsp::{contents, oracle::OracleOptions};
+    /// let o = OracleOptions::default();
+    /// assert!(o.blocks(contents::SOLID) && !o.blocks(contents::CLIP));
+    /// let clip = OracleOptions { clip_is_solid: true, ..Default::default() };
+    /// assert!(clip.blocks(contents::CLIP) && !clip.blocks(contents::WATER));
+    /// ```
+    pub fn blocks(&self, c: i32) -> bool {
+        blocks(c, self.liquids_are_solid, self.clip_is_solid)
+    }
+}
+
+fn blocks(c: i32, liquids: bool, clip: bool) -> bool {
+    c == contents::SOLID
+        || c == contents::SKY
+        || (liquids && contents::is_liquid(c))
+        || (clip && c == contents::CLIP)
 }
 
 /// A flattened BSP node. `children[i] >= 0` is a node index, `< 0` a contents value.
@@ -225,6 +254,7 @@ pub struct Oracle {
     built_hulls: Option<std::sync::Arc<BuiltHulls>>,
     solid_models: Vec<SolidModel>,
     liquids_are_solid: bool,
+    clip_is_solid: bool,
     /// The world's brushes where the map keeps them (Quake 2).
     brushes: Option<BrushSet>,
     game: crate::Game,
@@ -305,6 +335,7 @@ impl Oracle {
             clip_hulls,
             solid_models,
             liquids_are_solid: options.liquids_are_solid,
+            clip_is_solid: options.clip_is_solid,
             brushes: BrushSet::new(bsp, 0),
             game: bsp.version.game(),
         }
@@ -313,9 +344,7 @@ impl Oracle {
     /// Whether a contents value is an obstacle under these options.
     #[inline]
     pub fn blocks(&self, c: i32) -> bool {
-        c == contents::SOLID
-            || c == contents::SKY
-            || (self.liquids_are_solid && contents::is_liquid(c))
+        blocks(c, self.liquids_are_solid, self.clip_is_solid)
     }
 
     /// The world's hull-0 contents at `p` (solid models not included).

@@ -43,6 +43,37 @@ pub(crate) fn magic(bytes: &[u8]) -> Magic {
     }
 }
 
+impl crate::BspVersion {
+    /// The format a file's first bytes name, without reading further (`None`: not a
+    /// format we read).
+    ///
+    /// ```
+    /// use bsp::{BspVersion, Game};
+    /// let v = BspVersion::identify(b"IBSP\x2e\0\0\0").unwrap();
+    /// assert_eq!((v, v.game()), (BspVersion::Quake3, Game::Quake3));
+    /// assert_eq!(BspVersion::identify(&30i32.to_le_bytes()), Some(BspVersion::GoldSrc30));
+    /// assert_eq!(BspVersion::identify(b"VBSP\x14\0\0\0"), None);
+    /// ```
+    pub fn identify(bytes: &[u8]) -> Option<crate::BspVersion> {
+        use crate::BspVersion as V;
+        match magic(bytes) {
+            Magic::Quake2 if bytes.starts_with(b"QBSP") => Some(V::Quake2Qbism),
+            Magic::Quake2 => Some(V::Quake2),
+            Magic::Quake3 => Some(V::Quake3),
+            Magic::QuakeFamily => match bytes.get(0..4)? {
+                b"BSP2" => Some(V::Bsp2),
+                b"2PSB" => Some(V::Bsp2psb),
+                h => match i32::from_le_bytes([h[0], h[1], h[2], h[3]]) {
+                    29 => Some(V::Bsp29),
+                    30 => Some(V::GoldSrc30),
+                    _ => None,
+                },
+            },
+            Magic::Unsupported(_) | Magic::Unknown => None,
+        }
+    }
+}
+
 pub(crate) fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
     match magic(bytes) {
         Magic::Unsupported(format) => Err(BspError::Unsupported { format }),

@@ -176,3 +176,37 @@ fn player_hull_agrees_with_the_box_test_on_every_map() {
         assert_eq!(bad, 0, "{}", m.display());
     }
 }
+
+/// Player clip (`common/clip`, CONTENTS_PLAYERCLIP) is free space by default and an
+/// obstacle with `clip_is_solid`, for points, segments and the walls; the player's
+/// hull collides with it either way.
+#[test]
+fn player_clip_is_an_option() {
+    let Some(maps) = quake3_maps() else { return };
+    let Some(m) = maps.iter().find(|m| m.to_string_lossy().contains("oa_dm1")) else {
+        return;
+    };
+    let bsp = Bsp::open(m).unwrap();
+    let free = Oracle::new(&bsp, &OracleOptions::default());
+    let clip_solid = OracleOptions {
+        clip_is_solid: true,
+        ..Default::default()
+    };
+    let solid = Oracle::new(&bsp, &clip_solid);
+    let (lo, hi) = bsp.bounds();
+    let mut rng = SplitMix64::new(5);
+    let clip = (0..200_000)
+        .map(|_| [0, 1, 2].map(|i| rng.range(lo[i] as f64, hi[i] as f64)))
+        .find(|&p| free.contents(p) == contents::CLIP)
+        .expect("oa_dm1 has player clip brushes");
+    assert!(free.is_free(clip));
+    assert!(!solid.is_free(clip));
+    let above = [clip[0], clip[1], clip[2] + 512.0];
+    assert!(!solid.segment_free(clip, above));
+    assert_eq!(
+        free.player_contents(PlayerHull::Standing, clip),
+        Some(contents::SOLID)
+    );
+    let walls = |o: &OracleOptions| bsp::boundary::of_map(&bsp, o).len();
+    assert!(walls(&clip_solid) > walls(&OracleOptions::default()));
+}

@@ -165,6 +165,7 @@ mod tests {
             built_hulls: None,
             solid_models: Vec::new(),
             liquids_are_solid: OracleOptions::default().liquids_are_solid,
+            clip_is_solid: false,
             brushes: None,
             game: crate::Game::GoldSrc,
         }
