@@ -769,6 +769,9 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
         "max_flux_error": baked.max_flux_error(),
         "max_seam_mismatch": baked.max_seam_mismatch(),
         "distinct_tiles_per_slot": stats::reuse_ratio(&baked),
+        "symmetry_classes_used": baked.symmetry_classes_used(),
+        "bytes_plain": baked.storage_bytes().0,
+        "bytes_rotated": baked.storage_bytes().1,
         "against_main_direction": against,
         "corridors": corridors.len(),
         "corridors_without_flow": empty_corridors,
@@ -797,11 +800,14 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
             baked.max_seam_mismatch(),
             box_flux
         );
+        let (plain, rotated) = baked.storage_bytes();
         println!(
-            "reuse: {} distinct tiles / {} slots = {:.3}; corridors {} ({} without flow){}",
+            "reuse: {} distinct tiles / {} slots = {:.3}, {} symmetry classes (file {} bytes, {plain} storing every tile); corridors {} ({} without flow){}",
             baked.tiles.len(),
             tiling.open_slots(),
             stats::reuse_ratio(&baked),
+            baked.symmetry_classes_used(),
+            rotated.unwrap_or(plain),
             corridors.len(),
             empty_corridors,
             against
@@ -824,9 +830,19 @@ fn info(path: &Path, json: bool) -> Result<()> {
     // What storing every slot's stream function would take.
     let unshared = slots * nodes * 8;
     let s = &b.set;
+    // Version 2 stores one tile per symmetry class; `tiles_used` counts the
+    // distinct tiles of the grid either way.
+    let version = u32::from_le_bytes(bytes[4..8].try_into().expect("read checked the header"));
+    let stored = if version == flowtile_bake::bake::VERSION_ROTATED {
+        b.symmetry_classes_used()
+    } else {
+        b.tiles.len()
+    };
     let stats = json!({
         "file": path.display().to_string(),
         "bytes": bytes.len(),
+        "version": version,
+        "tiles_stored": stored,
         "width": b.width,
         "height": b.height,
         "periodic_x": b.periodic_x,
@@ -839,7 +855,7 @@ fn info(path: &Path, json: bool) -> Result<()> {
         "tile_set_size": s.count(),
         "slots": slots,
         "tiles_used": b.tiles.len(),
-        "stream_bytes_vs_unshared": (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64,
+        "stream_bytes_vs_unshared": (stored * nodes * 8) as f64 / unshared.max(1) as f64,
         "max_divergence": b.max_cell_divergence(),
         "max_flux_error": b.max_flux_error(),
         "max_seam_mismatch": b.max_seam_mismatch(),
@@ -848,10 +864,9 @@ fn info(path: &Path, json: bool) -> Result<()> {
         println!("{stats}");
     } else {
         println!(
-            "{}: {} bytes, format version {}",
+            "{}: {} bytes, format version {version}",
             path.display(),
             bytes.len(),
-            flowtile_bake::bake::VERSION
         );
         println!(
             "grid {}x{} ({} slots, {} blocked){}{}",
@@ -874,9 +889,9 @@ fn info(path: &Path, json: bool) -> Result<()> {
             s.count()
         );
         println!(
-            "tiles stored: {} ({:.1}% of the stream data of storing every slot)",
+            "tiles: {} distinct, {stored} stored ({:.1}% of the stream data of storing every slot)",
             b.tiles.len(),
-            100.0 * (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64
+            100.0 * (stored * nodes * 8) as f64 / unshared.max(1) as f64
         );
         println!(
             "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}",

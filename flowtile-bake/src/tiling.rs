@@ -957,6 +957,8 @@ impl Tiling {
                 let cur = self.net.arc(e).x;
                 if k == 2 && f == 3 && v != cur {
                     self.ladder_move(x, y, v);
+                } else if k == 1 && y == 0 && self.border_y == Border::Periodic && v != cur {
+                    self.seam_move(x, v);
                 }
                 let cur = self.net.arc(e).x;
                 if v > cur {
@@ -1088,6 +1090,95 @@ impl Tiling {
         }
     }
 
+    /// Moves the flux across the seam below slot `(x, 0)` of a grid periodic
+    /// in y towards `target`: by short searches while they find a way, then
+    /// straight along the column ([`Tiling::column_move`]) — the column
+    /// carries the flow round the torus, so it is used only when nothing
+    /// near will do, lest every column fill up with winding flow.
+    fn seam_move(&mut self, x: u32, target: i32) {
+        let seam = self.slot_arcs(x, 0)[1];
+        if self.net.move_bounded(seam, target, 256) {
+            self.column_move(x, target);
+        }
+    }
+
+    /// Moves the flux across the seam of a grid periodic in y, below slot
+    /// `(x, 0)`, towards `target` along column `x` itself (as far as it
+    /// reaches; the general search does the rest).
+    ///
+    /// While the first row is filled, the flux its slots send across the
+    /// seam adds up to the flow that winds around the torus; closing it
+    /// takes a path through every row. The general search finds that path
+    /// only after visiting a good part of the grid (most of a periodic
+    /// fill's time at 256×256); the straight column is such a path whenever
+    /// its arcs have room, which on an empty column they have.
+    fn column_move(&mut self, x: u32, target: i32) {
+        let w = self.width;
+        let seam = self.slot_arcs(x, 0)[1];
+        for _ in 0..4 {
+            let cur = self.net.arc(seam).x;
+            if cur == target {
+                return;
+            }
+            let up = target > cur;
+            // The nearest column that keeps room after the unit (so winding
+            // flow spreads instead of filling columns), else any that fits.
+            let mut fallback = None;
+            let mut chosen = None;
+            for c in x..w.min(x + 8) {
+                let cycle = self.seam_cycle(x, c, up);
+                let room = cycle
+                    .iter()
+                    .map(|&(from, a)| self.net.room_from(from, a))
+                    .min()
+                    .unwrap_or(0);
+                if room >= 2 {
+                    chosen = Some(cycle);
+                    break;
+                }
+                if room >= 1 && fallback.is_none() {
+                    fallback = Some(cycle);
+                }
+            }
+            let Some(cycle) = chosen.or(fallback) else {
+                return;
+            };
+            if self.net.push_cycle(&cycle, 1) == 0 {
+                return;
+            }
+        }
+    }
+
+    /// The cycle of [`Tiling::column_move`] that carries flux across the seam
+    /// below `(x, 0)` and round the torus up (or down) column `c ≥ x`,
+    /// reached along the first and last rows.
+    fn seam_cycle(&self, x: u32, c: u32, up: bool) -> Vec<(u32, ArcId)> {
+        let (w, h) = (self.width, self.height);
+        let seam = self.slot_arcs(x, 0)[1];
+        let v = |xx: u32, y: u32| self.edge_arc(Edge::Vertical { x: xx, y }).expect("inside");
+        let hz = |xx: u32, y: u32| {
+            self.edge_arc(Edge::Horizontal { x: xx, y })
+                .expect("inside")
+        };
+        let mut out = Vec::with_capacity((h + 2 * (c - x) + 1) as usize);
+        if up {
+            out.push(((h - 1) * w + x, seam));
+            out.extend((x..c).map(|cc| (cc, v(cc + 1, 0))));
+            out.extend((1..h).map(|y| ((y - 1) * w + c, hz(c, y))));
+            out.extend(
+                (x..c)
+                    .rev()
+                    .map(|cc| ((h - 1) * w + cc + 1, v(cc + 1, h - 1))),
+            );
+        } else {
+            out.push((x, seam));
+            out.extend((x..c).map(|cc| ((h - 1) * w + cc, v(cc + 1, h - 1))));
+            out.extend((1..h).rev().map(|y| (y * w + c, hz(c, y))));
+            out.extend((x..c).rev().map(|cc| (cc + 1, v(cc + 1, 0))));
+        }
+        out
+    }
+
     /// Rejection sampling over whole flux tuples for slots with three or four
     /// free edges (the first row and column of a free-bordered grid): draw a
     /// tuple allowed by the edges' own bounds, keep it if fixing it stays
@@ -1139,6 +1230,11 @@ impl Tiling {
             // right edge of the row's last slot, across the seam.
             if x == 0 && self.border_x == Border::Periodic && self.width > 1 {
                 self.ladder_move(self.width - 1, y, values[0]);
+            }
+            // The first row of a grid periodic in y: its bottom edge is the
+            // top edge of the last row, across the seam.
+            if y == 0 && self.border_y == Border::Periodic && self.height > 1 {
+                self.seam_move(x, values[1]);
             }
             self.ladder_move(x, y, values[2]);
             if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {

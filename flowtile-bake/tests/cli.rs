@@ -76,6 +76,17 @@ fn tile_grid_json_has_the_stats() {
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["slots"], 108);
     assert!(v["tiles_used"].as_u64().unwrap() <= 85);
+    // (5,5,1) is closed under all eight symmetries of the square: fewer
+    // classes than tiles, and the file that stores classes is smaller.
+    assert!(
+        v["symmetry_classes_used"].as_u64() < v["tiles_used"].as_u64(),
+        "{v}"
+    );
+    assert!(
+        v["bytes_rotated"].as_u64() < v["bytes_plain"].as_u64(),
+        "{v}"
+    );
+    assert_eq!(v["bytes"], v["bytes_rotated"]);
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
     assert!(v["max_divergence"].as_f64().unwrap() <= 1e-12);
     assert!(v["max_seam_mismatch"].as_f64().unwrap() <= 1e-12);
@@ -97,6 +108,9 @@ fn spec_tile_info_render_round_trip_is_deterministic() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["width"], 28);
+    // The river's set mirrors top to bottom only; still fewer tiles stored.
+    assert_eq!(v["version"], 2);
+    assert!(v["tiles_stored"].as_u64() < v["tiles_used"].as_u64(), "{v}");
     let png = dir.join("r.png");
     let o = run(&[
         "render",
