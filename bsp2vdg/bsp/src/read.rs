@@ -51,7 +51,7 @@ impl crate::BspVersion {
     /// use bsp::{BspVersion, Game};
     /// let v = BspVersion::identify(b"IBSP\x2e\0\0\0").unwrap();
     /// assert_eq!((v, v.game()), (BspVersion::Quake3, Game::Quake3));
-    /// assert_eq!(BspVersion::identify(&30i32.to_le_bytes()), Some(BspVersion::GoldSrc30));
+    /// assert_eq!(BspVersion::identify(&[30, 0, 0, 0, 124, 0, 0, 0]), Some(BspVersion::GoldSrc30));
     /// assert_eq!(BspVersion::identify(b"VBSP\x14\0\0\0"), None);
     /// ```
     pub fn identify(bytes: &[u8]) -> Option<crate::BspVersion> {
