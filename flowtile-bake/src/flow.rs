@@ -554,6 +554,35 @@ impl Network {
         None
     }
 
+    /// Pushes up to `limit` units around `cycle`, a closed walk given as
+    /// (node the step leaves, arc) pairs, as far as the residual capacities
+    /// allow; returns the amount pushed (0 when some step has no room). The
+    /// caller supplies the cycle: a structure-aware shortcut (the tiling's
+    /// ladders) that saves the general search when it applies.
+    pub fn push_cycle(&mut self, cycle: &[(u32, ArcId)], limit: i32) -> i32 {
+        debug_assert!(cycle.iter().enumerate().all(|(i, &(from, e))| {
+            let a = &self.arcs[e];
+            let to = if a.tail == from { a.head } else { a.tail };
+            cycle[(i + 1) % cycle.len()].0 == to
+        }));
+        let mut amount = limit;
+        for &(from, e) in cycle {
+            amount = amount.min(self.cap_from(from, e));
+        }
+        if amount <= 0 {
+            return 0;
+        }
+        for &(from, e) in cycle {
+            self.push(from, e, amount);
+        }
+        amount
+    }
+
+    /// Residual room of arc `e` for flow leaving node `from` along it.
+    pub fn room_from(&self, from: u32, e: ArcId) -> i32 {
+        self.cap_from(from, e)
+    }
+
     /// Raises the flux of arc `e` towards `target` (at most its upper bound)
     /// keeping the circulation feasible; returns the value reached.
     pub fn raise(&mut self, e: ArcId, target: i32) -> i32 {
