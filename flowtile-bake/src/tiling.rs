@@ -557,14 +557,23 @@ impl Tiling {
                 if x > self.width || y >= self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let per_row = self.v_arcs.len() as u32 / self.height;
+                // Periodic in x: W arcs per row, the one at x = W is x = 0.
+                let per_row = if self.border_x == Border::Periodic {
+                    self.width
+                } else {
+                    self.width + 1
+                };
                 Ok(self.v_arcs[(y * per_row + x % per_row) as usize])
             }
             Edge::Horizontal { x, y } => {
                 if x >= self.width || y > self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let rows = self.h_arcs.len() as u32 / self.width;
+                let rows = if self.border_y == Border::Periodic {
+                    self.height
+                } else {
+                    self.height + 1
+                };
                 Ok(self.h_arcs[((y % rows) * self.width + x) as usize])
             }
         }
@@ -1030,6 +1039,8 @@ impl Tiling {
                 let cur = self.net.arc(e).x;
                 if k == 2 && f == 3 && v != cur {
                     self.ladder_move(x, y, v);
+                } else if k == 1 && y == 0 && self.border_y == Border::Periodic && v != cur {
+                    self.seam_move(x, v);
                 }
                 let cur = self.net.arc(e).x;
                 if v > cur {
@@ -1074,6 +1085,7 @@ impl Tiling {
     /// where the breadth-first search of the network would visit the whole
     /// band (most of the fill's time at 256×256).
     fn ladder_move(&mut self, x: u32, y: u32, target: i32) {
+        const RUNGS: u32 = 64;
         let w = self.width;
         let next = if x + 1 < w {
             x + 1
@@ -1084,7 +1096,14 @@ impl Tiling {
         };
         let e = self.slot_arcs(x, y)[2];
         let (here, there) = (y * w + x, y * w + next);
-        let mut cycle: Vec<(u32, ArcId)> = Vec::with_capacity(64);
+        // Direct indices (rows above y stay inside the grid): the arc of the
+        // horizontal edge at (col, row) and of the vertical edge right of x.
+        let h_arc = |col: u32, row: u32| self.h_arcs[(row * w + col) as usize];
+        let per_row = self.v_arcs.len() as u32 / self.height;
+        let cross_col = (x + 1) % per_row;
+        let v_arc = |row: u32| self.v_arcs[(row * per_row + cross_col) as usize];
+        let top_row = y + RUNGS.min(self.height - 1 - y);
+        let mut cycle = [(0u32, 0 as ArcId); 2 * RUNGS as usize + 2];
         for _ in 0..4 {
             let cur = self.net.arc(e).x;
             if cur == target {
@@ -1092,19 +1111,11 @@ impl Tiling {
             }
             let up = target > cur;
             // Raise: here → there along e, then up `next`, across, down `x`.
-            // Lower: the reverse walk.
+            // Lower: the reverse walk. Vertical-edge arcs point up: climbing
+            // `next` goes forward when raising, `x` is descended, and vice versa.
             let (mut room_there, mut room_here) = (i32::MAX, i32::MAX);
             let mut rung = None;
-            for j in 1..=64u32.min(self.height - 1 - y) {
-                let row = y + j;
-                let (v_there, v_here) = (
-                    self.edge_arc(Edge::Horizontal { x: next, y: row })
-                        .expect("inside"),
-                    self.edge_arc(Edge::Horizontal { x, y: row })
-                        .expect("inside"),
-                );
-                // Vertical arcs point up: climbing `next` goes forward when
-                // raising, and `x` is descended (backward), and vice versa.
+            for row in y + 1..=top_row {
                 let (lower_there, lower_here) = ((row - 1) * w + next, (row - 1) * w + x);
                 let (upper_there, upper_here) = (row * w + next, row * w + x);
                 let (from_there, from_here) = if up {
@@ -1112,53 +1123,135 @@ impl Tiling {
                 } else {
                     (upper_there, lower_here)
                 };
-                room_there = room_there.min(self.net.room_from(from_there, v_there));
-                room_here = room_here.min(self.net.room_from(from_here, v_here));
+                room_there = room_there.min(self.net.room_from(from_there, h_arc(next, row)));
+                room_here = room_here.min(self.net.room_from(from_here, h_arc(x, row)));
                 if room_there <= 0 || room_here <= 0 {
                     break;
                 }
-                let cross = self
-                    .edge_arc(Edge::Vertical { x: x + 1, y: row })
-                    .expect("inside");
                 let cross_from = if up { upper_there } else { upper_here };
-                if self.net.room_from(cross_from, cross) > 0 {
+                if self.net.room_from(cross_from, v_arc(row)) > 0 {
                     rung = Some(row);
                     break;
                 }
             }
             let Some(top) = rung else { return };
-            cycle.clear();
-            let h = |xx: u32, yy: u32| {
-                self.edge_arc(Edge::Horizontal { x: xx, y: yy })
-                    .expect("inside")
+            let mut len = 0;
+            let mut step = |from: u32, arc: ArcId| {
+                cycle[len] = (from, arc);
+                len += 1;
             };
-            let cross = self
-                .edge_arc(Edge::Vertical { x: x + 1, y: top })
-                .expect("inside");
             if up {
-                cycle.push((here, e));
+                step(here, e);
                 for row in y + 1..=top {
-                    cycle.push(((row - 1) * w + next, h(next, row)));
+                    step((row - 1) * w + next, h_arc(next, row));
                 }
-                cycle.push((top * w + next, cross));
+                step(top * w + next, v_arc(top));
                 for row in (y + 1..=top).rev() {
-                    cycle.push((row * w + x, h(x, row)));
+                    step(row * w + x, h_arc(x, row));
                 }
             } else {
-                cycle.push((there, e));
+                step(there, e);
                 for row in y + 1..=top {
-                    cycle.push(((row - 1) * w + x, h(x, row)));
+                    step((row - 1) * w + x, h_arc(x, row));
                 }
-                cycle.push((top * w + x, cross));
+                step(top * w + x, v_arc(top));
                 for row in (y + 1..=top).rev() {
-                    cycle.push((row * w + next, h(next, row)));
+                    step(row * w + next, h_arc(next, row));
                 }
             }
-            let limit = (target - cur).abs();
-            if self.net.push_cycle(&cycle, limit) == 0 {
+            if self.net.push_cycle(&cycle[..len], (target - cur).abs()) == 0 {
                 return;
             }
         }
+    }
+
+    /// Moves the flux across the seam below slot `(x, 0)` of a grid periodic
+    /// in y towards `target`: by short searches while they find a way, then
+    /// straight along the column ([`Tiling::column_move`]) — the column
+    /// carries the flow round the torus, so it is used only when nothing
+    /// near will do, lest every column fill up with winding flow.
+    fn seam_move(&mut self, x: u32, target: i32) {
+        let seam = self.slot_arcs(x, 0)[1];
+        if self.net.move_bounded(seam, target, 256) {
+            self.column_move(x, target);
+        }
+    }
+
+    /// Moves the flux across the seam of a grid periodic in y, below slot
+    /// `(x, 0)`, towards `target` along column `x` itself (as far as it
+    /// reaches; the general search does the rest).
+    ///
+    /// While the first row is filled, the flux its slots send across the
+    /// seam adds up to the flow that winds around the torus; closing it
+    /// takes a path through every row. The general search finds that path
+    /// only after visiting a good part of the grid (most of a periodic
+    /// fill's time at 256×256); the straight column is such a path whenever
+    /// its arcs have room, which on an empty column they have.
+    fn column_move(&mut self, x: u32, target: i32) {
+        let w = self.width;
+        let seam = self.slot_arcs(x, 0)[1];
+        for _ in 0..4 {
+            let cur = self.net.arc(seam).x;
+            if cur == target {
+                return;
+            }
+            let up = target > cur;
+            // The nearest column that keeps room after the unit (so winding
+            // flow spreads instead of filling columns), else any that fits.
+            let mut fallback = None;
+            let mut chosen = None;
+            for c in x..w.min(x + 8) {
+                let cycle = self.seam_cycle(x, c, up);
+                let room = cycle
+                    .iter()
+                    .map(|&(from, a)| self.net.room_from(from, a))
+                    .min()
+                    .unwrap_or(0);
+                if room >= 2 {
+                    chosen = Some(cycle);
+                    break;
+                }
+                if room >= 1 && fallback.is_none() {
+                    fallback = Some(cycle);
+                }
+            }
+            let Some(cycle) = chosen.or(fallback) else {
+                return;
+            };
+            if self.net.push_cycle(&cycle, 1) == 0 {
+                return;
+            }
+        }
+    }
+
+    /// The cycle of [`Tiling::column_move`] that carries flux across the seam
+    /// below `(x, 0)` and round the torus up (or down) column `c ≥ x`,
+    /// reached along the first and last rows.
+    fn seam_cycle(&self, x: u32, c: u32, up: bool) -> Vec<(u32, ArcId)> {
+        let (w, h) = (self.width, self.height);
+        let seam = self.slot_arcs(x, 0)[1];
+        let v = |xx: u32, y: u32| self.edge_arc(Edge::Vertical { x: xx, y }).expect("inside");
+        let hz = |xx: u32, y: u32| {
+            self.edge_arc(Edge::Horizontal { x: xx, y })
+                .expect("inside")
+        };
+        let mut out = Vec::with_capacity((h + 2 * (c - x) + 1) as usize);
+        if up {
+            out.push(((h - 1) * w + x, seam));
+            out.extend((x..c).map(|cc| (cc, v(cc + 1, 0))));
+            out.extend((1..h).map(|y| ((y - 1) * w + c, hz(c, y))));
+            out.extend(
+                (x..c)
+                    .rev()
+                    .map(|cc| ((h - 1) * w + cc + 1, v(cc + 1, h - 1))),
+            );
+        } else {
+            out.push((x, seam));
+            out.extend((x..c).map(|cc| ((h - 1) * w + cc, v(cc + 1, h - 1))));
+            out.extend((1..h).rev().map(|y| (y * w + c, hz(c, y))));
+            out.extend((x..c).rev().map(|cc| (cc + 1, v(cc + 1, 0))));
+        }
+        out
     }
 
     /// Rejection sampling over whole flux tuples for slots with three or four
@@ -1212,6 +1305,11 @@ impl Tiling {
             // right edge of the row's last slot, across the seam.
             if x == 0 && self.border_x == Border::Periodic && self.width > 1 {
                 self.ladder_move(self.width - 1, y, values[0]);
+            }
+            // The first row of a grid periodic in y: its bottom edge is the
+            // top edge of the last row, across the seam.
+            if y == 0 && self.border_y == Border::Periodic && self.height > 1 {
+                self.seam_move(x, values[1]);
             }
             self.ladder_move(x, y, values[2]);
             if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
