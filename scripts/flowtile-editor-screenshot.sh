@@ -53,6 +53,22 @@ cp "$WORK/shot1.png" "$OUT"
 tail -n 3 "$WORK/log1.txt"
 echo "wrote $OUT ($size bytes; identical in two runs)"
 
+# With the shared maps: the region of de_dust2 over the map's top view.
+MAP=../shared/testmaps/goldsrc/nonfree/bspview-cstrike-de_dust2.bsp
+if [ -f "$MAP" ]; then
+    "$BIN" region "$MAP" --tile 96 -o "$WORK/dust2.toml" >/dev/null
+    DOUT="${OUT%.png}-de_dust2.png"
+    for run in 1 2; do
+        "$BIN" edit "$WORK/dust2.toml" --script testdata/flowtiles/editor-dust2.txt \
+            --screenshot "$WORK/shotd$run.png" --size "$SIZE" >/dev/null
+    done
+    cmp -s "$WORK/shotd1.png" "$WORK/shotd2.png" || { echo "the two de_dust2 screenshots differ" >&2; exit 1; }
+    cp "$WORK/shotd1.png" "$DOUT"
+    echo "wrote $DOUT (identical in two runs)"
+else
+    echo "skip de_dust2: $MAP not found"
+fi
+
 if [ "${WINDOW:-0}" != 1 ] && ! command -v Xvfb >/dev/null 2>&1; then
     echo "skipping the window under Xvfb (WINDOW=1 installs and runs it)"
     exit 0

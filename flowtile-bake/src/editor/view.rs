@@ -648,7 +648,7 @@ impl EditorView {
             .max(set.my.max.abs())
             .max(1);
         egui::ScrollArea::vertical()
-            .max_height(ui.available_height() - 190.0)
+            .max_height(ui.available_height() - 240.0)
             .show(ui, |ui| {
                 ui.horizontal_wrapped(|ui| {
                     ui.spacing_mut().item_spacing = vec2(3.0, 3.0);
