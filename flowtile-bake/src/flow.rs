@@ -84,8 +84,34 @@ struct Search {
     /// Arc used to reach the node (forward: into it; backward: out of it).
     fwd_via: Vec<u32>,
     bwd_via: Vec<u32>,
-    fwd_queue: VecDeque<u32>,
-    bwd_queue: VecDeque<u32>,
+    fwd_queue: Fifo,
+    bwd_queue: Fifo,
+}
+
+/// A first-in first-out queue that is cleared before every search: a vector
+/// and a read position (no wrap-around bookkeeping on the hot path).
+#[derive(Clone, Debug, Default)]
+struct Fifo {
+    items: Vec<u32>,
+    head: usize,
+}
+
+impl Fifo {
+    fn clear(&mut self) {
+        self.items.clear();
+        self.head = 0;
+    }
+    fn push_back(&mut self, v: u32) {
+        self.items.push(v);
+    }
+    fn pop_front(&mut self) -> Option<u32> {
+        let v = *self.items.get(self.head)?;
+        self.head += 1;
+        Some(v)
+    }
+    fn len(&self) -> usize {
+        self.items.len() - self.head
+    }
 }
 
 /// The feasibility search failed: the bounds admit no circulation.

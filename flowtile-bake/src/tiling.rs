@@ -281,6 +281,10 @@ pub struct Tiling {
     h_arcs: Vec<ArcId>,
     corner_fixed: Vec<Option<u16>>,
     slots: Vec<Option<TileKey>>,
+    /// Arc bounds and fixed corners from the conditions alone (before any
+    /// tile), restored by [`Tiling::remove`].
+    base_bounds: Vec<(i32, i32)>,
+    base_corners: Vec<Option<u16>>,
 }
 
 impl Tiling {
@@ -416,6 +420,8 @@ impl Tiling {
             h_arcs,
             corner_fixed: vec![None; (vw * vh) as usize],
             slots: vec![None; slots],
+            base_bounds: Vec::new(),
+            base_corners: Vec::new(),
         };
         tiling.apply_corner_conditions(cond)?;
         let mut fixed: Vec<Option<i32>> = vec![None; tiling.net.arc_count()];
@@ -452,6 +458,13 @@ impl Tiling {
             .net
             .make_feasible()
             .map_err(|e| TilingError::Infeasible(tiling.describe_node(e.node)))?;
+        tiling.base_bounds = (0..tiling.net.arc_count())
+            .map(|a| {
+                let a = tiling.net.arc(a);
+                (a.lo, a.hi)
+            })
+            .collect();
+        tiling.base_corners = tiling.corner_fixed.clone();
         Ok(tiling)
     }
 
@@ -544,14 +557,23 @@ impl Tiling {
                 if x > self.width || y >= self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let per_row = self.v_arcs.len() as u32 / self.height;
+                // Periodic in x: W arcs per row, the one at x = W is x = 0.
+                let per_row = if self.border_x == Border::Periodic {
+                    self.width
+                } else {
+                    self.width + 1
+                };
                 Ok(self.v_arcs[(y * per_row + x % per_row) as usize])
             }
             Edge::Horizontal { x, y } => {
                 if x >= self.width || y > self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let rows = self.h_arcs.len() as u32 / self.width;
+                let rows = if self.border_y == Border::Periodic {
+                    self.height
+                } else {
+                    self.height + 1
+                };
                 Ok(self.h_arcs[((y % rows) * self.width + x) as usize])
             }
         }
@@ -758,6 +780,66 @@ impl Tiling {
         }
         self.slots[(y * self.width + x) as usize] = Some(key);
         Ok(())
+    }
+
+    /// Removes the tile at `(x, y)` and returns it (`None` for an empty or
+    /// blocked slot). Fewer tiles never break completability: the current
+    /// circulation stays feasible, and only the slot's edges and corners
+    /// that no other tile holds go back to the conditions' bounds.
+    ///
+    /// ```
+    /// use flowtile_bake::{tileset::TileSet, tiling::{Tiling, Conditions, Border}, rng::Rng};
+    /// let set = TileSet::paper(3, 3, 1, 4).unwrap();
+    /// let mut t = Tiling::new(set, 3, 3, &Conditions::borders(Border::Free, Border::Free)).unwrap();
+    /// t.random_fill(&mut Rng::new(1)).unwrap();
+    /// let k = t.remove(1, 1).unwrap();
+    /// assert!(t.select(1, 1).unwrap().keys().any(|o| o == k));
+    /// ```
+    pub fn remove(&mut self, x: u32, y: u32) -> Option<TileKey> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let me = (y * self.width + x) as usize;
+        let key = self.slots[me].take()?;
+        for arc in self.slot_arcs(x, y) {
+            let a = self.net.arc(arc);
+            let other = if a.tail as usize == me {
+                a.head
+            } else {
+                a.tail
+            } as usize;
+            let held = other < self.slots.len() && self.slots[other].is_some();
+            if !held {
+                let (lo, hi) = self.base_bounds[arc];
+                self.net.set_bounds(arc, lo, hi);
+            }
+        }
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (px, py) = (
+            self.border_x == Border::Periodic,
+            self.border_y == Border::Periodic,
+        );
+        for (vx, vy) in [(x, y), (x + 1, y), (x + 1, y + 1), (x, y + 1)] {
+            let held = [(-1i64, -1i64), (0, -1), (-1, 0), (0, 0)]
+                .iter()
+                .any(|&(dx, dy)| {
+                    let (mut sx, mut sy) = (vx as i64 + dx, vy as i64 + dy);
+                    if px {
+                        sx = sx.rem_euclid(w);
+                    }
+                    if py {
+                        sy = sy.rem_euclid(h);
+                    }
+                    (0..w).contains(&sx)
+                        && (0..h).contains(&sy)
+                        && self.slots[(sy * w + sx) as usize].is_some()
+                });
+            if !held {
+                let v = self.vertex(vx, vy);
+                self.corner_fixed[v] = self.base_corners[v];
+            }
+        }
+        Some(key)
     }
 
     /// Fills every slot that has exactly one option, repeatedly, until none
@@ -1003,6 +1085,7 @@ impl Tiling {
     /// where the breadth-first search of the network would visit the whole
     /// band (most of the fill's time at 256×256).
     fn ladder_move(&mut self, x: u32, y: u32, target: i32) {
+        const RUNGS: u32 = 64;
         let w = self.width;
         let next = if x + 1 < w {
             x + 1
@@ -1013,7 +1096,14 @@ impl Tiling {
         };
         let e = self.slot_arcs(x, y)[2];
         let (here, there) = (y * w + x, y * w + next);
-        let mut cycle: Vec<(u32, ArcId)> = Vec::with_capacity(64);
+        // Direct indices (rows above y stay inside the grid): the arc of the
+        // horizontal edge at (col, row) and of the vertical edge right of x.
+        let h_arc = |col: u32, row: u32| self.h_arcs[(row * w + col) as usize];
+        let per_row = self.v_arcs.len() as u32 / self.height;
+        let cross_col = (x + 1) % per_row;
+        let v_arc = |row: u32| self.v_arcs[(row * per_row + cross_col) as usize];
+        let top_row = y + RUNGS.min(self.height - 1 - y);
+        let mut cycle = [(0u32, 0 as ArcId); 2 * RUNGS as usize + 2];
         for _ in 0..4 {
             let cur = self.net.arc(e).x;
             if cur == target {
@@ -1021,19 +1111,11 @@ impl Tiling {
             }
             let up = target > cur;
             // Raise: here → there along e, then up `next`, across, down `x`.
-            // Lower: the reverse walk.
+            // Lower: the reverse walk. Vertical-edge arcs point up: climbing
+            // `next` goes forward when raising, `x` is descended, and vice versa.
             let (mut room_there, mut room_here) = (i32::MAX, i32::MAX);
             let mut rung = None;
-            for j in 1..=64u32.min(self.height - 1 - y) {
-                let row = y + j;
-                let (v_there, v_here) = (
-                    self.edge_arc(Edge::Horizontal { x: next, y: row })
-                        .expect("inside"),
-                    self.edge_arc(Edge::Horizontal { x, y: row })
-                        .expect("inside"),
-                );
-                // Vertical arcs point up: climbing `next` goes forward when
-                // raising, and `x` is descended (backward), and vice versa.
+            for row in y + 1..=top_row {
                 let (lower_there, lower_here) = ((row - 1) * w + next, (row - 1) * w + x);
                 let (upper_there, upper_here) = (row * w + next, row * w + x);
                 let (from_there, from_here) = if up {
@@ -1041,50 +1123,43 @@ impl Tiling {
                 } else {
                     (upper_there, lower_here)
                 };
-                room_there = room_there.min(self.net.room_from(from_there, v_there));
-                room_here = room_here.min(self.net.room_from(from_here, v_here));
+                room_there = room_there.min(self.net.room_from(from_there, h_arc(next, row)));
+                room_here = room_here.min(self.net.room_from(from_here, h_arc(x, row)));
                 if room_there <= 0 || room_here <= 0 {
                     break;
                 }
-                let cross = self
-                    .edge_arc(Edge::Vertical { x: x + 1, y: row })
-                    .expect("inside");
                 let cross_from = if up { upper_there } else { upper_here };
-                if self.net.room_from(cross_from, cross) > 0 {
+                if self.net.room_from(cross_from, v_arc(row)) > 0 {
                     rung = Some(row);
                     break;
                 }
             }
             let Some(top) = rung else { return };
-            cycle.clear();
-            let h = |xx: u32, yy: u32| {
-                self.edge_arc(Edge::Horizontal { x: xx, y: yy })
-                    .expect("inside")
+            let mut len = 0;
+            let mut step = |from: u32, arc: ArcId| {
+                cycle[len] = (from, arc);
+                len += 1;
             };
-            let cross = self
-                .edge_arc(Edge::Vertical { x: x + 1, y: top })
-                .expect("inside");
             if up {
-                cycle.push((here, e));
+                step(here, e);
                 for row in y + 1..=top {
-                    cycle.push(((row - 1) * w + next, h(next, row)));
+                    step((row - 1) * w + next, h_arc(next, row));
                 }
-                cycle.push((top * w + next, cross));
+                step(top * w + next, v_arc(top));
                 for row in (y + 1..=top).rev() {
-                    cycle.push((row * w + x, h(x, row)));
+                    step(row * w + x, h_arc(x, row));
                 }
             } else {
-                cycle.push((there, e));
+                step(there, e);
                 for row in y + 1..=top {
-                    cycle.push(((row - 1) * w + x, h(x, row)));
+                    step((row - 1) * w + x, h_arc(x, row));
                 }
-                cycle.push((top * w + x, cross));
+                step(top * w + x, v_arc(top));
                 for row in (y + 1..=top).rev() {
-                    cycle.push((row * w + next, h(next, row)));
+                    step(row * w + next, h_arc(next, row));
                 }
             }
-            let limit = (target - cur).abs();
-            if self.net.push_cycle(&cycle, limit) == 0 {
+            if self.net.push_cycle(&cycle[..len], (target - cur).abs()) == 0 {
                 return;
             }
         }
