@@ -13,7 +13,8 @@
 #    libgl1-mesa-dri and imagemagick from Debian when missing.
 #
 # usage: scripts/flowtile-editor-screenshot.sh [OUT.png]
-#   default OUT: target/flowtile-editor.png (the window's: OUT-window.png)
+#   default OUT: target/flowtile-editor.png (de_dust2: OUT-de_dust2.png, the
+#   window's: OUT-window.png)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/flowtile-editor.png}
@@ -21,8 +22,13 @@ SPEC=testdata/flowtiles/river.toml
 SCRIPT=testdata/flowtiles/editor-demo.txt
 SIZE=${SIZE:-1280x800}
 
-cargo build --release -q -p flowtile-bake
-BIN=target/release/flowtile-bake
+# FLOWTILE_BAKE=PATH uses that binary instead of building the release one.
+if [ -n "${FLOWTILE_BAKE:-}" ]; then
+    BIN=$FLOWTILE_BAKE
+else
+    cargo build --release -q -p flowtile-bake
+    BIN=target/release/flowtile-bake
+fi
 WORK=$(mktemp -d)
 XVFB_PID=""
 APP_PID=""
@@ -35,7 +41,7 @@ trap cleanup EXIT
 
 mkdir -p "$(dirname "$OUT")"
 # The script saves and bakes into the working directory: run it there.
-ABS_BIN=$(pwd)/$BIN
+ABS_BIN=$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")
 for run in 1 2; do
     (cd "$WORK" && "$ABS_BIN" edit "$OLDPWD/$SPEC" --script "$OLDPWD/$SCRIPT" \
         --screenshot "shot$run.png" --size "$SIZE" >"log$run.txt")
