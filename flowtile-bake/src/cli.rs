@@ -198,7 +198,8 @@ enum Command {
         /// Entity class names that are flow sinks (repeatable).
         #[arg(long = "to")]
         to: Vec<String>,
-        /// Spec (TOML) to write.
+        /// Spec (TOML) to write; the map's top view under the grid (for
+        /// `edit`) goes beside it as NAME.top.png.
         #[arg(short, long)]
         output: PathBuf,
         /// Top-view picture (PNG) of the region over the map.
@@ -216,6 +217,43 @@ enum Command {
         /// Print statistics as JSON.
         #[arg(long)]
         json: bool,
+    },
+    /// The interactive editor: paint the region, fix edge fluxes and corner
+    /// velocities, place tiles from the palette of a slot (only tiles that
+    /// keep the tiling completable; the others greyed with the reason), fill
+    /// the rest, undo/redo, save the spec, bake the file. With --script the
+    /// commands of a file are applied first and the editor runs headless
+    /// (add --window to open it afterwards); --screenshot writes a PNG.
+    Edit {
+        /// A spec (TOML, also from `region`) or a baked tiling (.ftb); none: a blank grid.
+        input: Option<PathBuf>,
+        /// Size WxH of the blank grid (without an input).
+        #[arg(long, default_value = "16x12")]
+        grid: String,
+        /// Commands to apply, one per line (see `flowtile_bake::editor::commands`).
+        #[arg(long)]
+        script: Option<PathBuf>,
+        /// Write a picture of the editor (PNG) after the script, rendered without a display.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Window and screenshot size in pixels, WxH.
+        #[arg(long, default_value = "1280x800")]
+        size: String,
+        /// Picture (PNG) under the grid, spanning it (default: the spec's `background`).
+        #[arg(long)]
+        background: Option<PathBuf>,
+        /// Where Save writes the spec (default: the input spec; for others NAME.edited.toml).
+        #[arg(long)]
+        save_as: Option<PathBuf>,
+        /// Where Bake writes the tiling (default: the spec's name with .ftb).
+        #[arg(long)]
+        bake_as: Option<PathBuf>,
+        /// Open the window after a script.
+        #[arg(long)]
+        window: bool,
+        /// Close the window after this many seconds.
+        #[arg(long)]
+        seconds: Option<f64>,
     },
     /// Describe a baked tiling and check it.
     Info {
@@ -305,6 +343,29 @@ pub fn run() -> Result<()> {
             Ok(())
         }
         Command::Info { input, json } => info(&input, json),
+        Command::Edit {
+            input,
+            grid,
+            script,
+            screenshot,
+            size,
+            background,
+            save_as,
+            bake_as,
+            window,
+            seconds,
+        } => crate::edit::edit(crate::edit::EditArgs {
+            input,
+            grid,
+            script,
+            screenshot,
+            size,
+            background,
+            save_as,
+            bake_as,
+            window,
+            seconds,
+        }),
         Command::Region {
             map,
             floor,
@@ -474,7 +535,17 @@ fn region(
     let region = flowtile_bake::region::extract_with(&bsp, floors, &name, &opt)
         .with_context(|| format!("{}", map.display()))?;
     let extract_s = t1.elapsed().as_secs_f64();
-    let spec = region.to_spec_toml(seed);
+    // The map's top view beside the spec, for the editor's background.
+    let top = output.with_extension("top.png");
+    let top_name = top
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let spec = format!(
+        "background = {}   # the map's top view under the grid in `flowtile-bake edit`\n{}",
+        flowtile_bake::spec::toml_string(&top_name),
+        region.to_spec_toml(seed)
+    );
     // The spec must be a valid, completable problem before it is written.
     let problem = Problem::from_toml(&spec).context("internal: region spec does not parse")?;
     Tiling::new(
@@ -484,6 +555,8 @@ fn region(
         &problem.conditions,
     )
     .context("region spec")?;
+    flowtile_bake::bake::write_atomic(&top, &region.top_view_image(2)?.to_png()?)
+        .with_context(|| format!("{}", top.display()))?;
     flowtile_bake::bake::write_atomic(output, spec.as_bytes())
         .with_context(|| format!("{}", output.display()))?;
     if let Some(p) = picture {
@@ -618,12 +691,7 @@ fn load_keys(
     let first = seed.unwrap_or(problem.seed);
     let mut keys = Vec::with_capacity(count);
     for k in 0..count as u64 {
-        let mut t = Tiling::new(
-            problem.set.clone(),
-            problem.width,
-            problem.height,
-            &problem.conditions,
-        )?;
+        let mut t = problem.tiling()?;
         if problem.fill_forced {
             t.fill_forced()?;
         }
@@ -717,7 +785,9 @@ fn grid_problem(grid: &str, set: &str, n: usize, border: BorderArg) -> Result<Pr
         seed: 1,
         fill_forced: false,
         description: None,
+        background: None,
         preferences: Default::default(),
+        tiles: Vec::new(),
     })
 }
 
@@ -725,12 +795,7 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
     let seed = seed.unwrap_or(problem.seed);
     let set_size = problem.set.count();
     let t0 = Instant::now();
-    let mut tiling = Tiling::new(
-        problem.set,
-        problem.width,
-        problem.height,
-        &problem.conditions,
-    )?;
+    let mut tiling = problem.tiling()?;
     let forced = if problem.fill_forced {
         tiling.fill_forced()?
     } else {

@@ -759,6 +759,33 @@ impl Region {
         }
     }
 
+    /// The map's top view over exactly the grid (no axes): `scale` pixels
+    /// per sample column, rows top first. The editor shows it under the
+    /// grid (`background` in the spec `region` writes).
+    pub fn top_view_image(&self, scale: u32) -> Result<Canvas, crate::world::WorldError> {
+        let scale = scale.clamp(1, 16);
+        let (w, h) = (
+            self.width * self.per_slot * scale,
+            self.height * self.per_slot * scale,
+        );
+        if w as u64 * h as u64 > 1 << 26 {
+            return Err(crate::world::WorldError::Options(format!(
+                "top view of {w}x{h} pixels is too large"
+            )));
+        }
+        let mut c = Canvas::new(w, h, [1.0, 1.0, 1.0]);
+        let (lo, hi) = self.bounds();
+        let view = View {
+            lo,
+            hi,
+            scale: w as f64 / (hi[0] - lo[0]),
+            left: 0.0,
+            top: 0.0,
+        };
+        self.draw_top_view(&mut c, &view);
+        Ok(c)
+    }
+
     /// A top view: ground heights of the level in grey (other levels
     /// lighter, no floor dark), open slots tinted blue with their designed
     /// directions, sources and sinks marked, axes in world units, legend.

@@ -281,6 +281,10 @@ pub struct Tiling {
     h_arcs: Vec<ArcId>,
     corner_fixed: Vec<Option<u16>>,
     slots: Vec<Option<TileKey>>,
+    /// Arc bounds and fixed corners from the conditions alone (before any
+    /// tile), restored by [`Tiling::remove`].
+    base_bounds: Vec<(i32, i32)>,
+    base_corners: Vec<Option<u16>>,
 }
 
 impl Tiling {
@@ -416,6 +420,8 @@ impl Tiling {
             h_arcs,
             corner_fixed: vec![None; (vw * vh) as usize],
             slots: vec![None; slots],
+            base_bounds: Vec::new(),
+            base_corners: Vec::new(),
         };
         tiling.apply_corner_conditions(cond)?;
         let mut fixed: Vec<Option<i32>> = vec![None; tiling.net.arc_count()];
@@ -452,6 +458,13 @@ impl Tiling {
             .net
             .make_feasible()
             .map_err(|e| TilingError::Infeasible(tiling.describe_node(e.node)))?;
+        tiling.base_bounds = (0..tiling.net.arc_count())
+            .map(|a| {
+                let a = tiling.net.arc(a);
+                (a.lo, a.hi)
+            })
+            .collect();
+        tiling.base_corners = tiling.corner_fixed.clone();
         Ok(tiling)
     }
 
@@ -767,6 +780,66 @@ impl Tiling {
         }
         self.slots[(y * self.width + x) as usize] = Some(key);
         Ok(())
+    }
+
+    /// Removes the tile at `(x, y)` and returns it (`None` for an empty or
+    /// blocked slot). Fewer tiles never break completability: the current
+    /// circulation stays feasible, and only the slot's edges and corners
+    /// that no other tile holds go back to the conditions' bounds.
+    ///
+    /// ```
+    /// use flowtile_bake::{tileset::TileSet, tiling::{Tiling, Conditions, Border}, rng::Rng};
+    /// let set = TileSet::paper(3, 3, 1, 4).unwrap();
+    /// let mut t = Tiling::new(set, 3, 3, &Conditions::borders(Border::Free, Border::Free)).unwrap();
+    /// t.random_fill(&mut Rng::new(1)).unwrap();
+    /// let k = t.remove(1, 1).unwrap();
+    /// assert!(t.select(1, 1).unwrap().keys().any(|o| o == k));
+    /// ```
+    pub fn remove(&mut self, x: u32, y: u32) -> Option<TileKey> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let me = (y * self.width + x) as usize;
+        let key = self.slots[me].take()?;
+        for arc in self.slot_arcs(x, y) {
+            let a = self.net.arc(arc);
+            let other = if a.tail as usize == me {
+                a.head
+            } else {
+                a.tail
+            } as usize;
+            let held = other < self.slots.len() && self.slots[other].is_some();
+            if !held {
+                let (lo, hi) = self.base_bounds[arc];
+                self.net.set_bounds(arc, lo, hi);
+            }
+        }
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (px, py) = (
+            self.border_x == Border::Periodic,
+            self.border_y == Border::Periodic,
+        );
+        for (vx, vy) in [(x, y), (x + 1, y), (x + 1, y + 1), (x, y + 1)] {
+            let held = [(-1i64, -1i64), (0, -1), (-1, 0), (0, 0)]
+                .iter()
+                .any(|&(dx, dy)| {
+                    let (mut sx, mut sy) = (vx as i64 + dx, vy as i64 + dy);
+                    if px {
+                        sx = sx.rem_euclid(w);
+                    }
+                    if py {
+                        sy = sy.rem_euclid(h);
+                    }
+                    (0..w).contains(&sx)
+                        && (0..h).contains(&sy)
+                        && self.slots[(sy * w + sx) as usize].is_some()
+                });
+            if !held {
+                let v = self.vertex(vx, vy);
+                self.corner_fixed[v] = self.base_corners[v];
+            }
+        }
+        Some(key)
     }
 
     /// Fills every slot that has exactly one option, repeatedly, until none

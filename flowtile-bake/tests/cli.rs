@@ -315,8 +315,29 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
         ]);
         assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
         assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+        // The map's top view for the editor's background, named in the spec.
+        assert!(
+            std::fs::read(dir.join("r.top.png"))
+                .unwrap()
+                .starts_with(b"\x89PNG")
+        );
         let o = run(&["tile", spec.to_str().unwrap()]);
         assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+        let shot = dir.join("edit.png");
+        let script = dir.join("s.txt");
+        std::fs::write(&script, "fill\n").unwrap();
+        let o = run(&[
+            "edit",
+            spec.to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--size",
+            "800x500",
+        ]);
+        assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+        assert!(std::fs::read(&shot).unwrap().starts_with(b"\x89PNG"));
     }
     let o = run(&[
         "region",
@@ -329,6 +350,107 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
     assert_clean_failure(&o, "--tile 2");
     let o = run(&["region", "/no/such.bsp", "-o", "/tmp/x.toml"]);
     assert!(!o.status.success());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `edit --script --screenshot` runs headless: the script's saves and bakes
+/// land, the screenshot is the same bytes twice; a refused command, a bad
+/// line or an impossible spec is one clear error line.
+#[test]
+fn edit_runs_scripts_headless() {
+    let dir = scratch("edit");
+    let script = dir.join("s.txt");
+    let (toml, ftb) = (dir.join("e.toml"), dir.join("e.ftb"));
+    std::fs::write(
+        &script,
+        format!(
+            "place 11 3 2 -1 0 1\nfill\nsave {}\nbake {}\nselect 3 3\ntime 1\n",
+            toml.display(),
+            ftb.display()
+        ),
+    )
+    .unwrap();
+    let shots: Vec<Vec<u8>> = (0..2)
+        .map(|k| {
+            let shot = dir.join(format!("shot{k}.png"));
+            let o = run(&[
+                "edit",
+                &spec("river.toml"),
+                "--script",
+                script.to_str().unwrap(),
+                "--screenshot",
+                shot.to_str().unwrap(),
+                "--size",
+                "900x500",
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            assert!(
+                stdout(&o).contains("2: fill -> filled 219 slots"),
+                "{}",
+                stdout(&o)
+            );
+            std::fs::read(&shot).unwrap()
+        })
+        .collect();
+    assert_eq!(shots[0], shots[1]);
+    // The saved spec tiles to the editor's bytes.
+    let again = dir.join("again.ftb");
+    let o = run(&[
+        "tile",
+        toml.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&ftb).unwrap());
+    // A baked file opens too.
+    let o = run(&[
+        "edit",
+        ftb.to_str().unwrap(),
+        "--screenshot",
+        dir.join("b.png").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(&script, "flux v 28 3 1\n").unwrap();
+    let o = run(&[
+        "edit",
+        &spec("river.toml"),
+        "--script",
+        script.to_str().unwrap(),
+    ]);
+    assert_clean_failure(
+        &o,
+        "line 1: `flux v 28 3 1` refused: the spec admits no tiling",
+    );
+    std::fs::write(&script, "fill\nwiggle 3\n").unwrap();
+    let o = run(&[
+        "edit",
+        &spec("river.toml"),
+        "--script",
+        script.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "line 2: unknown command");
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[tileset]\nmx = 3\nmy = 3\n[grid]\nwidth = 2\nheight = 1\nborder_x = \"zero\"\nborder_y = \"zero\"\n[[flux]]\nedge = \"v\"\nx = 0\ny = 0\nm = 1\n",
+    )
+    .unwrap();
+    let o = run(&[
+        "edit",
+        bad.to_str().unwrap(),
+        "--screenshot",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "admits no tiling");
+    let o = run(&[
+        "edit",
+        "--grid",
+        "0x3",
+        "--screenshot",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "--grid");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
