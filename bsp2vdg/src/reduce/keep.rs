@@ -41,10 +41,10 @@ fn face_clearance(mesh: &Mesh, f: u32, p: P3) -> f64 {
 #[inline]
 fn clearance_bound(balls: &[(P3, f64); 3], p: P3) -> f64 {
     let mut d2 = 0.0;
-    for i in 0..3 {
+    for (i, &c) in p.iter().enumerate() {
         let lo = balls[0].0[i].min(balls[1].0[i]).min(balls[2].0[i]);
         let hi = balls[0].0[i].max(balls[1].0[i]).max(balls[2].0[i]);
-        let d = (lo - p[i]).max(p[i] - hi).max(0.0);
+        let d = (lo - c).max(c - hi).max(0.0);
         d2 += d * d;
     }
     balls[0].1.max(balls[1].1).max(balls[2].1) - d2.sqrt()
