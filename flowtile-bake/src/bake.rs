@@ -11,8 +11,12 @@ use crate::tiling::{Border, MAX_SLOTS, Tiling};
 
 /// File magic.
 pub const MAGIC: [u8; 4] = *b"FTBK";
-/// Current format version.
-pub const VERSION: u32 = 1;
+/// Newest format version (this build reads 1 and 2).
+pub const VERSION: u32 = 2;
+/// Version 1: every distinct tile stored, grid entries are tile indices.
+pub const VERSION_PLAIN: u32 = 1;
+/// Version 2: one tile per symmetry class, grid entries `index << 3 | symmetry`.
+pub const VERSION_ROTATED: u32 = 2;
 /// Grid entry of a blocked slot.
 pub const BLOCKED: u32 = u32::MAX;
 /// Bytes before the corner table.
@@ -65,7 +69,7 @@ impl fmt::Display for BakeError {
             BakeError::Corrupt(why) => write!(f, "not a valid baked tiling: {why}"),
             BakeError::Version(v) => write!(
                 f,
-                "baked tiling format version {v} is not supported (this build reads version {VERSION})"
+                "baked tiling format version {v} is not supported (this build reads versions 1 and {VERSION})"
             ),
         }
     }
@@ -95,7 +99,19 @@ impl BakedTiling {
             return Err(BakeError::Incomplete);
         }
         let keys = tiling.tiles_used();
-        let tiles: Vec<Tile> = keys.iter().map(|k| fill_tile(tiling.set(), k)).collect();
+        // Each tile is its symmetry class's representative transformed, exactly as
+        // a version-2 reader rebuilds it, so files round-trip bit for bit.
+        let set = tiling.set();
+        let group = set.symmetries();
+        let tiles: Vec<Tile> = keys
+            .iter()
+            .map(|k| {
+                let (rep, g) = set.symmetry_class(&group, k);
+                fill_tile(set, &rep)
+                    .transformed(set, g)
+                    .expect("members of a class stay in the set")
+            })
+            .collect();
         let (w, h) = (tiling.width(), tiling.height());
         let mut grid = Vec::with_capacity((w * h) as usize);
         for y in 0..h {
@@ -124,23 +140,99 @@ impl BakedTiling {
         (id != BLOCKED).then(|| &self.tiles[id as usize])
     }
 
-    /// Serialises to the version-1 format described in `FORMAT.md`.
+    /// Serialises to the format described in `FORMAT.md`: version 2 (one
+    /// tile per symmetry class, each slot naming its class and the rotation
+    /// or mirror that makes its tile) when that stores fewer tiles, else
+    /// version 1.
     pub fn to_bytes(&self) -> Vec<u8> {
+        match self.symmetry_plan() {
+            Some((reps, grid)) if reps.len() < self.tiles.len() => {
+                self.encode(VERSION_ROTATED, &reps.iter().collect::<Vec<_>>(), &grid)
+            }
+            _ => self.encode(
+                VERSION_PLAIN,
+                &self.tiles.iter().collect::<Vec<_>>(),
+                &self.grid,
+            ),
+        }
+    }
+
+    /// Bytes of the version-1 and version-2 files of this tiling (the
+    /// second `None` when no two tiles share a symmetry class).
+    pub fn storage_bytes(&self) -> (usize, Option<usize>) {
+        let (n, c, slots) = (self.set.n, self.set.corners.len(), self.grid.len());
+        let plain = expected_len(n, c, self.tiles.len(), slots).unwrap_or(usize::MAX);
+        let rotated = self
+            .symmetry_plan()
+            .filter(|(reps, _)| reps.len() < self.tiles.len())
+            .and_then(|(reps, _)| expected_len(n, c, reps.len(), slots));
+        (plain, rotated)
+    }
+
+    /// Number of symmetry classes (rotations and mirrors that map the tile
+    /// set onto itself) among the tiles used.
+    pub fn symmetry_classes_used(&self) -> usize {
+        self.symmetry_plan()
+            .map_or(self.tiles.len(), |(reps, _)| reps.len())
+    }
+
+    /// The tiles to store when one tile stands for its symmetry class, and
+    /// the grid of `index << 3 | symmetry` entries. `None` when some stored
+    /// tile is not the transformed representative of its class (tiles
+    /// baked by other means than [`BakedTiling::from_tiling`]).
+    fn symmetry_plan(&self) -> Option<(Vec<Tile>, Vec<u32>)> {
+        let group = self.set.symmetries();
+        let mut reps: Vec<TileKey> = Vec::new();
+        let mut turns = Vec::with_capacity(self.tiles.len());
+        for t in &self.tiles {
+            let (rep, g) = self.set.symmetry_class(&group, &t.key);
+            reps.push(rep);
+            turns.push(g as u32);
+        }
+        let mut classes = reps.clone();
+        classes.sort_unstable();
+        classes.dedup();
+        let stored: Vec<Tile> = classes.iter().map(|c| fill_tile(&self.set, c)).collect();
+        // Every tile must be exactly its representative turned (the reader
+        // rebuilds it that way).
+        for (t, (rep, &k)) in self.tiles.iter().zip(reps.iter().zip(&turns)) {
+            let i = classes.binary_search(rep).ok()?;
+            if stored[i].transformed(&self.set, k as u8)? != *t {
+                return None;
+            }
+        }
+        let grid = self
+            .grid
+            .iter()
+            .map(|&id| {
+                if id == BLOCKED {
+                    return BLOCKED;
+                }
+                let i = classes
+                    .binary_search(&reps[id as usize])
+                    .expect("class listed");
+                ((i as u32) << 3) | turns[id as usize]
+            })
+            .collect();
+        Some((stored, grid))
+    }
+
+    fn encode(&self, version: u32, tiles: &[&Tile], grid: &[u32]) -> Vec<u8> {
         let n = self.set.n;
         let mut out = Vec::with_capacity(
-            expected_len(n, self.set.corners.len(), self.tiles.len(), self.grid.len()).unwrap_or(0),
+            expected_len(n, self.set.corners.len(), tiles.len(), grid.len()).unwrap_or(0),
         );
         out.extend_from_slice(&MAGIC);
         let flags =
             (self.periodic_x as u32 * FLAG_PERIODIC_X) | (self.periodic_y as u32 * FLAG_PERIODIC_Y);
         for v in [
-            VERSION,
+            version,
             n as u32,
             self.width,
             self.height,
             flags,
             self.set.corners.len() as u32,
-            self.tiles.len() as u32,
+            tiles.len() as u32,
         ] {
             out.extend_from_slice(&v.to_le_bytes());
         }
@@ -158,7 +250,7 @@ impl BakedTiling {
             out.extend_from_slice(&c[0].to_le_bytes());
             out.extend_from_slice(&c[1].to_le_bytes());
         }
-        for t in &self.tiles {
+        for t in tiles {
             for m in t.key.fluxes() {
                 out.extend_from_slice(&m.to_le_bytes());
             }
@@ -166,12 +258,12 @@ impl BakedTiling {
                 out.extend_from_slice(&c.to_le_bytes());
             }
         }
-        for t in &self.tiles {
+        for t in tiles {
             for s in &t.stream {
                 out.extend_from_slice(&s.to_le_bytes());
             }
         }
-        for id in &self.grid {
+        for id in grid {
             out.extend_from_slice(&id.to_le_bytes());
         }
         let sum = fnv1a(&out);
@@ -193,7 +285,7 @@ impl BakedTiling {
         }
         let mut r = Reader { bytes, pos: 4 };
         let version = r.u32()?;
-        if version != VERSION {
+        if version != VERSION_PLAIN && version != VERSION_ROTATED {
             return Err(BakeError::Version(version));
         }
         if bytes.len() < HEADER_BYTES + 8 {
@@ -282,7 +374,13 @@ impl BakedTiling {
         }
         let nodes = (n + 1) * (n + 1);
         let mut tiles = Vec::with_capacity(tile_count);
+        let group = set.symmetries();
         for key in keys {
+            if version == VERSION_ROTATED && set.symmetry_class(&group, &key) != (key, 0) {
+                return Err(corrupt(format!(
+                    "tile {key} is not the representative of its symmetry class"
+                )));
+            }
             let mut stream = Vec::with_capacity(nodes);
             for _ in 0..nodes {
                 let s = r.f64()?;
@@ -298,12 +396,20 @@ impl BakedTiling {
         let mut grid = Vec::with_capacity(slots);
         for i in 0..slots {
             let id = r.u32()?;
-            if id != BLOCKED && id as usize >= tile_count {
+            let tile = if version == VERSION_ROTATED {
+                id >> 3
+            } else {
+                id
+            };
+            if id != BLOCKED && tile as usize >= tile_count {
                 return Err(corrupt(format!(
-                    "slot {i} refers to tile {id} of {tile_count}"
+                    "slot {i} refers to tile {tile} of {tile_count}"
                 )));
             }
             grid.push(id);
+        }
+        if version == VERSION_ROTATED {
+            (tiles, grid) = unfold_rotations(&set, &tiles, &grid)?;
         }
         let baked = BakedTiling {
             set,
@@ -382,6 +488,43 @@ impl BakedTiling {
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), BakeError> {
     toolbox::write_bytes_atomic(path, bytes)
         .map_err(|e| BakeError::Io(path.display().to_string(), e))
+}
+
+/// Version 2 → memory: every (class, symmetry) a slot names becomes its
+/// transformed tile; the tiles sorted by key and unique, the grid re-indexed.
+fn unfold_rotations(
+    set: &TileSet,
+    reps: &[Tile],
+    grid: &[u32],
+) -> Result<(Vec<Tile>, Vec<u32>), BakeError> {
+    let mut pairs: Vec<u32> = grid.iter().copied().filter(|&e| e != BLOCKED).collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut turned: Vec<(u32, Tile)> = Vec::with_capacity(pairs.len());
+    for &e in &pairs {
+        let rep = &reps[(e >> 3) as usize];
+        let t = rep.transformed(set, (e & 7) as u8).ok_or_else(|| {
+            corrupt(format!(
+                "tile {} under symmetry {} leaves the tile set",
+                rep.key,
+                e & 7
+            ))
+        })?;
+        turned.push((e, t));
+    }
+    let mut tiles: Vec<Tile> = turned.iter().map(|(_, t)| t.clone()).collect();
+    tiles.sort_by_key(|t| t.key);
+    tiles.dedup_by(|a, b| a.key == b.key);
+    let index = |e: u32| -> u32 {
+        let i = pairs.binary_search(&e).expect("listed");
+        let key = turned[i].1.key;
+        tiles.binary_search_by(|t| t.key.cmp(&key)).expect("listed") as u32
+    };
+    let grid = grid
+        .iter()
+        .map(|&e| if e == BLOCKED { BLOCKED } else { index(e) })
+        .collect();
+    Ok((tiles, grid))
 }
 
 /// The edge fluxes stored in a tile's stream function must equal its key's.
@@ -556,6 +699,170 @@ mod tests {
                 .to_string()
                 .contains("fluxes")
         );
+    }
+
+    fn version_of(bytes: &[u8]) -> u32 {
+        u32::from_le_bytes(bytes[4..8].try_into().unwrap())
+    }
+
+    /// A tiling of a rotation-closed set where most tiles have a turned or
+    /// mirrored twin.
+    fn square_sample() -> BakedTiling {
+        let set = TileSet::paper(3, 3, 5, 6).unwrap();
+        let mut t = Tiling::new(
+            set,
+            14,
+            12,
+            &Conditions::borders(Border::Zero, Border::Free),
+        )
+        .unwrap();
+        t.random_fill(&mut Rng::new(4)).unwrap();
+        BakedTiling::from_tiling(&t).unwrap()
+    }
+
+    #[test]
+    fn symmetry_classes_store_fewer_tiles_and_round_trip_exactly() {
+        let small = sample();
+        assert_eq!(
+            small.symmetry_classes_used(),
+            small.tiles.len(),
+            "no twins in 15 slots"
+        );
+        assert_eq!(version_of(&small.to_bytes()), VERSION_PLAIN);
+        let b = square_sample();
+        let bytes = b.to_bytes();
+        let classes = b.symmetry_classes_used();
+        let (plain, rotated) = b.storage_bytes();
+        assert!(classes < b.tiles.len(), "{classes} of {}", b.tiles.len());
+        assert_eq!(version_of(&bytes), VERSION_ROTATED);
+        assert_eq!(Some(bytes.len()), rotated);
+        assert!(bytes.len() < plain);
+        let back = BakedTiling::from_bytes(&bytes).unwrap();
+        assert_eq!(back, b, "bit-exact tiles after unfolding");
+        assert_eq!(back.to_bytes(), bytes);
+        // The same tiling stored plainly reads back to the same thing.
+        let v1 = b.encode(VERSION_PLAIN, &b.tiles.iter().collect::<Vec<_>>(), &b.grid);
+        assert_eq!(v1.len(), plain);
+        assert_eq!(BakedTiling::from_bytes(&v1).unwrap(), b);
+    }
+
+    #[test]
+    fn sets_without_symmetry_are_stored_plainly() {
+        // m_x -1..3 is not symmetric: only the top-bottom mirror maps the
+        // set onto itself; corner options (0, 0) and (0.5, 0) do not mirror
+        // left-right either.
+        let set = TileSet::new(
+            FluxRange { min: -1, max: 3 },
+            FluxRange { min: -1, max: 1 },
+            1.0,
+            vec![[0.0, 0.0], [0.5, 0.0]],
+            5,
+        )
+        .unwrap();
+        assert_eq!(set.symmetries(), vec![0, 4]);
+        assert_eq!(TileSet::paper(3, 3, 1, 4).unwrap().symmetries().len(), 8);
+        assert_eq!(
+            TileSet::paper(5, 3, 5, 4).unwrap().symmetries(),
+            vec![0, 2, 4, 6]
+        );
+        let no_mirror = TileSet::new(
+            FluxRange { min: -1, max: 3 },
+            FluxRange { min: 0, max: 2 },
+            1.0,
+            vec![[0.0, 0.0]],
+            4,
+        )
+        .unwrap();
+        assert_eq!(no_mirror.symmetries(), vec![0]);
+        let mut t = Tiling::new(
+            no_mirror,
+            5,
+            4,
+            &Conditions::borders(Border::Free, Border::Free),
+        )
+        .unwrap();
+        t.random_fill(&mut Rng::new(3)).unwrap();
+        let b = BakedTiling::from_tiling(&t).unwrap();
+        let bytes = b.to_bytes();
+        assert_eq!(version_of(&bytes), VERSION_PLAIN);
+        assert_eq!(b.storage_bytes(), (bytes.len(), None));
+        assert_eq!(BakedTiling::from_bytes(&bytes).unwrap(), b);
+    }
+
+    /// The fill commutes with the square's symmetries (up to rounding): a
+    /// stored representative turned or mirrored is the tile the fill would
+    /// have made, not merely some valid tile with the same key.
+    #[test]
+    fn transforms_commute_with_the_fill() {
+        for set in [
+            TileSet::paper(3, 3, 5, 6).unwrap(),
+            TileSet::paper(5, 5, 9, 7).unwrap(),
+            TileSet::paper(5, 3, 5, 5).unwrap(),
+        ] {
+            let step = (set.count() / 300).max(1);
+            let mut worst = 0.0f64;
+            for i in (0..set.count()).step_by(step as usize) {
+                let key = set.key_at(i).unwrap();
+                let tile = fill_tile(&set, &key);
+                for g in set.symmetries() {
+                    let moved = tile
+                        .transformed(&set, g)
+                        .unwrap_or_else(|| panic!("{key} under {g} in {:?}", set.corners));
+                    let direct = fill_tile(&set, &moved.key);
+                    for (a, b) in moved.stream.iter().zip(&direct.stream) {
+                        worst = worst.max((a - b).abs());
+                    }
+                }
+            }
+            assert!(worst <= 1e-12, "max difference {worst}");
+        }
+    }
+
+    #[test]
+    fn version_2_content_is_checked() {
+        let b = square_sample();
+        let bytes = b.to_bytes();
+        let reseal = |mut v: Vec<u8>| {
+            let end = v.len() - 8;
+            let sum = fnv1a(&v[..end]);
+            v[end..].copy_from_slice(&sum.to_le_bytes());
+            v
+        };
+        let (n, c, t) = (b.set.n, b.set.corners.len(), b.symmetry_classes_used());
+        let grid_at = HEADER_BYTES + 16 * c + KEY_BYTES * t + 8 * t * (n + 1) * (n + 1);
+        // A slot naming a symmetry that breaks its neighbours' agreement.
+        let mut rejected = 0;
+        for g in 1..8u32 {
+            let mut bad = bytes.clone();
+            let e = u32::from_le_bytes(bad[grid_at..grid_at + 4].try_into().unwrap());
+            bad[grid_at..grid_at + 4].copy_from_slice(&((e & !7) | ((e + g) & 7)).to_le_bytes());
+            if let Err(err) = BakedTiling::from_bytes(&reseal(bad)) {
+                assert!(!err.to_string().contains('\n'));
+                rejected += 1;
+            }
+        }
+        assert!(rejected >= 5, "{rejected}");
+        // A stored tile that is not its class's smallest member.
+        let mut bad = bytes.clone();
+        let key_at = HEADER_BYTES + 16 * c;
+        let first = b.tiles.iter().map(|t| t.key).min().unwrap();
+        let other = b
+            .set
+            .symmetries()
+            .into_iter()
+            .filter_map(|g| b.set.transform(&first, g))
+            .find(|k| *k != first);
+        if let Some(k) = other {
+            let mut raw = Vec::new();
+            for m in k.fluxes() {
+                raw.extend_from_slice(&m.to_le_bytes());
+            }
+            for x in k.corners {
+                raw.extend_from_slice(&x.to_le_bytes());
+            }
+            bad[key_at..key_at + KEY_BYTES].copy_from_slice(&raw);
+            assert!(BakedTiling::from_bytes(&reseal(bad)).is_err());
+        }
     }
 
     #[test]

@@ -182,7 +182,8 @@ enum Command {
         /// Floor height of the level (default: the floor under the spawns).
         #[arg(long, allow_hyphen_values = true)]
         floor: Option<f64>,
-        /// Bot navigation mesh (.nav) instead of the hulls (not supported yet).
+        /// Floors from the areas of this bot navigation mesh (Counter-Strike .nav,
+        /// v1-5) instead of the map's hulls.
         #[arg(long)]
         nav: Option<PathBuf>,
         /// Slot side in world units.
@@ -197,7 +198,8 @@ enum Command {
         /// Entity class names that are flow sinks (repeatable).
         #[arg(long = "to")]
         to: Vec<String>,
-        /// Spec (TOML) to write.
+        /// Spec (TOML) to write; the map's top view under the grid (for
+        /// `edit`) goes beside it as NAME.top.png.
         #[arg(short, long)]
         output: PathBuf,
         /// Top-view picture (PNG) of the region over the map.
@@ -215,6 +217,43 @@ enum Command {
         /// Print statistics as JSON.
         #[arg(long)]
         json: bool,
+    },
+    /// The interactive editor: paint the region, fix edge fluxes and corner
+    /// velocities, place tiles from the palette of a slot (only tiles that
+    /// keep the tiling completable; the others greyed with the reason), fill
+    /// the rest, undo/redo, save the spec, bake the file. With --script the
+    /// commands of a file are applied first and the editor runs headless
+    /// (add --window to open it afterwards); --screenshot writes a PNG.
+    Edit {
+        /// A spec (TOML, also from `region`) or a baked tiling (.ftb); none: a blank grid.
+        input: Option<PathBuf>,
+        /// Size WxH of the blank grid (without an input).
+        #[arg(long, default_value = "16x12")]
+        grid: String,
+        /// Commands to apply, one per line (see `flowtile_bake::editor::commands`).
+        #[arg(long)]
+        script: Option<PathBuf>,
+        /// Write a picture of the editor (PNG) after the script, rendered without a display.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Window and screenshot size in pixels, WxH.
+        #[arg(long, default_value = "1280x800")]
+        size: String,
+        /// Picture (PNG) under the grid, spanning it (default: the spec's `background`).
+        #[arg(long)]
+        background: Option<PathBuf>,
+        /// Where Save writes the spec (default: the input spec; for others NAME.edited.toml).
+        #[arg(long)]
+        save_as: Option<PathBuf>,
+        /// Where Bake writes the tiling (default: the spec's name with .ftb).
+        #[arg(long)]
+        bake_as: Option<PathBuf>,
+        /// Open the window after a script.
+        #[arg(long)]
+        window: bool,
+        /// Close the window after this many seconds.
+        #[arg(long)]
+        seconds: Option<f64>,
     },
     /// Describe a baked tiling and check it.
     Info {
@@ -304,6 +343,29 @@ pub fn run() -> Result<()> {
             Ok(())
         }
         Command::Info { input, json } => info(&input, json),
+        Command::Edit {
+            input,
+            grid,
+            script,
+            screenshot,
+            size,
+            background,
+            save_as,
+            bake_as,
+            window,
+            seconds,
+        } => crate::edit::edit(crate::edit::EditArgs {
+            input,
+            grid,
+            script,
+            screenshot,
+            size,
+            background,
+            save_as,
+            bake_as,
+            window,
+            seconds,
+        }),
         Command::Region {
             map,
             floor,
@@ -320,14 +382,9 @@ pub fn run() -> Result<()> {
             json,
         } => {
             let flows = [flow_picture.as_deref(), flow_gif.as_deref()];
-            if let Some(nav) = nav {
-                bail!(
-                    "--nav {}: reading bot navigation meshes is not supported yet (the .nav reader lives in vdgview); leave it out to use the map's hulls",
-                    nav.display()
-                );
-            }
             region(
                 &map,
+                nav.as_deref(),
                 floor,
                 tile,
                 band,
@@ -408,6 +465,7 @@ pub fn run() -> Result<()> {
 #[allow(clippy::too_many_arguments)]
 fn region(
     map: &Path,
+    nav: Option<&Path>,
     floor: Option<f64>,
     tile: f64,
     band: f64,
@@ -421,6 +479,22 @@ fn region(
 ) -> Result<()> {
     let t0 = Instant::now();
     let bsp = bsp::Bsp::open(map).with_context(|| format!("{}", map.display()))?;
+    let nav = match nav {
+        Some(p) => {
+            let mesh = navmesh::NavMesh::open(p).map_err(anyhow::Error::msg)?;
+            let size = std::fs::metadata(map).map(|m| m.len()).unwrap_or(0);
+            if mesh.bsp_size != 0 && u64::from(mesh.bsp_size) != size {
+                eprintln!(
+                    "warning: {} was made for a map of {} bytes, {} has {size} (an older build of the map?)",
+                    p.display(),
+                    mesh.bsp_size,
+                    map.display()
+                );
+            }
+            Some(mesh)
+        }
+        None => None,
+    };
     let read_s = t0.elapsed().as_secs_f64();
     let has = |c: &str| bsp.entities.iter().any(|e| e.classname() == c);
     if from.is_empty() && to.is_empty() {
@@ -454,10 +528,24 @@ fn region(
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let t1 = Instant::now();
-    let region = flowtile_bake::region::extract(&bsp, &name, &opt)
+    let floors = match &nav {
+        Some(mesh) => flowtile_bake::region::Floors::Nav(mesh),
+        None => flowtile_bake::region::Floors::Hulls,
+    };
+    let region = flowtile_bake::region::extract_with(&bsp, floors, &name, &opt)
         .with_context(|| format!("{}", map.display()))?;
     let extract_s = t1.elapsed().as_secs_f64();
-    let spec = region.to_spec_toml(seed);
+    // The map's top view beside the spec, for the editor's background.
+    let top = output.with_extension("top.png");
+    let top_name = top
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let spec = format!(
+        "background = {}   # the map's top view under the grid in `flowtile-bake edit`\n{}",
+        flowtile_bake::spec::toml_string(&top_name),
+        region.to_spec_toml(seed)
+    );
     // The spec must be a valid, completable problem before it is written.
     let problem = Problem::from_toml(&spec).context("internal: region spec does not parse")?;
     Tiling::new(
@@ -467,6 +555,8 @@ fn region(
         &problem.conditions,
     )
     .context("region spec")?;
+    flowtile_bake::bake::write_atomic(&top, &region.top_view_image(2)?.to_png()?)
+        .with_context(|| format!("{}", top.display()))?;
     flowtile_bake::bake::write_atomic(output, spec.as_bytes())
         .with_context(|| format!("{}", output.display()))?;
     if let Some(p) = picture {
@@ -527,6 +617,7 @@ fn region(
         "width": region.width,
         "height": region.height,
         "open_slots": region.open_slots(),
+        "floors_from": region.floors_from,
         "sources": region.sources.len(),
         "sinks": region.sinks.len(),
         "read_seconds": read_s,
@@ -600,12 +691,7 @@ fn load_keys(
     let first = seed.unwrap_or(problem.seed);
     let mut keys = Vec::with_capacity(count);
     for k in 0..count as u64 {
-        let mut t = Tiling::new(
-            problem.set.clone(),
-            problem.width,
-            problem.height,
-            &problem.conditions,
-        )?;
+        let mut t = problem.tiling()?;
         if problem.fill_forced {
             t.fill_forced()?;
         }
@@ -699,7 +785,9 @@ fn grid_problem(grid: &str, set: &str, n: usize, border: BorderArg) -> Result<Pr
         seed: 1,
         fill_forced: false,
         description: None,
+        background: None,
         preferences: Default::default(),
+        tiles: Vec::new(),
     })
 }
 
@@ -707,12 +795,7 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
     let seed = seed.unwrap_or(problem.seed);
     let set_size = problem.set.count();
     let t0 = Instant::now();
-    let mut tiling = Tiling::new(
-        problem.set,
-        problem.width,
-        problem.height,
-        &problem.conditions,
-    )?;
+    let mut tiling = problem.tiling()?;
     let forced = if problem.fill_forced {
         tiling.fill_forced()?
     } else {
@@ -751,6 +834,9 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
         "max_flux_error": baked.max_flux_error(),
         "max_seam_mismatch": baked.max_seam_mismatch(),
         "distinct_tiles_per_slot": stats::reuse_ratio(&baked),
+        "symmetry_classes_used": baked.symmetry_classes_used(),
+        "bytes_plain": baked.storage_bytes().0,
+        "bytes_rotated": baked.storage_bytes().1,
         "against_main_direction": against,
         "corridors": corridors.len(),
         "corridors_without_flow": empty_corridors,
@@ -779,11 +865,14 @@ fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) 
             baked.max_seam_mismatch(),
             box_flux
         );
+        let (plain, rotated) = baked.storage_bytes();
         println!(
-            "reuse: {} distinct tiles / {} slots = {:.3}; corridors {} ({} without flow){}",
+            "reuse: {} distinct tiles / {} slots = {:.3}, {} symmetry classes (file {} bytes, {plain} storing every tile); corridors {} ({} without flow){}",
             baked.tiles.len(),
             tiling.open_slots(),
             stats::reuse_ratio(&baked),
+            baked.symmetry_classes_used(),
+            rotated.unwrap_or(plain),
             corridors.len(),
             empty_corridors,
             against
@@ -806,9 +895,19 @@ fn info(path: &Path, json: bool) -> Result<()> {
     // What storing every slot's stream function would take.
     let unshared = slots * nodes * 8;
     let s = &b.set;
+    // Version 2 stores one tile per symmetry class; `tiles_used` counts the
+    // distinct tiles of the grid either way.
+    let version = u32::from_le_bytes(bytes[4..8].try_into().expect("read checked the header"));
+    let stored = if version == flowtile_bake::bake::VERSION_ROTATED {
+        b.symmetry_classes_used()
+    } else {
+        b.tiles.len()
+    };
     let stats = json!({
         "file": path.display().to_string(),
         "bytes": bytes.len(),
+        "version": version,
+        "tiles_stored": stored,
         "width": b.width,
         "height": b.height,
         "periodic_x": b.periodic_x,
@@ -821,7 +920,7 @@ fn info(path: &Path, json: bool) -> Result<()> {
         "tile_set_size": s.count(),
         "slots": slots,
         "tiles_used": b.tiles.len(),
-        "stream_bytes_vs_unshared": (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64,
+        "stream_bytes_vs_unshared": (stored * nodes * 8) as f64 / unshared.max(1) as f64,
         "max_divergence": b.max_cell_divergence(),
         "max_flux_error": b.max_flux_error(),
         "max_seam_mismatch": b.max_seam_mismatch(),
@@ -830,10 +929,9 @@ fn info(path: &Path, json: bool) -> Result<()> {
         println!("{stats}");
     } else {
         println!(
-            "{}: {} bytes, format version {}",
+            "{}: {} bytes, format version {version}",
             path.display(),
             bytes.len(),
-            flowtile_bake::bake::VERSION
         );
         println!(
             "grid {}x{} ({} slots, {} blocked){}{}",
@@ -856,9 +954,9 @@ fn info(path: &Path, json: bool) -> Result<()> {
             s.count()
         );
         println!(
-            "tiles stored: {} ({:.1}% of the stream data of storing every slot)",
+            "tiles: {} distinct, {stored} stored ({:.1}% of the stream data of storing every slot)",
             b.tiles.len(),
-            100.0 * (b.tiles.len() * nodes * 8) as f64 / unshared.max(1) as f64
+            100.0 * (stored * nodes * 8) as f64 / unshared.max(1) as f64
         );
         println!(
             "max |divergence| {:.1e}, max flux error {:.1e}, max seam mismatch {:.1e}",

@@ -78,6 +78,47 @@ impl Tile {
     }
 }
 
+impl Tile {
+    /// The tile under symmetry `g` of the square (codes as in
+    /// [`TileSet::transform`]): the key transformed, and the stream function
+    /// carried along. A quarter turn moves node `(i, j)` to `(n − j, i)`; a
+    /// top-to-bottom mirror moves it to `(i, n − j)` and flips the sign
+    /// (mirroring reverses orientation). Both keep `S(0, 0) = 0` by
+    /// subtracting the value that lands there. `None` when the transformed
+    /// key leaves the set.
+    ///
+    /// ```
+    /// use flowtile_bake::{fill::fill_tile, tileset::TileSet};
+    /// let set = TileSet::paper(3, 3, 5, 6).unwrap();
+    /// let key = set.key_at(7).unwrap();
+    /// let turned = fill_tile(&set, &key).transformed(&set, 1).unwrap();
+    /// assert_eq!(turned.key, set.rotate(&key).unwrap());
+    /// ```
+    pub fn transformed(&self, set: &TileSet, g: u8) -> Option<Tile> {
+        let key = set.transform(&self.key, g)?;
+        let n = self.n;
+        let mut stream = self.stream.clone();
+        if g & 4 != 0 {
+            let base = stream[n * (n + 1)];
+            for j in 0..=n {
+                for i in 0..=n {
+                    stream[j * (n + 1) + i] = base - self.stream[(n - j) * (n + 1) + i];
+                }
+            }
+        }
+        for _ in 0..g & 3 {
+            let before = stream.clone();
+            let base = before[n * (n + 1)];
+            for j in 0..=n {
+                for i in 0..=n {
+                    stream[i * (n + 1) + (n - j)] = before[j * (n + 1) + i] - base;
+                }
+            }
+        }
+        Some(Tile { key, n, stream })
+    }
+}
+
 /// Fills the tile with key `key` of `set`.
 ///
 /// ```

@@ -68,6 +68,11 @@ pub struct Network {
     journal: Vec<Undo>,
     journalling: bool,
     search: Search,
+    /// Most nodes one search may visit before giving up (see
+    /// [`Network::move_bounded`]); unlimited otherwise.
+    budget: usize,
+    /// A search gave up on the budget since the last bounded move began.
+    cut_off: bool,
 }
 
 /// Scratch state of the bidirectional search, reused between queries.
@@ -79,8 +84,34 @@ struct Search {
     /// Arc used to reach the node (forward: into it; backward: out of it).
     fwd_via: Vec<u32>,
     bwd_via: Vec<u32>,
-    fwd_queue: VecDeque<u32>,
-    bwd_queue: VecDeque<u32>,
+    fwd_queue: Fifo,
+    bwd_queue: Fifo,
+}
+
+/// A first-in first-out queue that is cleared before every search: a vector
+/// and a read position (no wrap-around bookkeeping on the hot path).
+#[derive(Clone, Debug, Default)]
+struct Fifo {
+    items: Vec<u32>,
+    head: usize,
+}
+
+impl Fifo {
+    fn clear(&mut self) {
+        self.items.clear();
+        self.head = 0;
+    }
+    fn push_back(&mut self, v: u32) {
+        self.items.push(v);
+    }
+    fn pop_front(&mut self) -> Option<u32> {
+        let v = *self.items.get(self.head)?;
+        self.head += 1;
+        Some(v)
+    }
+    fn len(&self) -> usize {
+        self.items.len() - self.head
+    }
 }
 
 /// The feasibility search failed: the bounds admit no circulation.
@@ -107,6 +138,8 @@ impl Network {
             journal: Vec::new(),
             journalling: false,
             search: Search::default(),
+            budget: usize::MAX,
+            cut_off: false,
         }
     }
 
@@ -419,8 +452,14 @@ impl Network {
         s.bwd_via[dst as usize] = NONE;
         s.fwd_queue.push_back(src);
         s.bwd_queue.push_back(dst);
+        let mut visited = 0usize;
         let meet = loop {
             let (fq, bq) = (self.search.fwd_queue.len(), self.search.bwd_queue.len());
+            visited += 1;
+            if visited > self.budget {
+                self.cut_off = true;
+                return 0;
+            }
             if fq == 0 || bq == 0 {
                 return 0;
             }
@@ -552,6 +591,51 @@ impl Network {
             }
         }
         None
+    }
+
+    /// Pushes up to `limit` units around `cycle`, a closed walk given as
+    /// (node the step leaves, arc) pairs, as far as the residual capacities
+    /// allow; returns the amount pushed (0 when some step has no room). The
+    /// caller supplies the cycle: a structure-aware shortcut (the tiling's
+    /// ladders) that saves the general search when it applies.
+    pub fn push_cycle(&mut self, cycle: &[(u32, ArcId)], limit: i32) -> i32 {
+        debug_assert!(cycle.iter().enumerate().all(|(i, &(from, e))| {
+            let a = &self.arcs[e];
+            let to = if a.tail == from { a.head } else { a.tail };
+            cycle[(i + 1) % cycle.len()].0 == to
+        }));
+        let mut amount = limit;
+        for &(from, e) in cycle {
+            amount = amount.min(self.cap_from(from, e));
+        }
+        if amount <= 0 {
+            return 0;
+        }
+        for &(from, e) in cycle {
+            self.push(from, e, amount);
+        }
+        amount
+    }
+
+    /// Residual room of arc `e` for flow leaving node `from` along it.
+    pub fn room_from(&self, from: u32, e: ArcId) -> i32 {
+        self.cap_from(from, e)
+    }
+
+    /// Moves the flux of arc `e` towards `target` with searches that give up
+    /// after visiting `budget` nodes; returns whether one gave up (then the
+    /// value reached proves nothing about feasibility). For callers that
+    /// know a cheap way round when the near one is long.
+    pub fn move_bounded(&mut self, e: ArcId, target: i32, budget: usize) -> bool {
+        self.budget = budget;
+        self.cut_off = false;
+        if target > self.arcs[e].x {
+            self.raise(e, target);
+        } else {
+            self.lower(e, target);
+        }
+        self.budget = usize::MAX;
+        self.cut_off
     }
 
     /// Raises the flux of arc `e` towards `target` (at most its upper bound)

@@ -10,7 +10,8 @@
 //! tiles actually used) → [`bake`] (the versioned binary file, see
 //! `FORMAT.md`) → [`runtime`] (velocity lookup, flow coordinates, blending of
 //! key tilings) and [`render`] (PNG pictures). [`spec`] reads the TOML tiling
-//! specs the `flowtile-bake` binary takes; [`rng`] is a small seeded
+//! specs the `flowtile-bake` binary takes (and writes back); [`editor`] is the
+//! interactive editor's model, command language and drawing; [`rng`] is a small seeded
 //! generator so the same seed gives the same tiling everywhere.
 //!
 //! ```
@@ -26,6 +27,7 @@
 //! ```
 
 pub mod bake;
+pub mod editor;
 pub mod fill;
 pub mod flow;
 pub mod prefer;

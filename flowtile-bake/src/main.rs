@@ -1,7 +1,8 @@
 //! `flowtile-bake`: count tile sets, tile grids under boundary conditions,
-//! bake tiling files, inspect and render them.
+//! bake tiling files, inspect and render them, edit tilings interactively.
 
 mod cli;
+mod edit;
 
 fn main() {
     if let Err(e) = cli::run() {

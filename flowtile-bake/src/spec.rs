@@ -4,6 +4,7 @@
 //! ```toml
 //! seed = 7
 //! fill_forced = false      # place forced slots before the random fill
+//! background = "top.png"   # optional picture under the grid in the editor (relative to the spec)
 //! [tileset]
 //! mx = 5                   # options on vertical edges: a count (centred) or [min, max]
 //! my = 3                   # options on horizontal edges
@@ -27,6 +28,11 @@
 //! x = 3
 //! y = 4
 //! velocity = 1
+//! [[tile]]                 # a tile fixed by the designer (the editor writes these);
+//! x = 2                    # placed before the fill, which completes the rest
+//! y = 3
+//! fluxes = [1, 0, 1, 0]    # left, bottom, right, top
+//! corners = [0, 0, 0, 0]   # bottom-left, bottom-right, top-right, top-left
 //! [prefer]                 # optional designed flow: weights on the random choice
 //! straight = 1.0           # favour tiles whose flow leaves opposite where it enters
 //! reuse = 4.0              # favour tiles already placed (fewer distinct tiles)
@@ -42,8 +48,10 @@ use std::fmt;
 use serde::Deserialize;
 
 use crate::prefer::{DirectionRegion, Preferences};
-use crate::tileset::{FluxRange, TileSet, default_corner_options};
-use crate::tiling::{Border, Conditions, Edge, MAX_SIDE, MAX_SLOTS, parse_mask};
+use crate::tileset::{FluxRange, TileKey, TileSet, default_corner_options};
+use crate::tiling::{
+    Border, Conditions, Edge, MAX_SIDE, MAX_SLOTS, Tiling, TilingError, parse_mask,
+};
 
 /// A spec that failed to parse or describes an impossible problem.
 #[derive(Clone, Debug, PartialEq)]
@@ -172,6 +180,15 @@ struct DirectionSpec {
     strength: f64,
 }
 
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TileFix {
+    x: u32,
+    y: u32,
+    fluxes: [i32; 4],
+    corners: [u16; 4],
+}
+
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct PreferSpec {
@@ -192,12 +209,16 @@ struct SpecFile {
     fill_forced: bool,
     #[serde(default)]
     description: Option<String>,
+    #[serde(default)]
+    background: Option<String>,
     tileset: TileSetSpec,
     grid: GridSpec,
     #[serde(default)]
     flux: Vec<FluxSpec>,
     #[serde(default)]
     corner: Vec<CornerFix>,
+    #[serde(default)]
+    tile: Vec<TileFix>,
     #[serde(default)]
     prefer: PreferSpec,
 }
@@ -219,8 +240,13 @@ pub struct Problem {
     pub fill_forced: bool,
     /// Free text from the spec.
     pub description: Option<String>,
+    /// Picture under the grid in the editor (a PNG spanning the grid, path
+    /// relative to the spec).
+    pub background: Option<String>,
     /// Designed-flow weights for the random fill.
     pub preferences: Preferences,
+    /// Tiles fixed by the designer at slots `(x, y)`, placed before the fill.
+    pub tiles: Vec<((u32, u32), TileKey)>,
 }
 
 fn flux_range(r: &CountOrRange, axis: &str) -> Result<FluxRange, SpecError> {
@@ -349,6 +375,35 @@ impl Problem {
         preferences
             .validate()
             .map_err(|e| SpecError(format!("prefer: {e}")))?;
+        let mut tiles = Vec::with_capacity(spec.tile.len());
+        for (i, t) in spec.tile.iter().enumerate() {
+            if t.x >= w || t.y >= h {
+                return Err(SpecError(format!(
+                    "tile[{i}] at slot ({}, {}) lies outside the {w}x{h} grid",
+                    t.x, t.y
+                )));
+            }
+            let [left, bottom, right, top] = t.fluxes;
+            let key = TileKey {
+                left,
+                bottom,
+                right,
+                top,
+                corners: t.corners,
+            };
+            if set.index_of(&key).is_none() {
+                return Err(SpecError(format!(
+                    "tile[{i}] {key} is not in the tile set (fluxes must conserve mass and lie in the ranges)"
+                )));
+            }
+            if tiles.iter().any(|&(s, _)| s == (t.x, t.y)) {
+                return Err(SpecError(format!(
+                    "tile[{i}]: slot ({}, {}) holds two tiles",
+                    t.x, t.y
+                )));
+            }
+            tiles.push(((t.x, t.y), key));
+        }
         Ok(Problem {
             set,
             width: w,
@@ -357,16 +412,169 @@ impl Problem {
             seed: spec.seed,
             fill_forced: spec.fill_forced,
             description: spec.description,
+            background: spec.background,
             preferences,
+            tiles,
         })
     }
+
+    /// The problem's tiling before the fill: empty slots under the
+    /// conditions, with the designer's fixed tiles placed (an error names a
+    /// fixed tile that would leave no completion).
+    pub fn tiling(&self) -> Result<Tiling, TilingError> {
+        let mut t = Tiling::new(self.set.clone(), self.width, self.height, &self.conditions)?;
+        for &((x, y), key) in &self.tiles {
+            t.place(x, y, key)?;
+        }
+        Ok(t)
+    }
+
+    /// Writes the problem as a spec that [`Problem::from_toml`] reads back
+    /// to an equal problem (the editor's "save"). Fixed fluxes, corners and
+    /// tiles are written one entry each; floats in Rust's shortest
+    /// round-trip form.
+    ///
+    /// ```
+    /// use flowtile_bake::spec::Problem;
+    /// let p = Problem::from_toml("[tileset]\nmx = 3\nmy = 3\n[grid]\nwidth = 4\nheight = 2\n").unwrap();
+    /// let q = Problem::from_toml(&p.to_toml()).unwrap();
+    /// assert_eq!(q.to_toml(), p.to_toml());
+    /// ```
+    pub fn to_toml(&self) -> String {
+        use std::fmt::Write;
+        let border = |b: Border| match b {
+            Border::Free => "free",
+            Border::Zero => "zero",
+            Border::Periodic => "periodic",
+        };
+        let f = |v: f64| format!("{v:?}");
+        let mut s = String::new();
+        if let Some(d) = &self.description {
+            let _ = writeln!(s, "description = {}", toml_string(d));
+        }
+        if let Some(b) = &self.background {
+            let _ = writeln!(s, "background = {}", toml_string(b));
+        }
+        let _ = writeln!(s, "seed = {}", self.seed);
+        if self.fill_forced {
+            s += "fill_forced = true\n";
+        }
+        let set = &self.set;
+        let corners: Vec<String> = set
+            .corners
+            .iter()
+            .map(|c| format!("[{}, {}]", f(c[0]), f(c[1])))
+            .collect();
+        let _ = write!(
+            s,
+            "\n[tileset]\nmx = [{}, {}]\nmy = [{}, {}]\ncorners = [{}]\nf_base = {}\nn = {}\n",
+            set.mx.min,
+            set.mx.max,
+            set.my.min,
+            set.my.max,
+            corners.join(", "),
+            f(set.f_base),
+            set.n
+        );
+        let c = &self.conditions;
+        let _ = write!(
+            s,
+            "\n[grid]\nwidth = {}\nheight = {}\nborder_x = \"{}\"\nborder_y = \"{}\"\n",
+            self.width,
+            self.height,
+            border(c.border_x),
+            border(c.border_y)
+        );
+        if c.blocked.iter().any(|&b| b) {
+            s += "mask = \"\"\"\n";
+            for y in (0..self.height).rev() {
+                for x in 0..self.width {
+                    s.push(if c.blocked[(y * self.width + x) as usize] {
+                        '#'
+                    } else {
+                        '.'
+                    });
+                }
+                s.push('\n');
+            }
+            s += "\"\"\"\n";
+        }
+        for &(e, m) in &c.fluxes {
+            let (kind, x, y) = match e {
+                Edge::Vertical { x, y } => ("v", x, y),
+                Edge::Horizontal { x, y } => ("h", x, y),
+            };
+            let _ = write!(
+                s,
+                "\n[[flux]]\nedge = \"{kind}\"\nx = {x}\ny = {y}\nm = {m}\n"
+            );
+        }
+        for &((x, y), v) in &c.corners {
+            let _ = write!(s, "\n[[corner]]\nx = {x}\ny = {y}\nvelocity = {v}\n");
+        }
+        for &((x, y), k) in &self.tiles {
+            let _ = write!(
+                s,
+                "\n[[tile]]\nx = {x}\ny = {y}\nfluxes = [{}, {}, {}, {}]\ncorners = [{}, {}, {}, {}]\n",
+                k.left,
+                k.bottom,
+                k.right,
+                k.top,
+                k.corners[0],
+                k.corners[1],
+                k.corners[2],
+                k.corners[3]
+            );
+        }
+        let p = &self.preferences;
+        if !p.is_uniform() || !p.regions.is_empty() {
+            let _ = write!(
+                s,
+                "\n[prefer]\nstraight = {}\nreuse = {}\n",
+                f(p.straight),
+                f(p.reuse)
+            );
+            for r in &p.regions {
+                let _ = write!(
+                    s,
+                    "\n[[prefer.direction]]\nx = [{}, {}]\ny = [{}, {}]\ndirection = [{}, {}]\nstrength = {}\n",
+                    r.x.0,
+                    r.x.1,
+                    r.y.0,
+                    r.y.1,
+                    f(r.direction[0]),
+                    f(r.direction[1]),
+                    f(r.strength)
+                );
+            }
+        }
+        s
+    }
+}
+
+/// A TOML basic string (quotes, backslashes and control characters escaped).
+///
+/// ```
+/// assert_eq!(flowtile_bake::spec::toml_string("a\"b"), "\"a\\\"b\"");
+/// ```
+pub fn toml_string(text: &str) -> String {
+    let mut s = String::from("\"");
+    for ch in text.chars() {
+        match ch {
+            '"' => s += "\\\"",
+            '\\' => s += "\\\\",
+            c if (c as u32) < 0x20 || c as u32 == 0x7f => s += &format!("\\u{:04X}", c as u32),
+            c => s.push(c),
+        }
+    }
+    s.push('"');
+    s
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::rng::Rng;
-    use crate::tiling::Tiling;
 
     #[test]
     fn example_specs_tile_completely() {

@@ -366,6 +366,102 @@ impl TileSet {
         Ok(rotated)
     }
 
+    /// Symmetry `g` of the square applied to `key`: bit 2 mirrors top to
+    /// bottom first (`y → 1 − y`: fluxes `(l, b, r, t) → (l, −t, r, −b)`,
+    /// velocities `(x, y) → (x, −y)`, bottom and top corners trade places),
+    /// bits 0–1 then count quarter turns counter-clockwise as in
+    /// [`TileSet::rotate`]. `None` when the result is not in the set (only
+    /// the result counts: a half turn of a set with `m_x ≠ m_y` is fine).
+    pub fn transform(&self, key: &TileKey, g: u8) -> Option<TileKey> {
+        let [mut l, mut b, mut r, mut t] = key.fluxes();
+        let mut v = key.corners.map(|c| self.corners[c as usize]);
+        if g & 4 != 0 {
+            (b, t) = (-t, -b);
+            let [bl, br, tr, tl] = v;
+            v = [tl, tr, br, bl].map(|[x, y]| [x, -y]);
+        }
+        for _ in 0..g & 3 {
+            (l, b, r, t) = (-t, l, -b, r);
+            let [bl, br, tr, tl] = v.map(|[x, y]| [-y, x]);
+            v = [tl, bl, br, tr];
+        }
+        let option = |w: [f64; 2]| {
+            self.corners
+                .iter()
+                .position(|o| (o[0] - w[0]).abs() < 1e-12 && (o[1] - w[1]).abs() < 1e-12)
+                .map(|i| i as u16)
+        };
+        let moved = TileKey {
+            left: l,
+            bottom: b,
+            right: r,
+            top: t,
+            corners: [option(v[0])?, option(v[1])?, option(v[2])?, option(v[3])?],
+        };
+        self.index_of(&moved).map(|_| moved)
+    }
+
+    /// The symmetries of the square (codes as in [`TileSet::transform`])
+    /// that map the whole set onto itself: all eight for square sets with
+    /// symmetric ranges and corner options, `{0, 4}` for the river's
+    /// asymmetric `m_x` with symmetric `m_y`, `{0}` at least.
+    pub fn symmetries(&self) -> Vec<u8> {
+        let velocity = |[mut vx, mut vy]: [f64; 2], g: u8| {
+            if g & 4 != 0 {
+                vy = -vy;
+            }
+            for _ in 0..g & 3 {
+                (vx, vy) = (-vy, vx);
+            }
+            [vx, vy]
+        };
+        let fluxes = |[mut l, mut b, mut r, mut t]: [i32; 4], g: u8| {
+            if g & 4 != 0 {
+                (b, t) = (-t, -b);
+            }
+            for _ in 0..g & 3 {
+                (l, b, r, t) = (-t, l, -b, r);
+            }
+            [l, b, r, t]
+        };
+        let closed = |g: u8| {
+            self.corners.iter().all(|&v| {
+                let w = velocity(v, g);
+                self.corners
+                    .iter()
+                    .any(|o| (o[0] - w[0]).abs() < 1e-12 && (o[1] - w[1]).abs() < 1e-12)
+            }) && self.tuples.iter().all(|&f| {
+                let [left, bottom, right, top] = fluxes(f, g);
+                let key = TileKey {
+                    left,
+                    bottom,
+                    right,
+                    top,
+                    corners: [0; 4],
+                };
+                self.index_of(&key).is_some()
+            })
+        };
+        (0..8).filter(|&g| closed(g)).collect()
+    }
+
+    /// The class of `key` under the symmetries `group` (from
+    /// [`TileSet::symmetries`]): its smallest member, and the first symmetry
+    /// that takes that member to `key`.
+    pub fn symmetry_class(&self, group: &[u8], key: &TileKey) -> (TileKey, u8) {
+        let rep = group
+            .iter()
+            .filter_map(|&g| self.transform(key, g))
+            .min()
+            .unwrap_or(*key);
+        let g = group
+            .iter()
+            .copied()
+            .find(|&g| self.transform(&rep, g) == Some(*key))
+            .unwrap_or(0);
+        (rep, g)
+    }
+
     /// Partitions the complete set into rotational symmetry classes; each
     /// class is listed by its member indices, smallest first.
     pub fn rotation_classes(&self) -> Result<Vec<Vec<u64>>, TileSetError> {

@@ -281,6 +281,10 @@ pub struct Tiling {
     h_arcs: Vec<ArcId>,
     corner_fixed: Vec<Option<u16>>,
     slots: Vec<Option<TileKey>>,
+    /// Arc bounds and fixed corners from the conditions alone (before any
+    /// tile), restored by [`Tiling::remove`].
+    base_bounds: Vec<(i32, i32)>,
+    base_corners: Vec<Option<u16>>,
 }
 
 impl Tiling {
@@ -362,31 +366,36 @@ impl Tiling {
             let b = (slots + (k + 1) % ring) as u32;
             net.add_arc(a, b, -UNBOUNDED, UNBOUNDED);
         }
-        // Vertical edges: with periodic x the edge at x = W is the one at x = 0.
+        // Vertical edges: with periodic x the edge at x = W is the one at x = 0;
+        // likewise horizontal edges with periodic y.
         let vx_count = if cond.border_x == Border::Periodic {
             width
         } else {
             width + 1
         };
-        let mut v_arcs = Vec::with_capacity((vx_count * height) as usize);
-        for y in 0..height as i64 {
-            for x in 0..vx_count as i64 {
-                let (tail, head) = (slot_node(x - 1, y), slot_node(x, y));
-                let (lo, hi) = bounds(tail, head, cond.border_x, mx);
-                v_arcs.push(net.add_arc(tail, head, lo, hi));
-            }
-        }
         let hy_count = if cond.border_y == Border::Periodic {
             height
         } else {
             height + 1
         };
-        let mut h_arcs = Vec::with_capacity((hy_count * width) as usize);
-        for y in 0..hy_count as i64 {
-            for x in 0..width as i64 {
-                let (tail, head) = (slot_node(x, y - 1), slot_node(x, y));
-                let (lo, hi) = bounds(tail, head, cond.border_y, my);
-                h_arcs.push(net.add_arc(tail, head, lo, hi));
+        // Arcs are numbered slot by slot (left then bottom edge), so the arcs
+        // a search reads around a slot share cache lines: the searches of
+        // the fill are bound by memory reads, not arithmetic.
+        let mut v_arcs = vec![0; (vx_count * height) as usize];
+        let mut h_arcs = vec![0; (hy_count * width) as usize];
+        for y in 0..height.max(hy_count) {
+            for x in 0..vx_count.max(width) {
+                let (xi, yi) = (x as i64, y as i64);
+                if y < height && x < vx_count {
+                    let (tail, head) = (slot_node(xi - 1, yi), slot_node(xi, yi));
+                    let (lo, hi) = bounds(tail, head, cond.border_x, mx);
+                    v_arcs[(y * vx_count + x) as usize] = net.add_arc(tail, head, lo, hi);
+                }
+                if y < hy_count && x < width {
+                    let (tail, head) = (slot_node(xi, yi - 1), slot_node(xi, yi));
+                    let (lo, hi) = bounds(tail, head, cond.border_y, my);
+                    h_arcs[(y * width + x) as usize] = net.add_arc(tail, head, lo, hi);
+                }
             }
         }
         let vw = if cond.border_x == Border::Periodic {
@@ -411,6 +420,8 @@ impl Tiling {
             h_arcs,
             corner_fixed: vec![None; (vw * vh) as usize],
             slots: vec![None; slots],
+            base_bounds: Vec::new(),
+            base_corners: Vec::new(),
         };
         tiling.apply_corner_conditions(cond)?;
         let mut fixed: Vec<Option<i32>> = vec![None; tiling.net.arc_count()];
@@ -447,6 +458,13 @@ impl Tiling {
             .net
             .make_feasible()
             .map_err(|e| TilingError::Infeasible(tiling.describe_node(e.node)))?;
+        tiling.base_bounds = (0..tiling.net.arc_count())
+            .map(|a| {
+                let a = tiling.net.arc(a);
+                (a.lo, a.hi)
+            })
+            .collect();
+        tiling.base_corners = tiling.corner_fixed.clone();
         Ok(tiling)
     }
 
@@ -539,14 +557,23 @@ impl Tiling {
                 if x > self.width || y >= self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let per_row = self.v_arcs.len() as u32 / self.height;
+                // Periodic in x: W arcs per row, the one at x = W is x = 0.
+                let per_row = if self.border_x == Border::Periodic {
+                    self.width
+                } else {
+                    self.width + 1
+                };
                 Ok(self.v_arcs[(y * per_row + x % per_row) as usize])
             }
             Edge::Horizontal { x, y } => {
                 if x >= self.width || y > self.height {
                     return Err(TilingError::OutOfGrid(format!("{edge:?}")));
                 }
-                let rows = self.h_arcs.len() as u32 / self.width;
+                let rows = if self.border_y == Border::Periodic {
+                    self.height
+                } else {
+                    self.height + 1
+                };
                 Ok(self.h_arcs[((y % rows) * self.width + x) as usize])
             }
         }
@@ -755,6 +782,66 @@ impl Tiling {
         Ok(())
     }
 
+    /// Removes the tile at `(x, y)` and returns it (`None` for an empty or
+    /// blocked slot). Fewer tiles never break completability: the current
+    /// circulation stays feasible, and only the slot's edges and corners
+    /// that no other tile holds go back to the conditions' bounds.
+    ///
+    /// ```
+    /// use flowtile_bake::{tileset::TileSet, tiling::{Tiling, Conditions, Border}, rng::Rng};
+    /// let set = TileSet::paper(3, 3, 1, 4).unwrap();
+    /// let mut t = Tiling::new(set, 3, 3, &Conditions::borders(Border::Free, Border::Free)).unwrap();
+    /// t.random_fill(&mut Rng::new(1)).unwrap();
+    /// let k = t.remove(1, 1).unwrap();
+    /// assert!(t.select(1, 1).unwrap().keys().any(|o| o == k));
+    /// ```
+    pub fn remove(&mut self, x: u32, y: u32) -> Option<TileKey> {
+        if x >= self.width || y >= self.height {
+            return None;
+        }
+        let me = (y * self.width + x) as usize;
+        let key = self.slots[me].take()?;
+        for arc in self.slot_arcs(x, y) {
+            let a = self.net.arc(arc);
+            let other = if a.tail as usize == me {
+                a.head
+            } else {
+                a.tail
+            } as usize;
+            let held = other < self.slots.len() && self.slots[other].is_some();
+            if !held {
+                let (lo, hi) = self.base_bounds[arc];
+                self.net.set_bounds(arc, lo, hi);
+            }
+        }
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (px, py) = (
+            self.border_x == Border::Periodic,
+            self.border_y == Border::Periodic,
+        );
+        for (vx, vy) in [(x, y), (x + 1, y), (x + 1, y + 1), (x, y + 1)] {
+            let held = [(-1i64, -1i64), (0, -1), (-1, 0), (0, 0)]
+                .iter()
+                .any(|&(dx, dy)| {
+                    let (mut sx, mut sy) = (vx as i64 + dx, vy as i64 + dy);
+                    if px {
+                        sx = sx.rem_euclid(w);
+                    }
+                    if py {
+                        sy = sy.rem_euclid(h);
+                    }
+                    (0..w).contains(&sx)
+                        && (0..h).contains(&sy)
+                        && self.slots[(sy * w + sx) as usize].is_some()
+                });
+            if !held {
+                let v = self.vertex(vx, vy);
+                self.corner_fixed[v] = self.base_corners[v];
+            }
+        }
+        Some(key)
+    }
+
     /// Fills every slot that has exactly one option, repeatedly, until none
     /// is left (the paper's automatic filling of forced positions). Returns
     /// the number of tiles placed.
@@ -950,6 +1037,12 @@ impl Tiling {
                     lo + rng.weighted(&w) as i32
                 };
                 let cur = self.net.arc(e).x;
+                if k == 2 && f == 3 && v != cur {
+                    self.ladder_move(x, y, v);
+                } else if k == 1 && y == 0 && self.border_y == Border::Periodic && v != cur {
+                    self.seam_move(x, v);
+                }
+                let cur = self.net.arc(e).x;
                 if v > cur {
                     let reached = self.net.raise(e, v);
                     if reached < v {
@@ -976,6 +1069,189 @@ impl Tiling {
             }
         }
         Ok(self.commit_slot(x, y, values, rng, chooser))
+    }
+
+    /// Moves the flux of slot `(x, y)`'s right edge towards `target` along
+    /// "ladders", as far as they reach (the general search in
+    /// [`Network::raise`] does the rest).
+    ///
+    /// In scan-line order the only free edges of the slot are its right and
+    /// top edges, so every cycle through the right edge returns through the
+    /// top one: up the next column, across some row above, down this
+    /// column. Above the filled rows the unfilled rows carry the running
+    /// sum of the fluxes that leave the filled part, and the nearest rows
+    /// fill up to their bounds; the shortest cycle then climbs a few rows.
+    /// Testing the ladders rung by rung finds it with a few arc reads,
+    /// where the breadth-first search of the network would visit the whole
+    /// band (most of the fill's time at 256×256).
+    fn ladder_move(&mut self, x: u32, y: u32, target: i32) {
+        const RUNGS: u32 = 64;
+        let w = self.width;
+        let next = if x + 1 < w {
+            x + 1
+        } else if self.border_x == Border::Periodic {
+            0
+        } else {
+            return;
+        };
+        let e = self.slot_arcs(x, y)[2];
+        let (here, there) = (y * w + x, y * w + next);
+        // Direct indices (rows above y stay inside the grid): the arc of the
+        // horizontal edge at (col, row) and of the vertical edge right of x.
+        let h_arc = |col: u32, row: u32| self.h_arcs[(row * w + col) as usize];
+        let per_row = self.v_arcs.len() as u32 / self.height;
+        let cross_col = (x + 1) % per_row;
+        let v_arc = |row: u32| self.v_arcs[(row * per_row + cross_col) as usize];
+        let top_row = y + RUNGS.min(self.height - 1 - y);
+        let mut cycle = [(0u32, 0 as ArcId); 2 * RUNGS as usize + 2];
+        for _ in 0..4 {
+            let cur = self.net.arc(e).x;
+            if cur == target {
+                return;
+            }
+            let up = target > cur;
+            // Raise: here → there along e, then up `next`, across, down `x`.
+            // Lower: the reverse walk. Vertical-edge arcs point up: climbing
+            // `next` goes forward when raising, `x` is descended, and vice versa.
+            let (mut room_there, mut room_here) = (i32::MAX, i32::MAX);
+            let mut rung = None;
+            for row in y + 1..=top_row {
+                let (lower_there, lower_here) = ((row - 1) * w + next, (row - 1) * w + x);
+                let (upper_there, upper_here) = (row * w + next, row * w + x);
+                let (from_there, from_here) = if up {
+                    (lower_there, upper_here)
+                } else {
+                    (upper_there, lower_here)
+                };
+                room_there = room_there.min(self.net.room_from(from_there, h_arc(next, row)));
+                room_here = room_here.min(self.net.room_from(from_here, h_arc(x, row)));
+                if room_there <= 0 || room_here <= 0 {
+                    break;
+                }
+                let cross_from = if up { upper_there } else { upper_here };
+                if self.net.room_from(cross_from, v_arc(row)) > 0 {
+                    rung = Some(row);
+                    break;
+                }
+            }
+            let Some(top) = rung else { return };
+            let mut len = 0;
+            let mut step = |from: u32, arc: ArcId| {
+                cycle[len] = (from, arc);
+                len += 1;
+            };
+            if up {
+                step(here, e);
+                for row in y + 1..=top {
+                    step((row - 1) * w + next, h_arc(next, row));
+                }
+                step(top * w + next, v_arc(top));
+                for row in (y + 1..=top).rev() {
+                    step(row * w + x, h_arc(x, row));
+                }
+            } else {
+                step(there, e);
+                for row in y + 1..=top {
+                    step((row - 1) * w + x, h_arc(x, row));
+                }
+                step(top * w + x, v_arc(top));
+                for row in (y + 1..=top).rev() {
+                    step(row * w + next, h_arc(next, row));
+                }
+            }
+            if self.net.push_cycle(&cycle[..len], (target - cur).abs()) == 0 {
+                return;
+            }
+        }
+    }
+
+    /// Moves the flux across the seam below slot `(x, 0)` of a grid periodic
+    /// in y towards `target`: by short searches while they find a way, then
+    /// straight along the column ([`Tiling::column_move`]) — the column
+    /// carries the flow round the torus, so it is used only when nothing
+    /// near will do, lest every column fill up with winding flow.
+    fn seam_move(&mut self, x: u32, target: i32) {
+        let seam = self.slot_arcs(x, 0)[1];
+        if self.net.move_bounded(seam, target, 256) {
+            self.column_move(x, target);
+        }
+    }
+
+    /// Moves the flux across the seam of a grid periodic in y, below slot
+    /// `(x, 0)`, towards `target` along column `x` itself (as far as it
+    /// reaches; the general search does the rest).
+    ///
+    /// While the first row is filled, the flux its slots send across the
+    /// seam adds up to the flow that winds around the torus; closing it
+    /// takes a path through every row. The general search finds that path
+    /// only after visiting a good part of the grid (most of a periodic
+    /// fill's time at 256×256); the straight column is such a path whenever
+    /// its arcs have room, which on an empty column they have.
+    fn column_move(&mut self, x: u32, target: i32) {
+        let w = self.width;
+        let seam = self.slot_arcs(x, 0)[1];
+        for _ in 0..4 {
+            let cur = self.net.arc(seam).x;
+            if cur == target {
+                return;
+            }
+            let up = target > cur;
+            // The nearest column that keeps room after the unit (so winding
+            // flow spreads instead of filling columns), else any that fits.
+            let mut fallback = None;
+            let mut chosen = None;
+            for c in x..w.min(x + 8) {
+                let cycle = self.seam_cycle(x, c, up);
+                let room = cycle
+                    .iter()
+                    .map(|&(from, a)| self.net.room_from(from, a))
+                    .min()
+                    .unwrap_or(0);
+                if room >= 2 {
+                    chosen = Some(cycle);
+                    break;
+                }
+                if room >= 1 && fallback.is_none() {
+                    fallback = Some(cycle);
+                }
+            }
+            let Some(cycle) = chosen.or(fallback) else {
+                return;
+            };
+            if self.net.push_cycle(&cycle, 1) == 0 {
+                return;
+            }
+        }
+    }
+
+    /// The cycle of [`Tiling::column_move`] that carries flux across the seam
+    /// below `(x, 0)` and round the torus up (or down) column `c ≥ x`,
+    /// reached along the first and last rows.
+    fn seam_cycle(&self, x: u32, c: u32, up: bool) -> Vec<(u32, ArcId)> {
+        let (w, h) = (self.width, self.height);
+        let seam = self.slot_arcs(x, 0)[1];
+        let v = |xx: u32, y: u32| self.edge_arc(Edge::Vertical { x: xx, y }).expect("inside");
+        let hz = |xx: u32, y: u32| {
+            self.edge_arc(Edge::Horizontal { x: xx, y })
+                .expect("inside")
+        };
+        let mut out = Vec::with_capacity((h + 2 * (c - x) + 1) as usize);
+        if up {
+            out.push(((h - 1) * w + x, seam));
+            out.extend((x..c).map(|cc| (cc, v(cc + 1, 0))));
+            out.extend((1..h).map(|y| ((y - 1) * w + c, hz(c, y))));
+            out.extend(
+                (x..c)
+                    .rev()
+                    .map(|cc| ((h - 1) * w + cc + 1, v(cc + 1, h - 1))),
+            );
+        } else {
+            out.push((x, seam));
+            out.extend((x..c).map(|cc| ((h - 1) * w + cc, v(cc + 1, h - 1))));
+            out.extend((1..h).rev().map(|y| (y * w + c, hz(c, y))));
+            out.extend((x..c).rev().map(|cc| (cc + 1, v(cc + 1, 0))));
+        }
+        out
     }
 
     /// Rejection sampling over whole flux tuples for slots with three or four
@@ -1025,6 +1301,17 @@ impl Tiling {
             };
             let values = candidates[i];
             let mark = self.net.checkpoint();
+            // The row's first slot of a periodic grid: its left edge is the
+            // right edge of the row's last slot, across the seam.
+            if x == 0 && self.border_x == Border::Periodic && self.width > 1 {
+                self.ladder_move(self.width - 1, y, values[0]);
+            }
+            // The first row of a grid periodic in y: its bottom edge is the
+            // top edge of the last row, across the seam.
+            if y == 0 && self.border_y == Border::Periodic && self.height > 1 {
+                self.seam_move(x, values[1]);
+            }
+            self.ladder_move(x, y, values[2]);
             if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
                 self.net.commit();
                 return Ok(self.commit_slot(x, y, values, rng, chooser));

@@ -76,6 +76,17 @@ fn tile_grid_json_has_the_stats() {
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["slots"], 108);
     assert!(v["tiles_used"].as_u64().unwrap() <= 85);
+    // (5,5,1) is closed under all eight symmetries of the square: fewer
+    // classes than tiles, and the file that stores classes is smaller.
+    assert!(
+        v["symmetry_classes_used"].as_u64() < v["tiles_used"].as_u64(),
+        "{v}"
+    );
+    assert!(
+        v["bytes_rotated"].as_u64() < v["bytes_plain"].as_u64(),
+        "{v}"
+    );
+    assert_eq!(v["bytes"], v["bytes_rotated"]);
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
     assert!(v["max_divergence"].as_f64().unwrap() <= 1e-12);
     assert!(v["max_seam_mismatch"].as_f64().unwrap() <= 1e-12);
@@ -97,6 +108,9 @@ fn spec_tile_info_render_round_trip_is_deterministic() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).unwrap();
     assert_eq!(v["width"], 28);
+    // The river's set mirrors top to bottom only; still fewer tiles stored.
+    assert_eq!(v["version"], 2);
+    assert!(v["tiles_stored"].as_u64() < v["tiles_used"].as_u64(), "{v}");
     let png = dir.join("r.png");
     let o = run(&[
         "render",
@@ -246,8 +260,8 @@ fn map_and_animate_write_world_pictures() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc
-/// and Quake map gives a spec that `tile` completes, and a picture. About ten
+/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc,
+/// Quake and Quake 2 map gives a spec that `tile` completes, and a picture. About ten
 /// seconds, so ignored by default; `scripts/flowtile-regions.sh` measures the
 /// same with timings. The quick test below runs two maps.
 #[test]
@@ -260,7 +274,7 @@ fn region_from_every_shared_map() {
 fn region_from_two_shared_maps() {
     region_from_shared_maps(|p| {
         let n = p.file_name().unwrap().to_string_lossy();
-        n.contains("de_dust2") || n.contains("qbsp-example-bsp29")
+        n.contains("de_dust2") || n.contains("qbsp-example-bsp29") || n == "lq_e0m1-quake2.bsp"
     });
 }
 
@@ -271,13 +285,19 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
         return;
     }
     let dir = scratch("region");
-    let mut maps: Vec<PathBuf> = ["goldsrc", "goldsrc/nonfree", "quake1", "quake1/nonfree"]
-        .iter()
-        .flat_map(|g| std::fs::read_dir(root.join(g)).into_iter().flatten())
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| p.extension().is_some_and(|e| e == "bsp") && pick(p))
-        .collect();
+    let mut maps: Vec<PathBuf> = [
+        "goldsrc",
+        "goldsrc/nonfree",
+        "quake1",
+        "quake1/nonfree",
+        "quake2",
+    ]
+    .iter()
+    .flat_map(|g| std::fs::read_dir(root.join(g)).into_iter().flatten())
+    .flatten()
+    .map(|e| e.path())
+    .filter(|p| p.extension().is_some_and(|e| e == "bsp") && pick(p))
+    .collect();
     maps.sort();
     assert!(!maps.is_empty());
     for map in &maps {
@@ -295,8 +315,29 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
         ]);
         assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
         assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
+        // The map's top view for the editor's background, named in the spec.
+        assert!(
+            std::fs::read(dir.join("r.top.png"))
+                .unwrap()
+                .starts_with(b"\x89PNG")
+        );
         let o = run(&["tile", spec.to_str().unwrap()]);
         assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+        let shot = dir.join("edit.png");
+        let script = dir.join("s.txt");
+        std::fs::write(&script, "fill\n").unwrap();
+        let o = run(&[
+            "edit",
+            spec.to_str().unwrap(),
+            "--script",
+            script.to_str().unwrap(),
+            "--screenshot",
+            shot.to_str().unwrap(),
+            "--size",
+            "800x500",
+        ]);
+        assert!(o.status.success(), "{}: {}", map.display(), stderr(&o));
+        assert!(std::fs::read(&shot).unwrap().starts_with(b"\x89PNG"));
     }
     let o = run(&[
         "region",
@@ -309,5 +350,155 @@ fn region_from_shared_maps(pick: impl Fn(&Path) -> bool) {
     assert_clean_failure(&o, "--tile 2");
     let o = run(&["region", "/no/such.bsp", "-o", "/tmp/x.toml"]);
     assert!(!o.status.success());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `edit --script --screenshot` runs headless: the script's saves and bakes
+/// land, the screenshot is the same bytes twice; a refused command, a bad
+/// line or an impossible spec is one clear error line.
+#[test]
+fn edit_runs_scripts_headless() {
+    let dir = scratch("edit");
+    let script = dir.join("s.txt");
+    let (toml, ftb) = (dir.join("e.toml"), dir.join("e.ftb"));
+    std::fs::write(
+        &script,
+        format!(
+            "place 11 3 2 -1 0 1\nfill\nsave {}\nbake {}\nselect 3 3\ntime 1\n",
+            toml.display(),
+            ftb.display()
+        ),
+    )
+    .unwrap();
+    let shots: Vec<Vec<u8>> = (0..2)
+        .map(|k| {
+            let shot = dir.join(format!("shot{k}.png"));
+            let o = run(&[
+                "edit",
+                &spec("river.toml"),
+                "--script",
+                script.to_str().unwrap(),
+                "--screenshot",
+                shot.to_str().unwrap(),
+                "--size",
+                "900x500",
+            ]);
+            assert!(o.status.success(), "{}", stderr(&o));
+            assert!(
+                stdout(&o).contains("2: fill -> filled 219 slots"),
+                "{}",
+                stdout(&o)
+            );
+            std::fs::read(&shot).unwrap()
+        })
+        .collect();
+    assert_eq!(shots[0], shots[1]);
+    // The saved spec tiles to the editor's bytes.
+    let again = dir.join("again.ftb");
+    let o = run(&[
+        "tile",
+        toml.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&again).unwrap(), std::fs::read(&ftb).unwrap());
+    // A baked file opens too.
+    let o = run(&[
+        "edit",
+        ftb.to_str().unwrap(),
+        "--screenshot",
+        dir.join("b.png").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::write(&script, "flux v 28 3 1\n").unwrap();
+    let o = run(&[
+        "edit",
+        &spec("river.toml"),
+        "--script",
+        script.to_str().unwrap(),
+    ]);
+    assert_clean_failure(
+        &o,
+        "line 1: `flux v 28 3 1` refused: the spec admits no tiling",
+    );
+    std::fs::write(&script, "fill\nwiggle 3\n").unwrap();
+    let o = run(&[
+        "edit",
+        &spec("river.toml"),
+        "--script",
+        script.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "line 2: unknown command");
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "[tileset]\nmx = 3\nmy = 3\n[grid]\nwidth = 2\nheight = 1\nborder_x = \"zero\"\nborder_y = \"zero\"\n[[flux]]\nedge = \"v\"\nx = 0\ny = 0\nm = 1\n",
+    )
+    .unwrap();
+    let o = run(&[
+        "edit",
+        bad.to_str().unwrap(),
+        "--screenshot",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "admits no tiling");
+    let o = run(&[
+        "edit",
+        "--grid",
+        "0x3",
+        "--screenshot",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "--grid");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `region --nav`: floors from the bot navigation mesh of de_dust2 (skipped
+/// without the shared maps); a corrupt mesh is a one-line error, no output.
+#[test]
+fn region_from_a_nav_mesh() {
+    let map = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../shared/testmaps/goldsrc/nonfree/bspview-cstrike-de_dust2.bsp");
+    let nav = map.with_extension("nav");
+    if !nav.is_file() {
+        eprintln!("skip: {} not found", nav.display());
+        return;
+    }
+    let dir = scratch("region-nav");
+    let spec = dir.join("r.toml");
+    let o = run(&[
+        "region",
+        map.to_str().unwrap(),
+        "--nav",
+        nav.to_str().unwrap(),
+        "-o",
+        spec.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stats: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(stats["open_slots"].as_u64().unwrap() > 300, "{stats}");
+    assert!(
+        stats["floors_from"]
+            .as_str()
+            .unwrap()
+            .contains("navigation mesh")
+    );
+    let o = run(&["tile", spec.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let bad = dir.join("bad.nav");
+    std::fs::write(&bad, &std::fs::read(&nav).unwrap()[..1000]).unwrap();
+    let out = dir.join("bad.toml");
+    let o = run(&[
+        "region",
+        map.to_str().unwrap(),
+        "--nav",
+        bad.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_clean_failure(&o, "bad.nav: area count 718");
+    assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

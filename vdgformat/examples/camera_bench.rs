@@ -2,7 +2,7 @@
 //! timing and allocation figures as one JSON object.
 //!
 //! ```text
-//! cargo run --release -p vdgformat --example camera_bench -- FILE.vdg [--frames N] [--dt S] [--thesis] [--json]
+//! cargo run --release -p vdgformat --example camera_bench -- FILE.vdg [--frames N] [--dt S] [--thesis] [--params CAM.toml] [--json]
 //! ```
 //!
 //! The route is made from the graph alone (the runtime crate knows nothing
@@ -45,6 +45,7 @@ struct Args {
     frames: usize,
     dt: f32,
     thesis: bool,
+    params: Option<String>,
     json: bool,
 }
 
@@ -54,6 +55,7 @@ fn parse_args() -> Result<Args, String> {
         frames: 6000,
         dt: 1.0 / 60.0,
         thesis: false,
+        params: None,
         json: false,
     };
     let mut it = std::env::args().skip(1);
@@ -74,6 +76,7 @@ fn parse_args() -> Result<Args, String> {
                     .ok_or("--dt needs a positive number of seconds")?
             }
             "--thesis" => args.thesis = true,
+            "--params" => args.params = Some(it.next().ok_or("--params needs a TOML file")?),
             "--json" => args.json = true,
             s if s.starts_with('-') => return Err(format!("unknown option {s}")),
             s => args.file = s.to_string(),
@@ -81,7 +84,7 @@ fn parse_args() -> Result<Args, String> {
     }
     if args.file.is_empty() {
         return Err(
-            "usage: camera_bench FILE.vdg [--frames N] [--dt S] [--thesis] [--json]".into(),
+            "usage: camera_bench FILE.vdg [--frames N] [--dt S] [--thesis] [--params CAM.toml] [--json]".into(),
         );
     }
     Ok(args)
@@ -160,10 +163,14 @@ fn run() -> Result<(), String> {
     if g.face_count() == 0 {
         return Err(format!("{}: the graph has no faces", args.file));
     }
-    let params = if args.thesis {
-        CameraParams::thesis()
-    } else {
-        CameraParams::default()
+    let params = match (&args.params, args.thesis) {
+        (Some(_), true) => return Err("--params and --thesis exclude each other".into()),
+        (Some(path), false) => {
+            let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+            CameraParams::from_toml_str(&text).map_err(|e| format!("{path}: {e}"))?
+        }
+        (None, true) => CameraParams::thesis(),
+        (None, false) => CameraParams::default(),
     };
     let seconds = args.frames as f64 * f64::from(args.dt);
     let route = route(&g, 265.0 * seconds + 1000.0);
@@ -217,7 +224,11 @@ fn run() -> Result<(), String> {
     times.sort_by(f64::total_cmp);
     let q = |f: f64| times[((measured as f64 - 1.0) * f).round() as usize];
     let mean = times.iter().sum::<f64>() / measured as f64;
-    let variant = if args.thesis { "thesis" } else { "improved" };
+    let variant = match (&args.params, args.thesis) {
+        (Some(_), _) => "params",
+        (None, true) => "thesis",
+        (None, false) => "improved",
+    };
     if args.json {
         println!(
             "{{\"file\":{:?},\"variant\":\"{variant}\",\"vertices\":{},\"faces\":{},\"frames\":{measured},\"warmup_frames\":{warmup},\"dt\":{},\"median_us\":{:.3},\"p99_us\":{:.3},\"max_us\":{:.3},\"mean_us\":{:.3},\"allocations_after_warmup\":{allocations},\"visible_fraction\":{:.4},\"cuts\":{cuts},\"target_outside_frames\":{outside},\"visibility_tests_per_update\":{:.2},\"reachable_per_update\":{:.2}}}",

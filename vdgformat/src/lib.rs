@@ -60,7 +60,7 @@ mod read;
 
 pub use build::{BuildError, DEFAULT_LEAF_SIZE, VdgBuilder, WriteError};
 pub use hash::xxh64;
-pub use query::{Advance, DistanceField, FaceHit, VdgPath};
+pub use query::{Advance, CoverBudget, CoverHint, DistanceField, FaceHit, VdgPath};
 pub use read::{ReadError, Vdg, VdgFile};
 
 /// Exact clearance of `p` for the face volume of the triangle of balls

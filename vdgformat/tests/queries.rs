@@ -226,6 +226,74 @@ fn visible_implies_positive_clearance_on_random_graphs() {
 }
 
 #[test]
+fn hinted_and_budgeted_tests_are_certified() {
+    // A camera tests nearly the same sight line every frame: a hint from
+    // the last test may change the way a cover takes, never the certainty
+    // of a "visible"; a budget may only turn answers into "not visible".
+    use vdgformat::{CoverBudget, CoverHint};
+    let mut rng = Rng::new(33);
+    let mut b = random_soup(800, 2400, &mut rng);
+    b.set_leaf_size(40.0);
+    let file = open(&b);
+    let g = file.graph();
+    let (mut yes, mut same, mut tested) = (0, 0, 0);
+    for _ in 0..600 {
+        let v = rng.below(g.vertex_count() - 20);
+        let w = v + rng.below(20);
+        let s = g.vertices()[v]
+            .pos
+            .map(|x| x + rng.range(-20.0, 20.0) as f32);
+        let e = g.vertices()[w]
+            .pos
+            .map(|x| x + rng.range(-20.0, 20.0) as f32);
+        let f = g.nearest_face(s).unwrap();
+        if f.clearance <= 0.0 {
+            continue;
+        }
+        tested += 1;
+        let plain = g.visible_from(f.face, s, e);
+        let mut hint = CoverHint::default();
+        let mut first = CoverBudget::UNBOUNDED;
+        let a = g.visible_hinted(f.face, s, e, &mut first, Some(&mut hint));
+        // The same line a little moved, with the hint of the first.
+        let e2 = e.map(|x| x + 0.5);
+        let mut second = CoverBudget::UNBOUNDED;
+        let b2 = g.visible_hinted(f.face, s, e2, &mut second, Some(&mut hint));
+        same += usize::from(a == plain);
+        for (ok, end) in [(a, e), (b2, e2)] {
+            if ok {
+                yes += 1;
+                for i in 0..=100 {
+                    let t = i as f32 / 100.0;
+                    let p = [0, 1, 2].map(|k| s[k] + t * (end[k] - s[k]));
+                    assert!(
+                        g.clearance(p) > 0.0,
+                        "hinted visible {s:?}→{end:?} leaves the volume at {p:?}"
+                    );
+                }
+            }
+        }
+        // A budget of no hops proves only one-face lines.
+        let mut none = CoverBudget {
+            hops: 0,
+            leaf_searches: 0,
+        };
+        if g.visible_within(f.face, s, e2, &mut none) {
+            assert!(
+                g.face_clearance(f.face, e2) > 0.0,
+                "no hops, yet visible beyond the first face"
+            );
+        }
+    }
+    assert!(
+        yes > 60,
+        "only {yes} visible segments: the test does not exercise covers"
+    );
+    // A test with an empty hint is the plain test.
+    assert_eq!(same, tested, "hinted and plain answers differ");
+}
+
+#[test]
 fn trace_stops_at_the_volume_boundary() {
     let file = open(&flat(4, 4, 50.0, 10.0));
     let g = file.graph();

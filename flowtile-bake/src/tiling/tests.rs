@@ -527,3 +527,31 @@ fn every_first_placement_matches_brute_force() {
     }
     assert!(checked > 300, "{checked}");
 }
+
+/// The fill's shortcuts (ladders, the seam's column cycles) only move flux
+/// around closed cycles: the circulation stays feasible, the arcs land where
+/// asked when a cycle has room, and the fill that uses them completes.
+#[test]
+fn shortcut_cycles_keep_the_circulation_feasible() {
+    let set = TileSet::paper(5, 5, 1, 4).unwrap();
+    let cond = Conditions::borders(Border::Periodic, Border::Periodic);
+    let mut rng = Rng::new(11);
+    let mut t = Tiling::new(set, 20, 14, &cond).unwrap();
+    for x in 0..7 {
+        t.place_random(x, 0, &mut rng).unwrap();
+    }
+    let mut moved = 0;
+    for x in 7..20 {
+        let seam = t.slot_arcs(x, 0)[1];
+        for target in [-2, 2, 0, 1] {
+            t.column_move(x, target);
+            assert!(t.net.is_feasible());
+            moved += (t.net.arc(seam).x == target) as u32;
+            t.ladder_move(x, 0, -target);
+            assert!(t.net.is_feasible());
+        }
+    }
+    assert!(moved > 30, "{moved} of 52 column moves landed");
+    t.random_fill(&mut rng).unwrap();
+    assert!(t.is_complete() && t.net.is_feasible());
+}

@@ -44,7 +44,7 @@ pub use director::{CameraId, Director, DirectorEvent};
 pub use params::{CameraError, CameraParams};
 
 use crate::geom::V3;
-use crate::query::{DistanceField, PathFinder};
+use crate::query::{CoverBudget, CoverHint, DistanceField, PathFinder};
 use crate::read::Vdg;
 
 /// What the camera follows, in world units (Quake: z up).
@@ -309,7 +309,30 @@ struct Scratch {
     base: Vec<f64>,
     vd: Vec<f64>,
     vis: Vec<i8>,
+    /// Per graph vertex: the last line-of-sight answer to the target and
+    /// where the target was then (see [`CameraParams::vertex_tests`]).
+    memo: Vec<VisMemo>,
+    /// Fresh vertex tests left in this update.
+    fresh_left: u32,
 }
+
+/// A remembered Visible(P(v), t).
+#[derive(Clone, Copy, Debug, Default)]
+struct VisMemo {
+    target: [f32; 3],
+    visible: bool,
+    known: bool,
+}
+
+/// A vertex's remembered answer is reused without a test while the target
+/// stays this close (units) to where it was tested: about four frames of
+/// running at 60 Hz, two at 30 Hz.
+const MEMO_FRESH: f64 = 16.0;
+
+/// Past this distance (units) from where it was tested, a remembered answer
+/// says nothing (a teleport, a long gap): the vertex counts as unknown
+/// when the update's fresh tests are spent.
+const MEMO_STALE: f64 = 64.0;
 
 /// An automatic camera following one target (thesis ch. 5). `Send`, owns
 /// its scratch memory; the graph is passed to every call.
@@ -323,6 +346,63 @@ pub struct Camera {
     scratch: Scratch,
     debug: FrameDebug,
     last: Pose,
+    /// What the candidates' sight-line tests may still spend in this
+    /// update.
+    sight_budget: CoverBudget,
+    /// Tree-leaf searches the candidates' clamps may still make.
+    clamp_leaf_searches: u32,
+    /// The way each candidate's sight line (by position in the frame's
+    /// list, which follows the kinds) and the pose's took last frame.
+    hints: [CoverHint; 8],
+    /// The same for the sight lines of recently tested vertices.
+    vertex_hints: VertexHints,
+}
+
+/// Which remembered sight line a test continues.
+#[derive(Clone, Copy, Debug)]
+enum Slot {
+    /// A candidate's (by its index in the frame) or the pose's.
+    Line(usize),
+    /// A reachable vertex's.
+    Vertex(u32),
+}
+
+/// Hints for the sight lines of the last few vertices tested (the
+/// reachable set changes slowly), replaced oldest first.
+#[derive(Clone, Debug)]
+struct VertexHints {
+    vertices: [u32; VERTEX_HINTS],
+    hints: [CoverHint; VERTEX_HINTS],
+    next: usize,
+}
+
+const VERTEX_HINTS: usize = 32;
+
+impl Default for VertexHints {
+    fn default() -> Self {
+        VertexHints {
+            vertices: [u32::MAX; VERTEX_HINTS],
+            hints: [CoverHint::default(); VERTEX_HINTS],
+            next: 0,
+        }
+    }
+}
+
+impl VertexHints {
+    /// The hint of vertex `v`, a fresh one if it has none.
+    fn get(&mut self, v: u32) -> &mut CoverHint {
+        let i = match self.vertices.iter().position(|&u| u == v) {
+            Some(i) => i,
+            None => {
+                let i = self.next;
+                self.next = (i + 1) % VERTEX_HINTS;
+                self.vertices[i] = v;
+                self.hints[i] = CoverHint::default();
+                i
+            }
+        };
+        &mut self.hints[i]
+    }
 }
 
 /// Clearance the step may lose when the camera starts inside the
@@ -346,7 +426,10 @@ const CLAMP_TOL: f64 = 0.125;
 /// A line of sight crossing more face volumes than this counts as blocked
 /// (a camera's sight lines span a few faces; the bound caps the worst case
 /// of an update).
-const VISIBILITY_HOPS: usize = 48;
+const VISIBILITY_HOPS: u32 = 48;
+
+/// The hint slot of the pose's own sight line (after the 7 candidates').
+const POSE_HINT: usize = 7;
 
 impl Camera {
     /// A camera with validated parameters. It is placed on the first
@@ -362,6 +445,13 @@ impl Camera {
             scratch: Scratch::default(),
             debug: FrameDebug::default(),
             last: Pose::default(),
+            sight_budget: CoverBudget {
+                hops: 0,
+                leaf_searches: 0,
+            },
+            clamp_leaf_searches: 0,
+            hints: [CoverHint::default(); 8],
+            vertex_hints: VertexHints::default(),
         })
     }
 
@@ -419,6 +509,11 @@ impl Camera {
             self.state = None;
         }
         self.debug = FrameDebug::default();
+        self.sight_budget = CoverBudget {
+            hops: self.params.sight_hops,
+            leaf_searches: self.params.leaf_searches,
+        };
+        self.clamp_leaf_searches = self.params.leaf_searches;
         let dt = f64::from(dt.min(self.params.max_dt));
         let t = V3::from_f32(target.position) + V3(0.0, 0.0, f64::from(self.params.target_height));
         let heading = self.heading(target);
@@ -453,6 +548,13 @@ impl Camera {
         s.order.reserve(cap);
         s.vis.clear();
         s.vis.reserve(cap);
+        // Hints name faces of the old graph.
+        self.hints = [CoverHint::default(); 8];
+        self.vertex_hints = VertexHints::default();
+        s.memo.clear();
+        if self.params.vertex_tests > 0 {
+            s.memo.resize(g.vertex_count(), VisMemo::default());
+        }
         self.field.reserve(g);
     }
 
@@ -626,7 +728,10 @@ impl Camera {
                     start.to_f32(),
                     goal.to_f32(),
                     margin,
-                    64,
+                    &mut CoverBudget {
+                        hops: 64,
+                        leaf_searches: u32::MAX,
+                    },
                     CLAMP_TOL,
                 );
                 let p = V3::from_f32(a.point);
@@ -652,7 +757,7 @@ impl Camera {
             outside_search: None,
             heading,
         });
-        let visible = pos == scene.t_vis || self.sees(g, face, pos, scene);
+        let visible = pos == scene.t_vis || self.sees_finally(g, face, pos, scene);
         if let Some(s) = self.state.as_mut() {
             s.visible = visible;
         }
@@ -672,7 +777,7 @@ impl Camera {
         if scene.dt <= 0.0 {
             // Re-aim only.
             self.state = Some(s);
-            let visible = self.sees(g, s.face, s.pos, scene);
+            let visible = self.sees_finally(g, s.face, s.pos, scene);
             if let Some(st) = self.state.as_mut() {
                 st.visible = visible;
             }
@@ -691,7 +796,16 @@ impl Camera {
         // target moved a few units since) in our variant, a trace in the
         // thesis'.
         let known = (self.params.max_substeps > 0).then_some(s.visible);
-        let current = self.costs_at(g, scene, &s, s.pos, s.face, here_clear, known);
+        let current = self.costs_at(
+            g,
+            scene,
+            &s,
+            s.pos,
+            s.face,
+            here_clear,
+            known,
+            Some(Slot::Line(POSE_HINT)),
+        );
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
 
         // Step rule (thesis 5.3), frac = 1 − e^(−Δt/τ).
@@ -731,7 +845,7 @@ impl Camera {
         };
         s.pos = new_pos;
         s.face = new_face;
-        let visible = self.sees(g, s.face, s.pos, scene);
+        let visible = self.sees_finally(g, s.face, s.pos, scene);
         s.hidden = if visible { 0.0 } else { s.hidden + scene.dt };
         s.visible = visible;
         s.look = if self.params.look_tau > 0.0 {
@@ -781,12 +895,16 @@ impl Camera {
             step = step * (allowed / len);
         }
         let from = s.pos.to_f32();
+        let budget = CoverBudget {
+            hops,
+            leaf_searches: u32::MAX,
+        };
         let a = g.advance_tol(
             s.face,
             from,
             (s.pos + step).to_f32(),
             margin,
-            hops,
+            &mut budget.clone(),
             CLAMP_TOL,
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
@@ -794,7 +912,14 @@ impl Camera {
             let left = allowed - (p - s.pos).norm();
             if left > 1e-6 {
                 let goal = s.pos + dir * allowed;
-                let b = g.advance_tol(s.face, from, goal.to_f32(), margin, hops, CLAMP_TOL);
+                let b = g.advance_tol(
+                    s.face,
+                    from,
+                    goal.to_f32(),
+                    margin,
+                    &mut budget.clone(),
+                    CLAMP_TOL,
+                );
                 let q = V3::from_f32(b.point);
                 if (q - s.pos).norm() > (p - s.pos).norm() {
                     (p, f) = (q, b.face);
@@ -840,9 +965,23 @@ impl Camera {
         let mut best = (s.pos, f64::INFINITY, 0usize);
         let (mut wsum, mut wpos) = (0.0, V3(0.0, 0.0, 0.0));
         let mut stop = false;
+        // Candidates often clamp to the same point (a blocked line, one
+        // vertex best by two criteria): each point's sight line is tested
+        // once.
+        let mut tested = [(V3(0.0, 0.0, 0.0), false); 7];
+        let mut n_tested = 0;
+        let mut rate = |this: &mut Self, pos: V3, face: u32, clear: f64, slot: usize| {
+            let known = tested[..n_tested].iter().find(|e| e.0 == pos).map(|e| e.1);
+            let costs = this.costs_at(g, scene, s, pos, face, clear, known, Some(Slot::Line(slot)));
+            if known.is_none() && n_tested < tested.len() {
+                tested[n_tested] = (pos, costs.vis == 0.0);
+                n_tested += 1;
+            }
+            costs
+        };
         for (kind, k) in wanted {
             let (pos, face, clear) = self.clamp(g, s, k, margin);
-            let costs = self.costs_at(g, scene, s, pos, face, clear, None);
+            let costs = rate(self, pos, face, clear, n);
             let total = f64::from(costs.total);
             self.record(n, kind, k, pos, costs);
             if total < best.1 {
@@ -860,7 +999,7 @@ impl Camera {
         if !stop && wsum > 0.0 {
             let k = wpos * (1.0 / wsum);
             let (pos, face, clear) = self.clamp(g, s, k, margin);
-            let costs = self.costs_at(g, scene, s, pos, face, clear, None);
+            let costs = rate(self, pos, face, clear, n);
             self.record(n, CandidateKind::Comb, k, pos, costs);
             if f64::from(costs.total) < best.1 {
                 best = (pos, f64::from(costs.total), n);
@@ -885,21 +1024,28 @@ impl Camera {
     /// Pulls a candidate back into the solution space: the thesis' Trace in
     /// Volume(f_i), or our advance across faces with the near-plane margin.
     /// Returns the point, a face holding it and its clearance there.
-    fn clamp(&self, g: &Vdg<'_>, s: &State, k: V3, margin: f32) -> (V3, u32, f64) {
+    fn clamp(&mut self, g: &Vdg<'_>, s: &State, k: V3, margin: f32) -> (V3, u32, f64) {
         let (p, f) = if self.params.max_substeps == 0 {
             (
                 V3::from_f32(g.trace(s.face, s.pos.to_f32(), k.to_f32())),
                 s.face,
             )
         } else {
+            // Candidates share the update's allowance of leaf searches
+            // for their clamps (as their sight lines do).
+            let mut budget = CoverBudget {
+                hops: self.params.max_substeps,
+                leaf_searches: self.clamp_leaf_searches,
+            };
             let a = g.advance_tol(
                 s.face,
                 s.pos.to_f32(),
                 k.to_f32(),
                 margin,
-                self.params.max_substeps,
+                &mut budget,
                 CLAMP_TOL,
             );
+            self.clamp_leaf_searches = budget.leaf_searches;
             (V3::from_f32(a.point), a.face)
         };
         (p, f, g.fc(f, p))
@@ -927,6 +1073,7 @@ impl Camera {
         sc.base.clear();
         sc.vd.clear();
         sc.vis.clear();
+        sc.fresh_left = self.params.vertex_tests;
         let (mut k_clear, mut best_clear) = (sc.reach[0], f64::INFINITY);
         for &v in &sc.reach {
             let pv = g.pos(v);
@@ -1000,12 +1147,45 @@ impl Camera {
         (g.pos(k_clear), g.pos(k_vis), g.pos(k_neighb), n as u32)
     }
 
-    /// Visible(P(v), t) for the `i`-th reachable vertex, tested once per
-    /// update.
+    /// Visible(P(v), t) for the `i`-th reachable vertex: asked once per
+    /// update, and with [`CameraParams::vertex_tests`] answered from the
+    /// vertex's memo when the target has hardly moved since its last test
+    /// or the update's fresh tests are spent (unknown counts as hidden).
     fn vertex_visible(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> bool {
         if sc.vis[i] < 0 {
             let v = sc.reach[i];
-            let ok = self.sees(g, g.vertex_faces(v)[0], g.pos(v), scene);
+            let ok = if self.params.vertex_tests == 0 {
+                self.sees(
+                    g,
+                    g.vertex_faces(v)[0],
+                    g.pos(v),
+                    scene,
+                    Some(Slot::Vertex(v)),
+                )
+            } else {
+                let memo = sc.memo[v as usize];
+                let moved = (V3::from_f32(memo.target) - scene.t_vis).norm();
+                if memo.known && moved < MEMO_FRESH {
+                    memo.visible
+                } else if sc.fresh_left > 0 {
+                    sc.fresh_left -= 1;
+                    let ok = self.sees(
+                        g,
+                        g.vertex_faces(v)[0],
+                        g.pos(v),
+                        scene,
+                        Some(Slot::Vertex(v)),
+                    );
+                    sc.memo[v as usize] = VisMemo {
+                        target: scene.t_vis.to_f32(),
+                        visible: ok,
+                        known: true,
+                    };
+                    ok
+                } else {
+                    memo.known && moved < MEMO_STALE && memo.visible
+                }
+            };
             sc.vis[i] = i8::from(ok);
         }
         sc.vis[i] == 1
@@ -1032,10 +1212,11 @@ impl Camera {
         face: u32,
         clear: f64,
         visible: Option<bool>,
+        slot: Option<Slot>,
     ) -> Costs {
         let visible = match visible {
             Some(v) => v,
-            None => k == scene.t_vis || self.sees(g, face, k, scene),
+            None => k == scene.t_vis || self.sees(g, face, k, scene, slot),
         };
         let vis = if visible {
             0.0
@@ -1077,12 +1258,44 @@ impl Camera {
     /// `k` lies in the volume of the target's face, which holds `t` too,
     /// the segment does (the volume is convex): one evaluation instead of a
     /// trace.
-    fn sees(&mut self, g: &Vdg<'_>, face: u32, k: V3, scene: &Scene) -> bool {
+    ///
+    /// The test's hops and tree-leaf searches come out of the update's
+    /// allowance ([`CameraParams::sight_hops`], [`CameraParams::leaf_searches`]);
+    /// the pose's own test, [`Camera::sees_finally`], has one of its own.
+    ///
+    /// `slot` names a sight line the camera tests again and again (a
+    /// candidate kind, the pose, a reachable vertex): its [`CoverHint`]
+    /// from the last time guides the test.
+    fn sees(&mut self, g: &Vdg<'_>, face: u32, k: V3, scene: &Scene, slot: Option<Slot>) -> bool {
         if scene.t_vis_in_face && g.fc(scene.face, k) > INSIDE {
             return true;
         }
         self.debug.visibility_tests += 1;
-        g.visible_from_within(face, k.to_f32(), scene.t_vis.to_f32(), VISIBILITY_HOPS)
+        let hops = self.sight_budget.hops.min(VISIBILITY_HOPS);
+        let mut budget = CoverBudget {
+            hops,
+            leaf_searches: self.sight_budget.leaf_searches,
+        };
+        let hint = match slot {
+            Some(Slot::Line(i)) => Some(&mut self.hints[i]),
+            Some(Slot::Vertex(v)) => Some(self.vertex_hints.get(v)),
+            None => None,
+        };
+        let seen = g.visible_hinted(face, k.to_f32(), scene.t_vis.to_f32(), &mut budget, hint);
+        self.sight_budget.hops -= hops - budget.hops;
+        self.sight_budget.leaf_searches = budget.leaf_searches;
+        seen
+    }
+
+    /// [`Camera::sees`] for the pose the update returns: `target_visible`
+    /// and the hidden-time clock (which makes cuts) rest on it, so it does
+    /// not share the candidates' allowance.
+    fn sees_finally(&mut self, g: &Vdg<'_>, face: u32, k: V3, scene: &Scene) -> bool {
+        self.sight_budget = CoverBudget {
+            hops: VISIBILITY_HOPS,
+            leaf_searches: self.params.leaf_searches,
+        };
+        self.sees(g, face, k, scene, Some(Slot::Line(POSE_HINT)))
     }
 
     fn vis_cost(&self, vd: f64) -> f64 {
@@ -1237,6 +1450,10 @@ mod tests {
             (0.0, 0.0, 0.0)
         );
         assert_eq!(t.inertia_horizon, 0.0);
+        assert_eq!(
+            (t.vertex_tests, t.sight_hops, t.leaf_searches),
+            (0, u32::MAX, u32::MAX)
+        );
         t.validate().unwrap();
     }
 }

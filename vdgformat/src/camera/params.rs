@@ -121,6 +121,30 @@ pub struct CameraParams {
     /// a few clearance evaluations each). The exact set costs most of an
     /// update and buys little: every candidate is clamped into the volume.
     pub exact_reachable: bool,
+    /// Fresh line-of-sight tests per update for the reachable vertices
+    /// (where k_vis and k_neighb are sought). The others reuse their last
+    /// answer: a vertex does not move and the target moves a few units a
+    /// frame, so yesterday's answer is nearly always today's, and the
+    /// candidates built from these vertices are tested fresh anyway. Bounds
+    /// an update's worst case (a hidden target makes every vertex a failed
+    /// test). 0 = test every vertex every update (the thesis).
+    pub vertex_tests: u32,
+    /// Face volumes the candidates' and vertices' sight-line tests of one
+    /// update may cross together (each test at most 48). A typical test
+    /// crosses 2–5; a camera trailing far behind a hidden target makes
+    /// every test long and failing, and without a bound such frames cost
+    /// ten times the median. A test cut short counts as "hidden", which
+    /// only makes that candidate look worse. The test of the pose itself
+    /// (`target_visible`, the cut clock) has its own 48. The thesis: no
+    /// bound (4294967295).
+    pub sight_hops: u32,
+    /// Tree-leaf searches those tests may make per update. A leaf search
+    /// bridges the rare gap where no face sharing a vertex with the current
+    /// one continues a sight line, at the price of a dozen hops; a hidden
+    /// target makes every test fail into one. The pose's own test has an
+    /// allowance of its own of the same size. The thesis: no bound
+    /// (4294967295).
+    pub leaf_searches: u32,
 }
 
 impl Default for CameraParams {
@@ -152,6 +176,9 @@ impl Default for CameraParams {
             near_margin: 6.4,
             cut_to_ideal: true,
             exact_reachable: false,
+            vertex_tests: 8,
+            sight_hops: 64,
+            leaf_searches: 4,
         }
     }
 }
@@ -173,6 +200,9 @@ impl CameraParams {
             near_margin: 0.0,
             cut_to_ideal: false,
             exact_reachable: true,
+            vertex_tests: 0,
+            sight_hops: u32::MAX,
+            leaf_searches: u32::MAX,
             ..CameraParams::default()
         }
     }

@@ -11,7 +11,7 @@ mod visible;
 
 pub use field::DistanceField;
 pub use path::{PathFinder, VdgPath};
-pub use visible::Advance;
+pub use visible::{Advance, CoverBudget, CoverHint};
 
 use std::collections::BinaryHeap;
 
@@ -161,6 +161,24 @@ impl<'a> Vdg<'a> {
             return bound;
         }
         self.fc(f, p)
+    }
+
+    /// Whether `p` lies in the box of face `f`'s three vertex balls (widened
+    /// for the f32 data), which holds the face's volume: `false` proves
+    /// `p` is outside the volume, without a square root.
+    #[inline]
+    pub(crate) fn box_holds(&self, f: u32, p: V3) -> bool {
+        let [a, b, c] = self.faces[f as usize].map(|v| self.vertices[v as usize]);
+        [p.0, p.1, p.2].into_iter().enumerate().all(|(i, q)| {
+            let lo = (a.pos[i] - a.clearance)
+                .min(b.pos[i] - b.clearance)
+                .min(c.pos[i] - c.clearance);
+            let hi = (a.pos[i] + a.clearance)
+                .max(b.pos[i] + b.clearance)
+                .max(c.pos[i] + c.clearance);
+            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
+            q >= f64::from(lo) - slack && q <= f64::from(hi) + slack
+        })
     }
 
     /// Calls `visit` for `f` and every face sharing a vertex with it

@@ -58,6 +58,81 @@ impl Seg {
     }
 }
 
+/// How much work a sight-line test may do: face volumes crossed (`hops`)
+/// and tree-leaf searches (`leaf_searches`, each worth a dozen hops; one
+/// bridges the rare gap where no face sharing a vertex with the current one
+/// continues the line). Both count down as a test spends them, so one
+/// budget can bound several tests, e.g. all the tests of a camera update;
+/// a test that runs out answers "not visible".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoverBudget {
+    pub hops: u32,
+    pub leaf_searches: u32,
+}
+
+impl CoverBudget {
+    /// No practical bound (what [`Vdg::visible`] uses).
+    pub const UNBOUNDED: CoverBudget = CoverBudget {
+        hops: MAX_HOPS as u32,
+        leaf_searches: u32::MAX,
+    };
+}
+
+/// Faces a hint remembers (a camera's sight lines cross a few).
+const HINT_LEN: usize = 32;
+
+/// Where a sight line blocked last time counts as blocked again without a
+/// tree-leaf search while the new blocking point is this close (units).
+const DEAD_END_RADIUS: f64 = 4.0;
+
+/// The way an earlier cover took, for a caller that tests nearly the same
+/// segment again and again (a camera candidate's sight line, frame after
+/// frame): the faces it crossed and where it found no way on. Start with
+/// [`CoverHint::default`]; a hint never changes an answer's certainty, only
+/// how fast it is found.
+#[derive(Clone, Copy, Debug)]
+pub struct CoverHint {
+    chain: [u32; HINT_LEN],
+    len: usize,
+    dead_end: Option<[f32; 3]>,
+}
+
+impl Default for CoverHint {
+    fn default() -> Self {
+        CoverHint {
+            chain: [0; HINT_LEN],
+            len: 0,
+            dead_end: None,
+        }
+    }
+}
+
+impl CoverHint {
+    fn restart(&mut self, first: u32) {
+        self.chain[0] = first;
+        self.len = 1;
+        self.dead_end = None;
+    }
+
+    fn push(&mut self, f: u32) {
+        if self.len < HINT_LEN {
+            self.chain[self.len] = f;
+            self.len += 1;
+        }
+    }
+
+    /// The face the earlier cover took after `f`.
+    fn after(&self, f: u32) -> Option<u32> {
+        let i = self.chain[..self.len].iter().position(|&g| g == f)?;
+        self.chain[..self.len].get(i + 1).copied()
+    }
+
+    fn dead_end_near(&self, p: V3) -> bool {
+        self.dead_end
+            .is_some_and(|d| (V3::from_f32(d) - p).norm() < DEAD_END_RADIUS)
+    }
+}
+
 impl<'a> Vdg<'a> {
     /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for `f` above
     /// `eps`, given that `at(lo)` is above it.
@@ -208,7 +283,10 @@ impl<'a> Vdg<'a> {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
         match self.best_cover_step(start.iter().copied(), &seg, 0.0, INSIDE_EPS) {
-            Some((f, t)) => t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, MAX_HOPS).1 >= 1.0,
+            Some((f, t)) => {
+                let mut budget = CoverBudget::UNBOUNDED;
+                t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
+            }
             None => false,
         }
     }
@@ -217,24 +295,57 @@ impl<'a> Vdg<'a> {
     /// contains `s` (e.g. from [`Self::track`]). `false` if it does not.
     /// Panics if `face` is out of range.
     pub fn visible_from(&self, face: u32, s: [f32; 3], e: [f32; 3]) -> bool {
-        self.visible_from_within(face, s, e, MAX_HOPS)
+        let mut budget = CoverBudget::UNBOUNDED;
+        self.visible_within(face, s, e, &mut budget)
     }
 
-    /// [`Self::visible_from`] giving up ("not visible") after `max_hops`
-    /// face volumes: a per-frame caller bounds its worst case this way.
-    pub(crate) fn visible_from_within(
+    /// [`Self::visible_from`] spending at most `budget` (and counting it
+    /// down): "not visible" when the budget runs out first. A per-frame
+    /// caller bounds its worst case this way.
+    ///
+    /// ```
+    /// # let mut b = vdgformat::VdgBuilder::new();
+    /// # let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// # b.add_face(v);
+    /// # let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// use vdgformat::CoverBudget;
+    /// let g = file.graph();
+    /// let mut budget = CoverBudget { hops: 8, leaf_searches: 1 };
+    /// assert!(g.visible_within(0, [1.0, 1.0, 0.0], [90.0, 1.0, 0.0], &mut budget));
+    /// ```
+    pub fn visible_within(
         &self,
         face: u32,
         s: [f32; 3],
         e: [f32; 3],
-        max_hops: usize,
+        budget: &mut CoverBudget,
+    ) -> bool {
+        self.visible_hinted(face, s, e, budget, None)
+    }
+
+    /// [`Self::visible_within`] guided by (and updating) the hint of a
+    /// similar earlier test: the same answers' certainty, found faster when
+    /// the segment moved little.
+    pub fn visible_hinted(
+        &self,
+        face: u32,
+        s: [f32; 3],
+        e: [f32; 3],
+        budget: &mut CoverBudget,
+        hint: Option<&mut CoverHint>,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         if self.fc(face, seg.s) <= INSIDE_EPS {
             return false;
         }
         let t = self.exit_param(face, &seg, 0.0, INSIDE_EPS);
-        t >= 1.0 || self.cover(face, &seg, t, INSIDE_EPS, max_hops).1 >= 1.0
+        if t >= 1.0 {
+            if let Some(h) = hint {
+                h.restart(face);
+            }
+            return true;
+        }
+        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint).1 >= 1.0
     }
 
     /// Among `candidates` whose volume contains `at(t)`, the one reaching
@@ -263,10 +374,17 @@ impl<'a> Vdg<'a> {
         buf[..n].sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
         let here = seg.at(t);
         let mut best: Option<(u32, f64)> = None;
-        let sorted = buf[..n].iter().copied();
+        // Faces sharing an edge come twice; sorted, the copies sit side by
+        // side and the second is skipped.
+        let mut previous = None;
+        let sorted = buf[..n].iter().copied().filter(move |&(_, f)| {
+            let repeat = previous == Some(f);
+            previous = Some(f);
+            !repeat
+        });
         let unsorted = rest.map(|f| (self.reach_bound(f, seg), f));
         for (ub, f) in sorted.chain(unsorted) {
-            // Faces sharing an edge come twice; the best one never helps again.
+            // The best one never helps again.
             if best.is_some_and(|b| b.0 == f) {
                 continue;
             }
@@ -296,24 +414,78 @@ impl<'a> Vdg<'a> {
     /// neighbours of the current face first (the thesis' recursion, kept
     /// greedy: the neighbour reaching farthest), and the faces of the tree
     /// leaf at the cover's end when no neighbour helps. Returns the last face
-    /// and the reach (`>= 1.0` when the whole segment is covered).
-    fn cover(&self, mut cur: u32, seg: &Seg, mut t: f64, eps: f64, max_hops: usize) -> (u32, f64) {
+    /// and the reach (`>= 1.0` when the whole segment is covered). Leaf
+    /// searches and hops count `budget` down; the cover stops when it is
+    /// spent.
+    fn cover(&self, cur: u32, seg: &Seg, t: f64, eps: f64, budget: &mut CoverBudget) -> (u32, f64) {
+        self.cover_hinted(cur, seg, t, eps, budget, None)
+    }
+
+    /// [`Self::cover`] that first tries the way a similar earlier cover
+    /// took (`hint`) and records its own way there for the next one. A
+    /// hinted step costs one exit search instead of a search over the whole
+    /// neighbourhood; any face that continues the line is as good a proof
+    /// as the farthest-reaching one. A leaf search is skipped where the
+    /// hinted cover already found no way on (a camera's sight line blocked
+    /// at the same place frame after frame).
+    fn cover_hinted(
+        &self,
+        mut cur: u32,
+        seg: &Seg,
+        mut t: f64,
+        eps: f64,
+        budget: &mut CoverBudget,
+        mut hint: Option<&mut CoverHint>,
+    ) -> (u32, f64) {
         // A hop must gain at least this much (a thousandth of a unit), so
         // the hop limit bounds the work; smaller gains end the cover.
         let min_gain = if seg.len > 0.0 { 1e-3 / seg.len } else { 0.0 };
-        for _ in 0..max_hops {
-            let mut step = self
-                .best_cover_step(self.neighbourhood(cur), seg, t, eps)
+        let old = hint.as_deref().copied();
+        if let Some(h) = hint.as_deref_mut() {
+            h.restart(cur);
+        }
+        while budget.hops > 0 {
+            budget.hops -= 1;
+            let here = seg.at(t);
+            let mut step = old
+                .and_then(|o| o.after(cur))
+                .and_then(|f| self.hinted_step(f, seg, t, here, eps))
                 .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
-                let leaf = self.leaf_faces_at(seg.at(t));
                 step = self
-                    .best_cover_step(leaf.iter().copied(), seg, t, eps)
+                    .best_cover_step(self.neighbourhood(cur), seg, t, eps)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
+            let dead_end = old.and_then(|o| o.dead_end.filter(|_| o.dead_end_near(here)));
+            if step.is_none()
+                && dead_end.is_some()
+                && let Some(h) = hint.as_deref_mut()
+            {
+                // Kept where it was found: a blocking point that drifts
+                // away gets a fresh search.
+                h.dead_end = dead_end;
+            }
+            if step.is_none() && budget.leaf_searches > 0 && dead_end.is_none() {
+                budget.leaf_searches -= 1;
+                let leaf = self.leaf_faces_at(here);
+                let holding = leaf.iter().copied().filter(|&f| self.box_holds(f, here));
+                step = self
+                    .best_cover_step(holding, seg, t, eps)
+                    .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
+                if step.is_none()
+                    && let Some(h) = hint.as_deref_mut()
+                {
+                    h.dead_end = Some(here.to_f32());
+                }
+            }
             match step {
-                Some((f, r)) if r >= 1.0 => return (f, 1.0),
                 Some((f, r)) => {
+                    if let Some(h) = hint.as_deref_mut() {
+                        h.push(f);
+                    }
+                    if r >= 1.0 {
+                        return (f, 1.0);
+                    }
                     cur = f;
                     t = r;
                 }
@@ -321,6 +493,17 @@ impl<'a> Vdg<'a> {
             }
         }
         (cur, t)
+    }
+
+    /// The reach of face `f` along the segment from `at(t)` (= `here`), if
+    /// its volume holds `here`.
+    fn hinted_step(&self, f: u32, seg: &Seg, t: f64, here: V3, eps: f64) -> Option<(u32, f64)> {
+        let at = self.fc_above(f, here, eps);
+        if at <= eps {
+            return None;
+        }
+        let ub = self.reach_bound(f, seg);
+        Some((f, self.exit_from(f, seg, t, at - eps, ub, eps, COVER_TOL)))
     }
 
     /// The face and every face sharing a vertex with it (thesis:
@@ -369,19 +552,24 @@ impl<'a> Vdg<'a> {
         margin: f32,
         max_hops: u32,
     ) -> Advance {
-        self.advance_tol(face, from, to, margin, max_hops, BISECT_TOL)
+        let mut budget = CoverBudget {
+            hops: max_hops,
+            leaf_searches: u32::MAX,
+        };
+        self.advance_tol(face, from, to, margin, &mut budget, BISECT_TOL)
     }
 
     /// [`Self::advance`] stopping within `tol` units of the boundary (the
     /// point is certified either way; a camera does not need to touch the
-    /// boundary to a thousandth of a unit).
+    /// boundary to a thousandth of a unit), crossing face volumes within
+    /// `budget` (counted down).
     pub(crate) fn advance_tol(
         &self,
         face: u32,
         from: [f32; 3],
         to: [f32; 3],
         margin: f32,
-        max_hops: u32,
+        budget: &mut CoverBudget,
         tol: f64,
     ) -> Advance {
         let eps = f64::from(margin).max(0.0) + TRACE_MARGIN;
@@ -399,10 +587,10 @@ impl<'a> Vdg<'a> {
         let mut t0 = 0.0;
         let mut cur = face;
         let mut t = self.exit_param_tol(face, &seg, 0.0, eps, tol);
-        if t < 1.0 && max_hops > 0 {
+        if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
-            let (f, r) = self.cover(face, &seg, t, eps, max_hops as usize);
+            let (f, r) = self.cover(face, &seg, t, eps, budget);
             if f != face {
                 t0 = t;
             }
