@@ -85,7 +85,7 @@ fn main() -> anyhow::Result<()> {
                     pts.iter().map(|p| (p.0, p.2)),
                     6,
                     4,
-                    col.stroke_width(2).into(),
+                    col.stroke_width(2),
                 ))
                 .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
                 .label(format!("{name}: coverage (clearance >= 32)"))
