@@ -9,11 +9,13 @@
 #    (fixed seed, fixed particle time).
 # 2. The window (WINDOW=1, or when Xvfb is already there): the same session
 #    in the real eframe window under a virtual X server (Xvfb, Mesa's
-#    software OpenGL), grabbed with xwd. Installs xvfb, x11-apps, x11-utils,
-#    libgl1-mesa-dri and imagemagick from Debian when missing.
+#    software OpenGL); xdotool clicks a slot and presses F (fill); grabbed
+#    with xwd. Installs xvfb, x11-apps, x11-utils,
+#    xdotool, libgl1-mesa-dri and imagemagick from Debian when missing.
 #
 # usage: scripts/flowtile-editor-screenshot.sh [OUT.png]
-#   default OUT: target/flowtile-editor.png (the window's: OUT-window.png)
+#   default OUT: target/flowtile-editor.png (de_dust2: OUT-de_dust2.png, the
+#   window's: OUT-window.png)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-target/flowtile-editor.png}
@@ -21,8 +23,13 @@ SPEC=testdata/flowtiles/river.toml
 SCRIPT=testdata/flowtiles/editor-demo.txt
 SIZE=${SIZE:-1280x800}
 
-cargo build --release -q -p flowtile-bake
-BIN=target/release/flowtile-bake
+# FLOWTILE_BAKE=PATH uses that binary instead of building the release one.
+if [ -n "${FLOWTILE_BAKE:-}" ]; then
+    BIN=$FLOWTILE_BAKE
+else
+    cargo build --release -q -p flowtile-bake
+    BIN=target/release/flowtile-bake
+fi
 WORK=$(mktemp -d)
 XVFB_PID=""
 APP_PID=""
@@ -35,7 +42,7 @@ trap cleanup EXIT
 
 mkdir -p "$(dirname "$OUT")"
 # The script saves and bakes into the working directory: run it there.
-ABS_BIN=$(pwd)/$BIN
+ABS_BIN=$(cd "$(dirname "$BIN")" && pwd)/$(basename "$BIN")
 for run in 1 2; do
     (cd "$WORK" && "$ABS_BIN" edit "$OLDPWD/$SPEC" --script "$OLDPWD/$SCRIPT" \
         --screenshot "shot$run.png" --size "$SIZE" >"log$run.txt")
@@ -74,12 +81,12 @@ if [ "${WINDOW:-0}" != 1 ] && ! command -v Xvfb >/dev/null 2>&1; then
     exit 0
 fi
 need() { command -v "$1" >/dev/null 2>&1; }
-if ! need Xvfb || ! need xwd || ! need xdpyinfo || [ ! -x /usr/bin/convert ] ||
+if ! need Xvfb || ! need xwd || ! need xdpyinfo || ! need xdotool || [ ! -x /usr/bin/convert ] ||
     ! ls /usr/lib/*/dri/swrast_dri.so >/dev/null 2>&1; then
-    echo "installing xvfb, x11-apps (xwd), x11-utils (xdpyinfo), libgl1-mesa-dri, imagemagick ..." >&2
+    echo "installing xvfb, x11-apps (xwd), x11-utils (xdpyinfo), xdotool, libgl1-mesa-dri, imagemagick ..." >&2
     SUDO=""; [ "$(id -u)" = 0 ] || SUDO=sudo
     $SUDO apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq xvfb x11-apps x11-utils \
+    DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq xvfb x11-apps x11-utils xdotool \
         libgl1-mesa-dri imagemagick >/dev/null
 fi
 DISPLAY_NUM=${EDITOR_DISPLAY:-:96}
@@ -95,6 +102,14 @@ DISPLAY=$DISPLAY_NUM xdpyinfo >/dev/null 2>&1 || { echo "Xvfb did not start" >&2
 APP_PID=$!
 sleep 8
 kill -0 "$APP_PID" 2>/dev/null || { echo "the editor's window closed early:" >&2; cat "$WORK/window.log" >&2; exit 1; }
+# A person's input through XTEST: click slot (8, 3) with the Tiles tool (its
+# palette opens), then F fills the 15 empty slots (the status bar says so).
+export DISPLAY=$DISPLAY_NUM
+WID=$(xdotool search --sync --name '^flowtile-bake edit$' | tail -1)
+xdotool windowfocus --sync "$WID" || echo "warning: could not focus the editor" >&2
+xdotool mousemove 452 413 click 1 && sleep 1 &&
+    xdotool keydown f && sleep 0.3 && xdotool keyup f && sleep 1.5 ||
+    echo "warning: xdotool could not click or press F" >&2
 WOUT="${OUT%.png}-window.png"
 DISPLAY=$DISPLAY_NUM xwd -root -silent >"$WORK/screen.xwd"
 /usr/bin/convert "$WORK/screen.xwd" -crop "${SIZE}+0+0" +repage "$WOUT"

@@ -71,6 +71,10 @@ pub struct CheckReport {
     /// not seen (the misses `Visible` can be blamed for).
     pub free_segments_inside: usize,
     pub false_negatives_inside: usize,
+    /// Of those misses, the ones whose whole segment stays inside the volume (sampled
+    /// every [`ALONG_STEP`] units): the query's own misses. The others leave the volume
+    /// between their ends — a gap of the graph, which no trace through it can cross.
+    pub false_negatives_query: usize,
     /// Standing places drawn (player origins) and how many lie inside the volume.
     pub walkable_points: usize,
     pub walkable_covered: usize,
@@ -100,6 +104,11 @@ impl CheckReport {
     pub fn visible_fn_inside(&self) -> f64 {
         ratio(self.false_negatives_inside, self.free_segments_inside)
     }
+    /// Misses among the free segments with both ends inside the volume whose whole
+    /// segment stays inside it (see [`CheckReport::false_negatives_query`]).
+    pub fn visible_fn_query(&self) -> f64 {
+        ratio(self.false_negatives_query, self.free_segments_inside)
+    }
     /// Share of the standing player origins inside the volume.
     pub fn walkable_coverage(&self) -> f64 {
         ratio(self.walkable_covered, self.walkable_points)
@@ -120,6 +129,7 @@ impl CheckReport {
             "visible_fp": self.visible_fp(),
             "visible_fn": self.visible_fn(),
             "visible_fn_inside": self.visible_fn_inside(),
+            "visible_fn_query": self.visible_fn_query(),
             "walkable_coverage": self.walkable_coverage(),
             "walkable_coverage_head": self.walkable_coverage_head(),
             "walkable_points": self.walkable_points,
@@ -140,6 +150,7 @@ impl CheckReport {
             "false_negatives": self.false_negatives,
             "free_segments_inside": self.free_segments_inside,
             "false_negatives_inside": self.false_negatives_inside,
+            "false_negatives_query": self.false_negatives_query,
             "seconds": self.seconds,
             "seconds_leak": self.seconds_parts[0],
             "seconds_coverage": self.seconds_parts[1],
@@ -304,12 +315,12 @@ fn measure_visibility(
     let (lo, hi) = free_bounds(bsp);
     let n = (options.samples / 10).max(1);
     let chunks = n.div_ceil(CHUNK);
-    let parts: Vec<[usize; 7]> = (0..chunks)
+    let parts: Vec<[usize; 8]> = (0..chunks)
         .into_par_iter()
         .map(|c| {
             let mut rng = SplitMix64::new(options.seed ^ (0x5e9 << 36) ^ c as u64);
             let count = CHUNK.min(n - c * CHUNK);
-            let mut s = [0usize; 7];
+            let mut s = [0usize; 8];
             let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
                 let p = match near {
                     // Half the segments are short (up to 512 units), where sight matters.
@@ -334,13 +345,14 @@ fn measure_visibility(
                 if truth && vdg.contains(as_f32(a)) && vdg.contains(as_f32(b)) {
                     s[5] += 1;
                     s[6] += !seen as usize;
+                    s[7] += (!seen && stays_inside(vdg, a, b)) as usize;
                 }
             }
             s
         })
         .collect();
-    let s = parts.iter().fold([0usize; 7], |mut acc, p| {
-        for i in 0..7 {
+    let s = parts.iter().fold([0usize; 8], |mut acc, p| {
+        for i in 0..8 {
             acc[i] += p[i];
         }
         acc
@@ -352,6 +364,7 @@ fn measure_visibility(
     r.false_negatives = s[4];
     r.free_segments_inside = s[5];
     r.false_negatives_inside = s[6];
+    r.false_negatives_query = s[7];
 }
 
 pub use crate::standing::{
@@ -432,6 +445,19 @@ fn measure_walkable(
 }
 
 /// The bounds of the world model, where free points are drawn.
+/// Spacing (units) of the points that test whether a segment stays inside the volume.
+pub const ALONG_STEP: f64 = 2.0;
+
+/// Whether the points of `a`–`b` every [`ALONG_STEP`] units all lie inside the volume.
+fn stays_inside(vdg: &Vdg<'_>, a: [f64; 3], b: [f64; 3]) -> bool {
+    let len = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
+    let steps = (len / ALONG_STEP).ceil().max(1.0) as usize;
+    (0..=steps).all(|j| {
+        let t = j as f64 / steps as f64;
+        vdg.contains(as_f32([0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]))))
+    })
+}
+
 fn free_bounds(bsp: &Bsp) -> ([f64; 3], [f64; 3]) {
     let w = bsp.world();
     (w.mins.map(f64::from), w.maxs.map(f64::from))

@@ -296,14 +296,15 @@ fn run_check(
             options.coverage_clearance
         );
         println!(
-            "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside)",
+            "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside, {:.4} staying inside)",
             r.visible_fp(),
             r.false_positives,
             r.segments - r.free_segments,
             r.visible_fn(),
             r.false_negatives,
             r.free_segments,
-            r.visible_fn_inside()
+            r.visible_fn_inside(),
+            r.visible_fn_query()
         );
         println!(
             "  walkable   {:.4}  ({} of {} standing player origins inside), head {:.4} ({} of {})",

@@ -8,80 +8,242 @@
 //! that the batches keep independent); after a removal those points move to such a
 //! face. Points the unreduced volume does not contain are not kept.
 
-use std::collections::HashMap;
-
 use smallvec::SmallVec;
 
 use super::mesh::{Changes, Edit, Mesh};
 use super::volume::P3;
 
-/// Cell size of the one-off face grid that finds each point's first holder.
-const CELL: f64 = 64.0;
-
 pub(crate) struct Keep {
     points: Vec<P3>,
+    /// Per point, a lower bound of its clearance for the face that holds it. Radii
+    /// only fall during the reduction, and lowering a face's radii by at most `δ`
+    /// lowers its clearance anywhere by at most `δ`: a point deeper than the
+    /// lowering needs no evaluation (most points, most of the time).
+    depth: Vec<f64>,
     /// Per face id, the points it holds.
     held: Vec<SmallVec<[u32; 2]>>,
+    /// Per face id, whether it holds points: every costing asks this of the faces an
+    /// edit removes or lowers, and a byte per face stays in the cache.
+    holding: Vec<bool>,
+}
+
+fn face_balls(mesh: &Mesh, f: u32) -> [(P3, f64); 3] {
+    mesh.faces[f as usize].map(|v| (mesh.pos[v as usize], mesh.clearance[v as usize]))
 }
 
 fn face_clearance(mesh: &Mesh, f: u32, p: P3) -> f64 {
-    let t = mesh.faces[f as usize];
-    vdgformat::triangle_clearance(
-        t.map(|v| (mesh.pos[v as usize], mesh.clearance[v as usize])),
-        p,
-    )
+    vdgformat::triangle_clearance(face_balls(mesh, f), p)
 }
 
-fn cell_of(p: P3) -> [i32; 3] {
-    p.map(|c| (c / CELL).floor() as i32)
+/// An upper bound of a face's clearance at `p`, a few times cheaper than the exact
+/// one: the largest clearance of its vertices less the distance of `p` to the
+/// triangle's box (the clearance is `max_q r(q) − |p − q|` over the triangle).
+#[inline]
+fn clearance_bound(balls: &[(P3, f64); 3], p: P3) -> f64 {
+    let mut d2 = 0.0;
+    for (i, &c) in p.iter().enumerate() {
+        let lo = balls[0].0[i].min(balls[1].0[i]).min(balls[2].0[i]);
+        let hi = balls[0].0[i].max(balls[1].0[i]).max(balls[2].0[i]);
+        let d = (lo - c).max(c - hi).max(0.0);
+        d2 += d * d;
+    }
+    balls[0].1.max(balls[1].1).max(balls[2].1) - d2.sqrt()
 }
 
-impl Keep {
-    /// The points of `points` inside the mesh's volume, each held by the face whose
-    /// volume holds it deepest.
-    pub fn new(mesh: &Mesh, points: &[P3]) -> Keep {
-        let mut held = vec![SmallVec::new(); mesh.faces.len()];
-        let mut grid: HashMap<[i32; 3], Vec<u32>> = HashMap::new();
-        let wanted: std::collections::HashSet<[i32; 3]> =
-            points.iter().map(|&p| cell_of(p)).collect();
-        for (f, t) in mesh.faces.iter().enumerate() {
-            if !mesh.alive[f] {
+/// Whether the volume of the face with these balls contains `p`.
+#[inline]
+fn inside(balls: [(P3, f64); 3], p: P3) -> bool {
+    clearance_bound(&balls, p) > 0.0 && vdgformat::triangle_clearance(balls, p) > 0.0
+}
+
+/// A bounding volume hierarchy over the live faces, for the one-off search of each
+/// point's deepest face. A node bounds its faces' triangles (not their volumes) and
+/// knows their largest clearance: `max_r − dist(p, box)` bounds the clearance any of
+/// its faces has at `p` (the clearance is `max_q r(q) − |p − q|` over the triangle),
+/// so a best-first descent prunes everything that cannot beat the best face so far.
+/// On an open map a face's volume box spans hundreds of units, and a grid of cells
+/// had each point test thousands of faces.
+struct Bvh {
+    nodes: Vec<Node>,
+    /// Face ids, each leaf a range of them.
+    faces: Vec<u32>,
+}
+
+#[derive(Clone, Copy)]
+struct Node {
+    lo: P3,
+    hi: P3,
+    max_r: f64,
+    /// Leaf: `first..first + count` of `Bvh::faces`; inner: children `first`, `first + 1`.
+    first: u32,
+    count: u32,
+}
+
+/// Faces per leaf.
+const LEAF: usize = 4;
+
+impl Bvh {
+    fn new(mesh: &Mesh) -> Bvh {
+        let mut faces: Vec<u32> = (0..mesh.faces.len() as u32)
+            .filter(|&f| mesh.alive[f as usize])
+            .collect();
+        let centre: Vec<P3> = mesh
+            .faces
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| mesh.pos[v as usize]);
+                [0, 1, 2].map(|i| (p[0][i] + p[1][i] + p[2][i]) / 3.0)
+            })
+            .collect();
+        let mut nodes = Vec::with_capacity(2 * faces.len() / LEAF + 1);
+        nodes.push(Node {
+            lo: [0.0; 3],
+            hi: [0.0; 3],
+            max_r: 0.0,
+            first: 0,
+            count: 0,
+        });
+        let n = faces.len();
+        Self::build(mesh, &centre, &mut faces, 0, n, 0, &mut nodes);
+        Bvh { nodes, faces }
+    }
+
+    /// Fills node `at` with the faces `faces[a..b]`, splitting at the median of
+    /// their centres along the longest axis.
+    fn build(
+        mesh: &Mesh,
+        centre: &[P3],
+        faces: &mut [u32],
+        a: usize,
+        b: usize,
+        at: usize,
+        nodes: &mut Vec<Node>,
+    ) {
+        let (mut lo, mut hi, mut max_r) = ([f64::MAX; 3], [f64::MIN; 3], f64::MIN);
+        for &f in &faces[a..b] {
+            for v in mesh.faces[f as usize] {
+                let p = mesh.pos[v as usize];
+                for i in 0..3 {
+                    lo[i] = lo[i].min(p[i]);
+                    hi[i] = hi[i].max(p[i]);
+                }
+                max_r = max_r.max(mesh.clearance[v as usize]);
+            }
+        }
+        if b - a <= LEAF {
+            nodes[at] = Node {
+                lo,
+                hi,
+                max_r,
+                first: a as u32,
+                count: (b - a) as u32,
+            };
+            return;
+        }
+        let axis = (0..3)
+            .max_by(|&i, &j| (hi[i] - lo[i]).total_cmp(&(hi[j] - lo[j])))
+            .unwrap_or(0);
+        let mid = (a + b) / 2;
+        faces[a..b].select_nth_unstable_by(mid - a, |&f, &g| {
+            centre[f as usize][axis]
+                .total_cmp(&centre[g as usize][axis])
+                .then(f.cmp(&g))
+        });
+        let child = nodes.len();
+        let empty = nodes[at];
+        nodes.push(empty);
+        nodes.push(empty);
+        nodes[at] = Node {
+            lo,
+            hi,
+            max_r,
+            first: child as u32,
+            count: 0,
+        };
+        Self::build(mesh, centre, faces, a, mid, child, nodes);
+        Self::build(mesh, centre, faces, mid, b, child + 1, nodes);
+    }
+
+    /// A face whose volume holds `p` at least [`DEEP_ENOUGH`] deep, else the one
+    /// that holds it deepest (ties: the smaller id), with that clearance; `None`
+    /// outside the volume.
+    fn deep_face(&self, mesh: &Mesh, p: P3) -> Option<(u32, f64)> {
+        let bound = |n: &Node| {
+            let d2: f64 = (0..3)
+                .map(|i| (n.lo[i] - p[i]).max(p[i] - n.hi[i]).max(0.0).powi(2))
+                .sum();
+            n.max_r - d2.sqrt()
+        };
+        let mut best: Option<(f64, u32)> = None;
+        let mut stack: SmallVec<[u32; 64]> = SmallVec::new();
+        stack.push(0);
+        while let Some(i) = stack.pop() {
+            let n = &self.nodes[i as usize];
+            let b = bound(n);
+            if b <= 0.0 || best.is_some_and(|x| b < x.0) {
                 continue;
             }
-            let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
-            for &v in t {
-                let (c, r) = (mesh.pos[v as usize], mesh.clearance[v as usize]);
-                for i in 0..3 {
-                    lo[i] = lo[i].min(c[i] - r);
-                    hi[i] = hi[i].max(c[i] + r);
-                }
-            }
-            let (a, b) = (cell_of(lo), cell_of(hi));
-            for x in a[0]..=b[0] {
-                for y in a[1]..=b[1] {
-                    for z in a[2]..=b[2] {
-                        if wanted.contains(&[x, y, z]) {
-                            grid.entry([x, y, z]).or_default().push(f as u32);
-                        }
+            if n.count > 0 || n.first == 0 {
+                let range = n.first as usize..(n.first + n.count) as usize;
+                for &f in &self.faces[range] {
+                    let c = face_clearance(mesh, f, p);
+                    let better = match best {
+                        None => c > 0.0,
+                        Some((d, g)) => c > d || (c == d && f < g),
+                    };
+                    if better {
+                        best = Some((c, f));
                     }
                 }
+                if best.is_some_and(|x| x.0 >= DEEP_ENOUGH) {
+                    break;
+                }
+                continue;
+            }
+            // The child with the higher bound goes on the stack last, so it is
+            // searched first.
+            let (l, r) = (n.first, n.first + 1);
+            if bound(&self.nodes[l as usize]) > bound(&self.nodes[r as usize]) {
+                stack.push(r);
+                stack.push(l);
+            } else {
+                stack.push(l);
+                stack.push(r);
             }
         }
+        best.map(|x| (x.1, x.0))
+    }
+}
+
+/// How deep (units) a point's first holder must hold it for the search to stop
+/// there: deep enough that the first lowerings around it need no evaluation.
+const DEEP_ENOUGH: f64 = 8.0;
+
+impl Keep {
+    /// The points of `points` inside the mesh's volume, each held by a face whose
+    /// volume holds it (see [`Bvh::deep_face`]).
+    pub fn new(mesh: &Mesh, points: &[P3]) -> Keep {
+        use rayon::prelude::*;
+        let bvh = Bvh::new(mesh);
+        let homes: Vec<Option<(u32, f64)>> =
+            points.par_iter().map(|&p| bvh.deep_face(mesh, p)).collect();
+        let mut held = vec![SmallVec::new(); mesh.faces.len()];
         let mut kept = Vec::new();
-        for &p in points {
-            let best = grid.get(&cell_of(p)).and_then(|faces| {
-                faces
-                    .iter()
-                    .map(|&f| (face_clearance(mesh, f, p), f))
-                    .filter(|x| x.0 > 0.0)
-                    .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
-            });
-            if let Some((_, f)) = best {
+        let mut depth = Vec::new();
+        for (&p, home) in points.iter().zip(homes) {
+            if let Some((f, c)) = home {
                 held[f as usize].push(kept.len() as u32);
                 kept.push(p);
+                depth.push(c);
             }
         }
-        Keep { points: kept, held }
+        let holding = held.iter().map(|h| !h.is_empty()).collect();
+        Keep {
+            points: kept,
+            depth,
+            held,
+            holding,
+        }
     }
 
     /// How many points are kept.
@@ -102,56 +264,141 @@ impl Keep {
                     .iter()
                     .flat_map(move |&(v, _)| base.vfaces[v as usize].iter().copied()),
             )
-            .filter(move |&f| !self.held[f as usize].is_empty())
+            .filter(move |&f| self.holding[f as usize])
     }
 
     /// Whether every point the edit puts at risk is still inside a face around it.
     pub fn holds(&self, e: &Edit) -> bool {
         let ch = e.changes();
-        let touched = ch.touched();
+        // Most edits put no kept point at risk: the touched vertices only when needed.
+        let mut touched = None;
         self.at_risk(ch, e.base).all(|f| {
+            let removed = ch.removed.contains(&f);
+            let drop = if removed {
+                f64::INFINITY
+            } else {
+                lowering(e.base, f, |v| e.radius(v))
+            };
             self.held[f as usize].iter().all(|&i| {
                 let p = self.points[i as usize];
-                (!ch.removed.contains(&f) && e.clearance_at(f, p) > 0.0)
+                self.depth[i as usize] - drop > 0.0
+                    || (!removed && inside(e.balls(f), p))
+                    // The edit's new faces first: they cover what the removed ones did.
+                    || (0..ch.new_faces.len() as u32)
+                        .map(|k| ch.base + k)
+                        .any(|g| !ch.removed.contains(&g) && inside(e.balls(g), p))
                     || touched
+                        .get_or_insert_with(|| ch.touched())
                         .iter()
-                        .any(|&v| e.faces_of(v).iter().any(|&g| e.clearance_at(g, p) > 0.0))
+                        .any(|&v| e.faces_of(v).iter().any(|&g| inside(e.balls(g), p)))
             })
         })
     }
 
-    /// The faces at risk of `ch` before it is applied (see [`Keep::rehome`]).
-    pub fn before_apply(&self, ch: &Changes, base: &Mesh) -> Vec<u32> {
+    /// The faces at risk of `ch` before it is applied, each with how much the edit
+    /// lowers its clearance at most (infinite for a removed face; see
+    /// [`Keep::rehome`]).
+    pub fn before_apply(&self, ch: &Changes, base: &Mesh) -> Vec<(u32, f64)> {
         let mut v: Vec<u32> = self.at_risk(ch, base).collect();
         v.sort_unstable();
         v.dedup();
-        v
+        let radius = |u: u32| {
+            ch.radii
+                .iter()
+                .find(|x| x.0 == u)
+                .map_or(base.clearance[u as usize], |x| x.1)
+        };
+        v.into_iter()
+            .map(|f| {
+                let drop = if ch.removed.contains(&f) {
+                    f64::INFINITY
+                } else {
+                    lowering(base, f, radius)
+                };
+                (f, drop)
+            })
+            .collect()
     }
 
     /// After an edit was applied: the points of the faces at risk move to a face
-    /// around the edit that holds them (the one that holds them deepest).
-    pub fn rehome(&mut self, mesh: &Mesh, at_risk: &[u32], touched: &[u32]) {
+    /// that holds them: the deepest of the edit's new faces (ids from `first_new`
+    /// on), which cover what the removed faces did, else the deepest of the faces
+    /// around the edit.
+    pub fn rehome(&mut self, mesh: &Mesh, at_risk: &[(u32, f64)], first_new: u32, touched: &[u32]) {
         self.held.resize(mesh.faces.len(), SmallVec::new());
-        for &f in at_risk {
+        self.holding.resize(mesh.faces.len(), false);
+        let new: Vec<u32> = (first_new..mesh.faces.len() as u32)
+            .filter(|&g| mesh.alive[g as usize])
+            .collect();
+        // The faces around the edit, each once; made when a point first needs them.
+        let mut around: Option<Vec<u32>> = None;
+        for &(f, drop) in at_risk {
             let points = std::mem::take(&mut self.held[f as usize]);
+            self.holding[f as usize] = false;
             for i in points {
                 let p = self.points[i as usize];
-                let home = if mesh.alive[f as usize] && face_clearance(mesh, f, p) > 0.0 {
-                    Some(f)
+                let d = self.depth[i as usize] - drop;
+                let stays = if d > 0.0 {
+                    Some(d)
+                } else if mesh.alive[f as usize] {
+                    Some(face_clearance(mesh, f, p)).filter(|&c| c > 0.0)
                 } else {
-                    touched
-                        .iter()
-                        .flat_map(|&v| mesh.vfaces[v as usize].iter().copied())
-                        .map(|g| (face_clearance(mesh, g, p), g))
-                        .filter(|x| x.0 > 0.0)
-                        .max_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)))
-                        .map(|x| x.1)
+                    None
+                };
+                let home = if let Some(c) = stays {
+                    Some((f, c))
+                } else {
+                    deepest_of(mesh, &new, p).or_else(|| {
+                        let around = around.get_or_insert_with(|| {
+                            let mut faces: Vec<u32> = touched
+                                .iter()
+                                .flat_map(|&v| mesh.vfaces[v as usize].iter().copied())
+                                .collect();
+                            faces.sort_unstable();
+                            faces.dedup();
+                            faces
+                        });
+                        deepest_of(mesh, around, p)
+                    })
                 };
                 debug_assert!(home.is_some(), "kept point {p:?} lost its face");
-                if let Some(g) = home {
+                if let Some((g, c)) = home {
                     self.held[g as usize].push(i);
+                    self.holding[g as usize] = true;
+                    self.depth[i as usize] = c;
                 }
             }
         }
     }
+}
+
+/// How much lower face `f`'s clearance can be anywhere with the radii `radius`
+/// than with the mesh's: the largest drop of its vertices' radii (the clearance is
+/// `max_q r(q) − |p − q|`, and `r` interpolates the vertex radii).
+fn lowering(mesh: &Mesh, f: u32, radius: impl Fn(u32) -> f64) -> f64 {
+    mesh.faces[f as usize]
+        .iter()
+        .map(|&v| mesh.clearance[v as usize] - radius(v))
+        .fold(0.0, f64::max)
+}
+
+/// The face of `faces` whose volume holds `p` deepest (ties: the smaller id), with
+/// that clearance, if any.
+fn deepest_of(mesh: &Mesh, faces: &[u32], p: P3) -> Option<(u32, f64)> {
+    let mut best: Option<(f64, u32)> = None;
+    for &g in faces {
+        let balls = face_balls(mesh, g);
+        if clearance_bound(&balls, p) <= best.map_or(0.0, |x| x.0) {
+            continue;
+        }
+        let c = vdgformat::triangle_clearance(balls, p);
+        let better = match best {
+            None => c > 0.0,
+            Some((d, h)) => c > d || (c == d && g < h),
+        };
+        if better {
+            best = Some((c, g));
+        }
+    }
+    best.map(|x| (x.1, x.0))
 }

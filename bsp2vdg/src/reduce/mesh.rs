@@ -205,8 +205,8 @@ pub(crate) struct Changes {
 impl Changes {
     /// Vertices whose faces or clearance changed, sorted: the ones whose cost
     /// must be recomputed (thesis: the neighbours of the removed vertex).
-    pub fn touched(&self) -> Vec<u32> {
-        let mut t: Vec<u32> = self
+    pub fn touched(&self) -> SmallVec<[u32; 16]> {
+        let mut t: SmallVec<[u32; 16]> = self
             .lists
             .iter()
             .map(|x| x.0)

@@ -427,9 +427,10 @@ fn run(
                 .as_ref()
                 .map(|k| k.before_apply(&ch, &mesh))
                 .unwrap_or_default();
+            let first_new = mesh.faces.len() as u32;
             mesh.apply(ch);
             if let Some(k) = kept.as_mut() {
-                k.rehome(&mesh, &at_risk, &touched);
+                k.rehome(&mesh, &at_risk, first_new, &touched);
             }
             let after: usize = touched
                 .iter()

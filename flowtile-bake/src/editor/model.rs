@@ -907,6 +907,14 @@ impl Editor {
         Ok(placed)
     }
 
+    /// Makes every edit since the undo history had `mark` steps one step
+    /// (a painted stroke undoes as a whole).
+    pub fn squash_undo(&mut self, mark: usize) {
+        if self.undo.len() > mark + 1 {
+            self.undo.truncate(mark + 1);
+        }
+    }
+
     /// Undoes the last edit.
     pub fn undo(&mut self) -> Result<(), EditError> {
         let doc = self.undo.pop().ok_or(EditError::NothingToUndo("undo"))?;

@@ -211,6 +211,8 @@ pub struct EditorView {
     tiles: HashMap<TileKey, TileDraw>,
     tiles_for: Option<u64>,
     particles: Particles,
+    /// Undo depth when the current paint stroke began.
+    stroke: Option<usize>,
 }
 
 impl EditorView {
@@ -232,6 +234,7 @@ impl EditorView {
             tiles: HashMap::new(),
             tiles_for: None,
             particles: Particles::new(),
+            stroke: None,
         }
     }
 
@@ -940,7 +943,15 @@ impl EditorView {
                 egui::StrokeKind::Middle,
             );
         }
-        // Input.
+        // Input. A painted stroke is one undo step.
+        if matches!(self.tool, Tool::Block | Tool::Open) && resp.drag_started() {
+            self.stroke = Some(ed.history().0);
+        }
+        if resp.drag_stopped()
+            && let Some(mark) = self.stroke.take()
+        {
+            ed.squash_undo(mark);
+        }
         let Some(pos) = resp.interact_pointer_pos().or(resp.hover_pos()) else {
             return;
         };

@@ -1,4 +1,4 @@
-//! `mapgen --out DIR [--only NAME]`: writes the standard test maps
+//! `mapgen --out DIR [--only NAME]`: writes the standard test maps (and, by name, the extra ones)
 //! (`NAME.bsp` + `NAME.json`) into DIR, byte-identically on every run.
 
 use std::path::{Path, PathBuf};
@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use mapgen::{bsp, manifest::Manifest};
 
-const USAGE: &str = "usage: mapgen --out DIR [--only NAME]";
+const USAGE: &str =
+    "usage: mapgen --out DIR [--only NAME]  (NAME may also be an extra world: open_field)";
 
 fn main() -> Result<()> {
     let mut out: Option<PathBuf> = None;
@@ -27,10 +28,15 @@ fn main() -> Result<()> {
     if !out.is_dir() {
         bail!("output directory {} does not exist", out.display());
     }
-    let worlds: Vec<_> = mapgen::worlds()
-        .into_iter()
-        .filter(|w| only.as_ref().is_none_or(|n| *n == w.name))
-        .collect();
+    // The extra worlds (large, not committed) only when asked for by name.
+    let worlds: Vec<_> = match &only {
+        None => mapgen::worlds(),
+        Some(n) => mapgen::worlds()
+            .into_iter()
+            .chain(mapgen::worlds::extra_worlds())
+            .filter(|w| w.name == *n)
+            .collect(),
+    };
     if worlds.is_empty() {
         bail!("no standard map is called {:?}", only.unwrap_or_default());
     }

@@ -225,13 +225,45 @@ pub fn pillar_hall() -> World {
     w
 }
 
+/// Worlds made on request, not among the standard maps (too large to compile in
+/// every test run): `mapgen --out DIR --only NAME` writes them too.
+pub fn extra_worlds() -> Vec<World> {
+    vec![open_field()]
+}
+
+/// A large open map like an outdoor level: a 3072 × 3072 field under a sky 768
+/// units up, with a few scattered buildings. Clearances reach hundreds of units,
+/// so face volumes span several BBox-tree cells: the map that shows the tree's
+/// size (issue 14: bytes per face).
+pub fn open_field() -> World {
+    let mut w = World::new(
+        "open_field",
+        "3072x3072x768 field under a sky with six scattered buildings",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [3072.0, 3072.0, 768.0]));
+    w.sky
+        .push(b([-64.0, -64.0, 768.0], [3136.0, 3136.0, 832.0]));
+    for (x, y, sx, sy, h) in [
+        (384.0, 512.0, 256.0, 384.0, 256.0),
+        (1280.0, 320.0, 512.0, 192.0, 384.0),
+        (2304.0, 640.0, 320.0, 320.0, 192.0),
+        (640.0, 1792.0, 192.0, 512.0, 320.0),
+        (1536.0, 1536.0, 384.0, 384.0, 512.0),
+        (2432.0, 2304.0, 448.0, 256.0, 256.0),
+    ] {
+        w.solids.push(b([x, y, 0.0], [x + sx, y + sy, h]));
+    }
+    w.spawns = vec![[128.0, 128.0, 37.0], [2944.0, 2944.0, 37.0]];
+    w
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn standard_worlds_are_valid() {
-        for w in worlds() {
+        for w in worlds().into_iter().chain(extra_worlds()) {
             assert_eq!(w.validate(), Ok(()), "{}", w.name);
         }
     }

@@ -45,8 +45,9 @@ fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("plotting: {e}")
 }
 
-/// Draws into an RGB buffer with `draw` and writes it as a PNG.
-fn png(
+/// Draws into an RGB buffer with `draw` (the embedded font registered) and writes
+/// it as a PNG of `w` × `h` pixels: the one way every chart of this crate is saved.
+pub fn png(
     path: &Path,
     w: u32,
     h: u32,

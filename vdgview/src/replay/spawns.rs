@@ -285,8 +285,22 @@ pub fn endpoints(bsp: &Bsp, oracle: &Oracle, seed: u64, max: usize) -> Vec<([f64
         .first()
         .copied()
         .or_else(|| random_floor_point(bsp, oracle, &mut rng));
-    let Some(start) = start else {
-        return Vec::new();
+    match start {
+        Some(start) => floor_tour(oracle, start, &mut rng, max),
+        None => Vec::new(),
+    }
+}
+
+/// `max` legs between random floor points reachable on foot from `start`, each
+/// more than 256 units long, the next leg starting where the last one ended.
+fn floor_tour(
+    oracle: &Oracle,
+    start: [f64; 3],
+    rng: &mut SplitMix64,
+    max: usize,
+) -> Vec<([f64; 3], [f64; 3])> {
+    let far = |p: &[f64; 3], q: &[f64; 3]| {
+        (p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2) > 256.0f64.powi(2)
     };
     let floor = Floor::new(oracle, start[0], start[1]);
     let reach = floor.reachable(start, 60_000);
@@ -354,10 +368,36 @@ pub fn routes(
     seed: u64,
     max: usize,
 ) -> (Vec<Route>, Vec<WalkStats>, usize) {
+    let pairs = endpoints(bsp, oracle, seed, max);
+    let (mut routes, mut stats, unreachable) = walk_pairs(oracle, &pairs, seed, 0);
+    if routes.is_empty()
+        && let Some(&(start, _)) = pairs.first()
+    {
+        // No floor path joins any pair of spawns (they sit in areas a player
+        // joins by ladder, lift or door, as on c1a0a and c1a1): tour the floor
+        // reachable from the first spawn instead, so every map gets measured.
+        let mut rng = SplitMix64::new(seed ^ 0x7f4a_7c15);
+        let tour = floor_tour(oracle, start, &mut rng, max);
+        let (r, s, _) = walk_pairs(oracle, &tour, seed, pairs.len());
+        (routes, stats) = (r, s);
+    }
+    (routes, stats, unreachable)
+}
+
+/// Plans, straightens and walks the route of each pair (numbered from `first`);
+/// returns the routes, their walking statistics and the number of pairs no floor
+/// path joined.
+fn walk_pairs(
+    oracle: &Oracle,
+    pairs: &[([f64; 3], [f64; 3])],
+    seed: u64,
+    first: usize,
+) -> (Vec<Route>, Vec<WalkStats>, usize) {
     let mut routes = Vec::new();
     let mut stats = Vec::new();
     let mut unreachable = 0;
-    for (k, (from, to)) in endpoints(bsp, oracle, seed, max).into_iter().enumerate() {
+    for (k, &(from, to)) in pairs.iter().enumerate() {
+        let k = k + first;
         let floor = Floor::new(oracle, from[0], from[1]);
         let Some(path) = floor.path(from, to) else {
             unreachable += 1;

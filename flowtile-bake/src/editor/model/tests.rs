@@ -520,3 +520,21 @@ fn removing_tiles_equals_rebuilding_without_them() {
         assert_completable(&ed);
     }
 }
+
+#[test]
+fn a_painted_stroke_undoes_as_one_step() {
+    let mut ed = Editor::blank(5, 3).unwrap();
+    ed.set_seed(2).unwrap();
+    let mark = ed.history().0;
+    for x in 0..4 {
+        ed.set_blocked((x, 1), (x, 1), true).unwrap();
+    }
+    assert_eq!(ed.history().0, mark + 4);
+    ed.squash_undo(mark);
+    assert_eq!(ed.history().0, mark + 1);
+    ed.undo().unwrap();
+    assert!((0..4).all(|x| !ed.tiling().is_blocked(x, 1)));
+    assert_eq!(ed.problem().seed, 2);
+    ed.redo().unwrap();
+    assert!((0..4).all(|x| ed.tiling().is_blocked(x, 1)));
+}

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Coverage against the reduction ratio (issue 14): compiles each map at several -rl
+# values, measures walkable coverage and coverage (>= 32) with `vdgview check`, writes
+# the table and draws it (vdgview example reduction_curve). With the keep rule the
+# reduction may stop above -rl ("nothing_removable"): the ratio column is what it reached.
+#   scripts/reduction-curve.sh [-samples N] [-rl "0.2 0.1 0.05 0.025 0.0125"] OUT.png MAP.bsp...
+set -euo pipefail
+cd "$(dirname "$0")/.."
+N=200000
+RLS="0.2 0.1 0.05 0.025 0.0125"
+while [[ $# -gt 0 && "$1" == -* ]]; do
+    case "$1" in
+        -samples) N="$2"; shift 2 ;;
+        -rl) RLS="$2"; shift 2 ;;
+        *) echo "unknown option $1" >&2; exit 2 ;;
+    esac
+done
+[[ $# -ge 2 ]] || { echo "usage: $0 [-samples N] [-rl LIST] OUT.png MAP.bsp..." >&2; exit 2; }
+png="$1"; shift
+cargo build --release -q -p bsp2vdg -p vdgview
+cargo build --release -q -p vdgview --example reduction_curve
+TMP="$(mktemp -d)"
+trap 'rm -rf "$TMP"' EXIT
+table="${png%.png}.tsv"
+printf 'map\trl\tratio\twalkable\tcoverage\tstop\n' > "$table"
+for m in "$@"; do
+    name=$(basename "$m" .bsp)
+    for rl in $RLS; do
+        ./target/release/bsp2vdg -quiet --json -rl "$rl" -o "$TMP/$name.vdg" "$m" > "$TMP/c.json"
+        ./target/release/vdgview check --json --samples "$N" "$m" "$TMP/$name.vdg" > "$TMP/k.json" || true
+        python3 - "$name" "$rl" "$TMP/c.json" "$TMP/k.json" >> "$table" <<'PY'
+import json, sys
+name, rl, c, k = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3])), json.load(open(sys.argv[4]))
+before = c.get("reduce_vertices_before") or c["vertices"]
+after = c.get("reduced_vertices") or before
+print(name, rl, "%.5f" % (after / max(before, 1)), "%.5f" % k["walkable_coverage"], "%.5f" % k["coverage"],
+      c.get("reduce_stop_reason") or "-", sep="\t")
+PY
+        tail -n1 "$table"
+    done
+done
+./target/release/examples/reduction_curve "$table" "$png"
+echo "wrote $table and $png"
