@@ -11,12 +11,16 @@
 #             then xdotool types a console command (Tab, "clearance", Enter)
 #             and presses K, so keyboard input is proven too.
 # Prints the viewer's median frame time (software rendering, 960x600).
+# VIEW_ARGS adds options to `vdgview view`, e.g. VIEW_ARGS="--follow spawns" plays the
+# map's first spawn route with the VDG camera (then EXEC="" keeps the camera's view).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 MAP=${1:-testdata/maps/complex.bsp}
 OUT=${2:-target/vdgview-screenshot.png}
-EXEC=${3:-"noclip 1; gopos 1150 1150 300; setang 225 -25; mode 1; mark 850 850 80"}
+EXEC=${3-"noclip 1; gopos 1150 1150 300; setang 225 -25; mode 1; mark 850 850 80"}
+# shellcheck disable=SC2206
+VIEW_ARGS=(${VIEW_ARGS:-})
 DISPLAY_NUM=${VDGVIEW_DISPLAY:-:97}
 SIZE=960x600
 
@@ -54,6 +58,7 @@ DISPLAY=$DISPLAY_NUM xdpyinfo >/dev/null 2>&1 || { echo "Xvfb did not start" >&2
 # prints its median frame time when it closes.
 DISPLAY=$DISPLAY_NUM ./target/release/vdgview view "$MAP" "$GRAPH" \
     --samples "${GRAPH%.vdg}.samples.txt" --size $SIZE --exec "$EXEC; stats" --seconds 15 \
+    ${VIEW_ARGS[@]+"${VIEW_ARGS[@]}"} \
     >"$WORK/view.log" 2>&1 &
 VIEW_PID=$!
 sleep 2
