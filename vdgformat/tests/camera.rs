@@ -145,6 +145,27 @@ fn the_thesis_variant_also_stays_inside_the_volume() {
 }
 
 #[test]
+fn parameters_switched_mid_run_take_effect_without_a_new_graph() {
+    // The thesis' variant needs no vertex memo; switching to ours on the
+    // same graph must still find it sized.
+    let file = l_corridor();
+    let g = file.graph();
+    let mut camera = Camera::new(CameraParams::thesis()).unwrap();
+    camera.reset(&g, &l_walk(0.0));
+    for i in 1..=200 {
+        if i == 100 {
+            camera.set_params(CameraParams::default()).unwrap();
+        }
+        let p = camera.update(&g, &l_walk(f64::from(i) / 60.0), 1.0 / 60.0);
+        assert!(
+            g.contains(p.eye),
+            "frame {i}: eye {:?} left the volume",
+            p.eye
+        );
+    }
+}
+
+#[test]
 fn poses_are_bit_identical_for_the_same_inputs() {
     let file = l_corridor();
     let g = file.graph();

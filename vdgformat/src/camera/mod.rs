@@ -551,10 +551,10 @@ impl Camera {
         // Hints name faces of the old graph.
         self.hints = [CoverHint::default(); 8];
         self.vertex_hints = VertexHints::default();
+        // Sized whatever `vertex_tests` says now: `set_params` may turn the
+        // memo on later without a new graph.
         s.memo.clear();
-        if self.params.vertex_tests > 0 {
-            s.memo.resize(g.vertex_count(), VisMemo::default());
-        }
+        s.memo.resize(g.vertex_count(), VisMemo::default());
         self.field.reserve(g);
     }
 
