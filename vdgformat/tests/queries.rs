@@ -185,6 +185,20 @@ fn visible_true_is_never_wrong_on_an_l_shape() {
     );
 }
 
+/// A segment from near a random vertex to near one of the next 20 (vertex
+/// order is spatial, so the ends lie close and the line crosses a few faces).
+fn nearby_segment(g: &vdgformat::Vdg<'_>, rng: &mut Rng) -> ([f32; 3], [f32; 3]) {
+    let v = rng.below(g.vertex_count() - 20);
+    let w = v + rng.below(20);
+    let s = g.vertices()[v]
+        .pos
+        .map(|x| x + rng.range(-20.0, 20.0) as f32);
+    let e = g.vertices()[w]
+        .pos
+        .map(|x| x + rng.range(-20.0, 20.0) as f32);
+    (s, e)
+}
+
 #[test]
 fn visible_implies_positive_clearance_on_random_graphs() {
     let mut rng = Rng::new(21);
@@ -194,15 +208,7 @@ fn visible_implies_positive_clearance_on_random_graphs() {
     let g = file.graph();
     let mut yes = 0;
     for _ in 0..1500 {
-        // Start at a random vertex, end near another vertex nearby.
-        let v = rng.below(g.vertex_count() - 20);
-        let w = v + rng.below(20);
-        let s = g.vertices()[v]
-            .pos
-            .map(|x| x + rng.range(-20.0, 20.0) as f32);
-        let e = g.vertices()[w]
-            .pos
-            .map(|x| x + rng.range(-20.0, 20.0) as f32);
+        let (s, e) = nearby_segment(&g, &mut rng);
         if g.visible(s, e) {
             yes += 1;
             for i in 0..=200 {
@@ -238,14 +244,7 @@ fn hinted_and_budgeted_tests_are_certified() {
     let g = file.graph();
     let (mut yes, mut same, mut tested) = (0, 0, 0);
     for _ in 0..600 {
-        let v = rng.below(g.vertex_count() - 20);
-        let w = v + rng.below(20);
-        let s = g.vertices()[v]
-            .pos
-            .map(|x| x + rng.range(-20.0, 20.0) as f32);
-        let e = g.vertices()[w]
-            .pos
-            .map(|x| x + rng.range(-20.0, 20.0) as f32);
+        let (s, e) = nearby_segment(&g, &mut rng);
         let f = g.nearest_face(s).unwrap();
         if f.clearance <= 0.0 {
             continue;
