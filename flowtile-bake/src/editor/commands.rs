@@ -412,12 +412,12 @@ impl Command {
                 ed.set_border(*x_axis, *border)?;
                 format!("{self}")
             }
-            Command::Flux(..) | Command::Corner(..) => {
-                match self {
-                    Command::Flux(e, m) => ed.set_flux(*e, *m)?,
-                    Command::Corner((x, y), v) => ed.set_corner(*x, *y, *v)?,
-                    _ => unreachable!(),
-                }
+            Command::Flux(e, m) => {
+                ed.set_flux(*e, *m)?;
+                format!("{self}")
+            }
+            Command::Corner((x, y), v) => {
+                ed.set_corner(*x, *y, *v)?;
                 format!("{self}")
             }
             Command::Place((x, y), choice) => {
