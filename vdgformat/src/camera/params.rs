@@ -104,6 +104,12 @@ pub struct CameraParams {
     /// τ of the smoothing of the camera's direction of motion (s); 0 = none
     /// (the thesis jumps to the best candidate's direction every frame).
     pub direction_tau: f32,
+    /// A move blocked by the volume's boundary slides along it (the rest
+    /// of the step without its part into the wall) instead of stopping:
+    /// a camera whose smoothed direction touches a wall keeps its speed,
+    /// no kink. false = stop there (the thesis has no boundary handling
+    /// beyond Trace).
+    pub slide: bool,
     /// τ of the smoothing of the look-at point (s); 0 = look straight at the
     /// target every frame (the thesis).
     pub look_tau: f32,
@@ -112,6 +118,14 @@ pub struct CameraParams {
     /// 6.4 units from the eye; closer to a wall, the wall's inside shows.
     /// 0 = the thesis (anywhere inside the volume).
     pub near_margin: f32,
+    /// VDistance (the distance field) takes no way through vertices of
+    /// less clearance (units): a way through a gap the camera cannot pass
+    /// (a vent, a crack the graph found under a door) led it into a corner
+    /// to wait there for the cut. Below `near_margin`, because a face's
+    /// volume is the hull of its vertices' balls: the camera passes beside
+    /// a thin vertex when its neighbours are wide. 0 = the thesis' Voronoi
+    /// distance.
+    pub field_min_clearance: f32,
     /// On a cut, place the camera towards the ideal position from the
     /// target (as far as the volume allows) instead of on the target.
     pub cut_to_ideal: bool,
@@ -145,6 +159,16 @@ pub struct CameraParams {
     /// allowance of its own of the same size. The thesis: no bound
     /// (4294967295).
     pub leaf_searches: u32,
+    /// While the target is hidden, one more candidate k_path: the point
+    /// this far (units of path) along the shortest way through the graph
+    /// to the target, following the update's distance field from the
+    /// reachable vertex nearest the target. The thesis' candidates are all
+    /// local: where the way on passes a vertex outside Reachable(c) (a
+    /// door, a bend in a corridor), every candidate is farther from the
+    /// target than the camera and it waits until the cut. Vertices whose
+    /// clearance is below `near_margin` are not followed. 0 = off (the
+    /// thesis).
+    pub pursuit_length: f32,
 }
 
 impl Default for CameraParams {
@@ -172,13 +196,16 @@ impl Default for CameraParams {
             distance_field: true,
             normalized_visibility: true,
             direction_tau: 0.12,
+            slide: true,
             look_tau: 0.08,
             near_margin: 6.4,
+            field_min_clearance: 3.2,
             cut_to_ideal: true,
             exact_reachable: false,
             vertex_tests: 8,
             sight_hops: 64,
             leaf_searches: 4,
+            pursuit_length: 128.0,
         }
     }
 }
@@ -196,13 +223,16 @@ impl CameraParams {
             distance_field: false,
             normalized_visibility: false,
             direction_tau: 0.0,
+            slide: false,
             look_tau: 0.0,
             near_margin: 0.0,
+            field_min_clearance: 0.0,
             cut_to_ideal: false,
             exact_reachable: true,
             vertex_tests: 0,
             sight_hops: u32::MAX,
             leaf_searches: u32::MAX,
+            pursuit_length: 0.0,
             ..CameraParams::default()
         }
     }
@@ -244,6 +274,8 @@ impl CameraParams {
             ("direction_tau", self.direction_tau),
             ("look_tau", self.look_tau),
             ("near_margin", self.near_margin),
+            ("field_min_clearance", self.field_min_clearance),
+            ("pursuit_length", self.pursuit_length),
         ];
         for (name, v) in non_negative {
             if !(v.is_finite() && v >= 0.0) {
