@@ -908,7 +908,15 @@ impl Camera {
         };
         let mut step = vel * scene.dt;
         let len = step.norm();
-        let allowed = (v * scene.dt).min(dist_best);
+        let mut allowed = (v * scene.dt).min(dist_best);
+        if self.params.max_decel > 0.0 {
+            // The best candidate may be reached (or may jump to the
+            // camera's own position, another criterion winning) while the
+            // camera is fast: it then brakes at `max_decel` and passes the
+            // point a little instead of stopping dead in one frame.
+            let coast = (s.vel.norm() - f64::from(self.params.max_decel) * scene.dt).max(0.0);
+            allowed = allowed.max((coast * scene.dt).min(len));
+        }
         if len > allowed && len > 0.0 {
             step = step * (allowed / len);
         }
