@@ -3,6 +3,7 @@
 # map's graph, replays the spawn routes (and the nav-mesh routes where a .nav sits beside
 # the map) at each frame time with every camera, and writes
 #   OUT/report.md              Markdown table: one row per map, route source, dt and camera
+#   OUT/summary.md             Markdown table: all maps together per dt and camera (frames weighted)
 #   OUT/outside.md             where the target stood outside Volume(VDG), per map
 #   OUT/json/MAP-SRC-dtN.json  the replay --json reports
 #   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
@@ -100,6 +101,24 @@ with open(os.path.join(out, "report.md"), "w") as f:
     f.write("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     for m, s, dt, cam, n, c in rows:
         f.write(f"| {m} | {s} ({n}) | {dt} | {cam} | {c['frames']} | {c['solid_frames']} | {c['nearplane_frames']} | {pct(c['visible_fraction'])} | {pct(c['hull_visible_mean'])} | {c['longest_occlusion_s']:.2f} | {c['jumps']} | {c['stalls']} | {c['rms_jerk']:.0f} | {c['mean_abs_dist_error']:.1f} | {c['cuts_per_min']:.2f} | {c['median_us']:.1f} | {pct(c['target_outside_fraction'])} |\n")
+# All maps together, frames weighted: the acceptance figures.
+agg = {}
+for m, s, dt, cam, n, c in rows:
+    a = agg.setdefault((dt, cam), dict(frames=0, seconds=0.0, solid=0, near=0, vis=0.0, vis_in=0.0, inside=0.0, jumps=0, cuts=0, jerk2=0.0))
+    fr = c["frames"]
+    a["frames"] += fr; a["seconds"] += c["seconds"]; a["solid"] += c["solid_frames"]; a["near"] += c["nearplane_frames"]
+    a["vis"] += c["visible_fraction"] * fr; a["jumps"] += c["jumps"]; a["cuts"] += c["cuts"]
+    a["jerk2"] += c["rms_jerk"] ** 2 * fr
+    inside = (1 - c["target_outside_fraction"]) * fr
+    a["inside"] += inside; a["vis_in"] += c.get("visible_fraction_target_inside", 0.0) * inside
+def jerk(a): return (a["jerk2"] / max(a["frames"], 1)) ** 0.5
+with open(os.path.join(out, "summary.md"), "w") as f:
+    f.write("| dt | camera | frames | solid | near-plane | visible % | visible % (target inside the volume) | target outside % | jumps | cuts/min | RMS jerk u/s³ | jerk / chase | jerk / spring arm |\n")
+    f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+    for (dt, cam), a in sorted(agg.items()):
+        n = max(a["frames"], 1)
+        ref = lambda other: f"{100 * jerk(a) / jerk(agg[(dt, other)]):.1f} %" if (dt, other) in agg and jerk(agg[(dt, other)]) > 0 else "-"
+        f.write(f"| {dt} | {cam} | {a['frames']} | {a['solid']} | {a['near']} | {pct(a['vis'] / n)} | {pct(a['vis_in'] / max(a['inside'], 1))} | {pct(1 - a['inside'] / n)} | {a['jumps']} | {a['cuts'] / max(a['seconds'] / 60, 1e-9):.2f} | {jerk(a):.0f} | {ref('chase')} | {ref('springarm')} |\n")
 with open(os.path.join(out, "outside.md"), "w") as f:
     f.write("# Target positions outside Volume(VDG)\n\n")
     for m, s, dt, frac, runs, routes in outside:
@@ -110,6 +129,6 @@ with open(os.path.join(out, "outside.md"), "w") as f:
             x, y, z = o["origin"]
             f.write(f"- {o['route']} t {o['t0']:.2f}-{o['t1']:.2f} s at ({x:.0f}, {y:.0f}, {z:.0f})\n")
         f.write("\n")
-print(f"camera-report: wrote {out}/report.md, {out}/outside.md and the plots", file=sys.stderr)
+print(f"camera-report: wrote {out}/summary.md, {out}/report.md, {out}/outside.md and the plots", file=sys.stderr)
 PY
-cat "$out/report.md"
+cat "$out/summary.md"

@@ -154,6 +154,11 @@ pub struct Summary {
     pub median_us: f64,
     pub p99_us: f64,
     pub target_outside_fraction: f64,
+    /// `visible_fraction` over the frames whose target stands inside
+    /// Volume(VDG): what the camera is answerable for. A target outside the
+    /// volume is the graph's fault (Visible traces through the volume), and
+    /// the graph-quality figures need the two told apart.
+    pub visible_fraction_target_inside: f64,
 }
 
 /// Summarises the measures of each route (routes are separate: occlusion runs and
@@ -213,6 +218,14 @@ pub fn summarise(routes: &[Vec<FrameMeasure>], dt: f64) -> Summary {
         median_us: us[n / 2] as f64,
         p99_us: us[((n as f64 * 0.99) as usize).min(n - 1)] as f64,
         target_outside_fraction: count(&|m| m.target_outside) as f64 / n as f64,
+        visible_fraction_target_inside: {
+            let inside = count(&|m| !m.target_outside);
+            if inside == 0 {
+                0.0
+            } else {
+                count(&|m| !m.target_outside && m.eye_visible) as f64 / inside as f64
+            }
+        },
     }
 }
 
@@ -241,6 +254,7 @@ impl Summary {
             "median_us": self.median_us,
             "p99_us": self.p99_us,
             "target_outside_fraction": self.target_outside_fraction,
+            "visible_fraction_target_inside": self.visible_fraction_target_inside,
         })
     }
 }
@@ -276,4 +290,32 @@ pub fn csv_row(route: &str, m: &FrameMeasure) -> String {
         m.micros,
         b(m.target_outside)
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(eye_visible: bool, target_outside: bool) -> FrameMeasure {
+        FrameMeasure {
+            eye_visible,
+            target_outside,
+            clearance: 64.0,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn visibility_is_also_counted_over_the_frames_the_camera_answers_for() {
+        // 10 frames: 6 visible inside, 2 hidden inside, 2 hidden outside.
+        let mut route = vec![frame(true, false); 6];
+        route.extend([frame(false, false); 2]);
+        route.extend([frame(false, true); 2]);
+        let s = summarise(&[route], 1.0 / 60.0);
+        assert_eq!(s.frames, 10);
+        assert!((s.visible_fraction - 0.6).abs() < 1e-12);
+        assert!((s.target_outside_fraction - 0.2).abs() < 1e-12);
+        assert!((s.visible_fraction_target_inside - 0.75).abs() < 1e-12);
+        assert_eq!(s.to_json()["visible_fraction_target_inside"], 0.75);
+    }
 }
