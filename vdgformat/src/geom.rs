@@ -121,9 +121,6 @@ pub(crate) struct EdgeEval {
     k: f64,
     /// `sqrt(1 − k²)` (lateral mode).
     c: f64,
-    /// `k / sqrt(1 − k²)`: how far the optimum slides per unit of distance
-    /// from the line (lateral mode).
-    shift: f64,
     mode: EdgeMode,
 }
 
@@ -139,42 +136,50 @@ impl EdgeEval {
             len: 0.0,
             k: 0.0,
             c: 1.0,
-            shift: 0.0,
             mode: EdgeMode::Point,
         };
         if len2 <= f64::MIN_POSITIVE {
             return e;
         }
         e.len = len2.sqrt();
-        e.dir = d * (1.0 / e.len);
-        e.k = (b.r - a.r) / e.len;
+        let inv_len = 1.0 / e.len;
+        e.dir = d * inv_len;
+        e.k = (b.r - a.r) * inv_len;
         e.mode = if e.k >= 1.0 {
             EdgeMode::AtB
         } else if e.k <= -1.0 {
             EdgeMode::AtA
         } else {
             e.c = (1.0 - e.k * e.k).sqrt();
-            e.shift = e.k / e.c;
             EdgeMode::Lateral
         };
         e
     }
 
-    /// The clearance of `p` for this edge.
+    /// The clearance of `p` for this edge. Where the optimum lies inside
+    /// the edge its value is `r_a + k·s_p − sqrt(1 − k²)·h` (s_p the arc
+    /// length of the foot point): no square root beyond the one for `h`.
     #[inline]
     pub(crate) fn eval(&self, p: V3) -> f64 {
         let ap = p - self.a.c;
-        let s = match self.mode {
-            EdgeMode::Point => return self.a.r.max(self.b.r) - ap.norm(),
-            EdgeMode::AtA => 0.0,
-            EdgeMode::AtB => self.len,
+        match self.mode {
+            EdgeMode::Point => self.a.r.max(self.b.r) - ap.norm(),
+            EdgeMode::AtA => self.a.r - ap.norm(),
+            EdgeMode::AtB => self.b.r - (p - self.b.c).norm(),
             EdgeMode::Lateral => {
                 let along = ap.dot(self.dir); // arc length of the foot point
                 let h = (ap.norm2() - along * along).max(0.0).sqrt();
-                (along + self.shift * h).clamp(0.0, self.len)
+                // The optimum `along + k·h / c`, times c (> 0).
+                let s_c = along * self.c + self.k * h;
+                if s_c <= 0.0 {
+                    self.a.r - ap.norm()
+                } else if s_c >= self.len * self.c {
+                    self.b.r - (p - self.b.c).norm()
+                } else {
+                    self.a.r + self.k * along - self.c * h
+                }
             }
-        };
-        self.a.r + self.k * s - (ap - self.dir * s).norm()
+        }
     }
 
     /// The largest `t` with clearance above `eps` at `s + d·t`.
@@ -374,22 +379,23 @@ impl FaceEval {
             let d1 = b.r - a.r;
             let d2 = c.r - a.r;
             // In-plane gradient g = α e1 + β e2 with g·e1 = d1, g·e2 = d2.
-            let alpha = (g22 * d1 - g12 * d2) / det;
-            let beta = (g11 * d2 - g12 * d1) / det;
+            let inv_det = 1.0 / det;
+            let alpha = (g22 * d1 - g12 * d2) * inv_det;
+            let beta = (g11 * d2 - g12 * d1) * inv_det;
             let grad = e1 * alpha + e2 * beta;
             let grad2 = grad.norm2();
             if grad2 < 1.0 {
                 let n = e1.cross(e2);
                 let w = (1.0 - grad2).sqrt();
-                let inv_det = 1.0 / det;
+                let inv_w = 1.0 / w;
                 fe.plane = Some(Plane {
                     n: n * (1.0 / n.norm()),
                     grad,
                     u1: (e1 * g22 - e2 * g12) * inv_det,
                     u2: (e2 * g11 - e1 * g12) * inv_det,
                     w,
-                    sx: alpha / w,
-                    sy: beta / w,
+                    sx: alpha * inv_w,
+                    sy: beta * inv_w,
                 });
             } else {
                 // Edges that g points out of: y = 0 (a–b) if β < 0,
