@@ -149,6 +149,19 @@ fn target_at(route: &[[f32; 3]], t: f64) -> Target {
     Target::new(pos, heading, heading.map(|c| c * speed))
 }
 
+/// One camera update, never inlined: a profiler can attribute each
+/// update's cost to it (e.g. `valgrind --tool=callgrind
+/// --dump-after='*timed_update*'` gives one instruction count per update).
+#[inline(never)]
+fn timed_update(
+    camera: &mut Camera,
+    g: &vdgformat::Vdg<'_>,
+    t: &Target,
+    dt: f32,
+) -> vdgformat::camera::Pose {
+    camera.update(g, t, dt)
+}
+
 fn main() {
     if let Err(e) = run() {
         eprintln!("camera_bench: {e}");
@@ -190,7 +203,7 @@ fn run() -> Result<(), String> {
         }
         let t = target_at(&route, (i + 1) as f64 * f64::from(args.dt));
         let start = Instant::now();
-        let pose = camera.update(&g, &t, args.dt);
+        let pose = timed_update(&mut camera, &g, &t, args.dt);
         let us = start.elapsed().as_secs_f64() * 1e6;
         // CAMERA_BENCH_TRACE=US prints every update slower than US µs.
         if std::env::var("CAMERA_BENCH_TRACE")
