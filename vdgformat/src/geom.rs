@@ -73,19 +73,89 @@ pub(crate) struct Ball {
 
 /// `max_{t∈[0,1]} r(t) − |p − q(t)|` over the segment `a`–`b` with linearly
 /// interpolated radius: the clearance of `p` for the "round cone" of two balls.
-/// [`EdgeEval`] does the work; this is its one-off form.
+///
+/// This one-off form is what the compiler's reduction checks its edits
+/// with (through [`crate::segment_clearance`]); it stays exactly as it was
+/// so compiled graphs do not change with the runtime's faster evaluators
+/// ([`EdgeEval`]), which agree with it to rounding.
+///
+/// Along the line the objective is `r_a + k·s − sqrt((s − s_p)² + h²)` (s the
+/// arc length, k the radius slope, h the distance of p to the line). It is
+/// concave; for |k| < 1 its stationary point is `s_p + k·h / sqrt(1 − k²)`,
+/// otherwise it is monotone. Clamping to the segment gives the exact maximum.
 #[inline]
 pub(crate) fn edge_clearance(a: Ball, b: Ball, p: V3) -> f64 {
-    EdgeEval::new(a, b).eval(p)
+    let d = b.c - a.c;
+    let len2 = d.norm2();
+    let ap = p - a.c;
+    if len2 <= f64::MIN_POSITIVE {
+        return a.r.max(b.r) - ap.norm();
+    }
+    let len = len2.sqrt();
+    let along = ap.dot(d) / len; // arc length of the foot point
+    let h = (ap.norm2() - along * along).max(0.0).sqrt();
+    let k = (b.r - a.r) / len;
+    let s = if k >= 1.0 {
+        len
+    } else if k <= -1.0 {
+        0.0
+    } else {
+        (along + k * h / (1.0 - k * k).sqrt()).clamp(0.0, len)
+    };
+    let t = s / len;
+    let q = a.c + d * t;
+    a.r + (b.r - a.r) * t - (p - q).norm()
 }
 
 /// Exact clearance of `p` for the face volume of triangle `(a, b, c)`:
 /// `max_{q ∈ triangle} r(q) − |p − q|` with `r` linearly interpolated
 /// (thesis 3.7/3.8: the volume is the union of the balls `B(q, r(q))`,
-/// positive inside). [`FaceEval`] does the work; this is its one-off form.
+/// positive inside). The compiler's form (through
+/// [`crate::triangle_clearance`]), kept bit for bit; the queries use
+/// [`FaceEval`], which agrees with it to rounding.
+///
+/// The objective is concave (affine minus a norm). Writing `g` for the
+/// in-plane gradient of `r` and `h` for the distance of `p` to the plane, the
+/// unconstrained maximiser is `foot(p) + g·h / sqrt(1 − |g|²)` when `|g| < 1`
+/// with value `r(foot(p)) − h·sqrt(1 − |g|²)`. If it lies in the triangle it
+/// is the answer; otherwise the maximum of a concave function over a convex
+/// set sits on the boundary, i.e. on one of the three edges
+/// ([`edge_clearance`]). Degenerate (collinear) triangles are their edges.
 #[inline]
 pub(crate) fn face_clearance(a: Ball, b: Ball, c: Ball, p: V3) -> f64 {
-    FaceEval::new(a, b, c).eval(p)
+    let e1 = b.c - a.c;
+    let e2 = c.c - a.c;
+    let g11 = e1.norm2();
+    let g12 = e1.dot(e2);
+    let g22 = e2.norm2();
+    let det = g11 * g22 - g12 * g12;
+    if det > 1e-12 * g11 * g22 {
+        let d1 = b.r - a.r;
+        let d2 = c.r - a.r;
+        // In-plane gradient g = α e1 + β e2 with g·e1 = d1, g·e2 = d2.
+        let alpha = (g22 * d1 - g12 * d2) / det;
+        let beta = (g11 * d2 - g12 * d1) / det;
+        let grad = e1 * alpha + e2 * beta;
+        let grad2 = grad.norm2();
+        if grad2 < 1.0 {
+            let n = e1.cross(e2);
+            let ap = p - a.c;
+            let h_signed = ap.dot(n) / n.norm();
+            let h = h_signed.abs();
+            let w = (1.0 - grad2).sqrt();
+            // Optimum relative to a: foot point plus the gradient shift.
+            let foot = ap - n * (ap.dot(n) / n.norm2());
+            let q = foot + grad * (h / w);
+            let x = (g22 * q.dot(e1) - g12 * q.dot(e2)) / det;
+            let y = (g11 * q.dot(e2) - g12 * q.dot(e1)) / det;
+            if x >= 0.0 && y >= 0.0 && x + y <= 1.0 {
+                return a.r + grad.dot(ap) - h * w;
+            }
+        }
+    }
+    edge_clearance(a, b, p)
+        .max(edge_clearance(b, c, p))
+        .max(edge_clearance(c, a, p))
 }
 
 /// How the optimum of an edge's clearance moves with the query point.
@@ -168,7 +238,11 @@ impl EdgeEval {
             EdgeMode::AtB => self.b.r - (p - self.b.c).norm(),
             EdgeMode::Lateral => {
                 let along = ap.dot(self.dir); // arc length of the foot point
-                let h = (ap.norm2() - along * along).max(0.0).sqrt();
+                // The distance to the line from the offset vector, not from
+                // |ap|² − along²: that difference cancels for points near
+                // the line far from `a` (an error of 1e-5 at 500 units),
+                // and `h` enters the value directly.
+                let h = (ap - self.dir * along).norm();
                 // The optimum `along + k·h / c`, times c (> 0).
                 let s_c = along * self.c + self.k * h;
                 if s_c <= 0.0 {
@@ -664,40 +738,8 @@ mod tests {
         (ball(), ball(), ball())
     }
 
-    /// The closed form with all three edges tried whenever the optimum
-    /// leaves the triangle (this module's earlier implementation): the
-    /// reference for the edge pruning.
-    fn all_edges_face(a: Ball, b: Ball, c: Ball, p: V3) -> f64 {
-        let e1 = b.c - a.c;
-        let e2 = c.c - a.c;
-        let (g11, g12, g22) = (e1.norm2(), e1.dot(e2), e2.norm2());
-        let det = g11 * g22 - g12 * g12;
-        if det > 1e-12 * g11 * g22 {
-            let (d1, d2) = (b.r - a.r, c.r - a.r);
-            let alpha = (g22 * d1 - g12 * d2) / det;
-            let beta = (g11 * d2 - g12 * d1) / det;
-            let grad = e1 * alpha + e2 * beta;
-            let grad2 = grad.norm2();
-            if grad2 < 1.0 {
-                let n = e1.cross(e2);
-                let ap = p - a.c;
-                let h = (ap.dot(n) / n.norm()).abs();
-                let w = (1.0 - grad2).sqrt();
-                let foot = ap - n * (ap.dot(n) / n.norm2());
-                let q = foot + grad * (h / w);
-                let x = (g22 * q.dot(e1) - g12 * q.dot(e2)) / det;
-                let y = (g11 * q.dot(e2) - g12 * q.dot(e1)) / det;
-                if x >= 0.0 && y >= 0.0 && x + y <= 1.0 {
-                    return a.r + grad.dot(ap) - h * w;
-                }
-            }
-        }
-        edge_clearance(a, b, p)
-            .max(edge_clearance(b, c, p))
-            .max(edge_clearance(c, a, p))
-    }
-
-    /// The edge pruning gives the value of trying all three edges.
+    /// The edge pruning gives the value of trying all three edges (the
+    /// compiler's [`face_clearance`]).
     #[test]
     fn pruned_edges_match_all_edges() {
         let mut rng = toolbox::SplitMix64::new(11);
@@ -714,11 +756,46 @@ mod tests {
                 rng.next_f64() * 30. - 15.,
             );
             let v = FaceEval::new(a, b, c).eval(p);
-            worst = worst.max((v - all_edges_face(a, b, c, p)).abs());
+            worst = worst.max((v - face_clearance(a, b, c, p)).abs());
             pruned += usize::from(FaceEval::new(a, b, c).edges != ALL_EDGES);
         }
         assert!(pruned > 1000, "steep faces not pruned ({pruned})");
         assert!(worst < 1e-9, "worst deviation {worst}");
+    }
+
+    /// Points on an edge's axis far from its first vertex: the distance to
+    /// the line must not come from a cancelling difference of squares (it
+    /// enters the value directly; that form was off by 1e-5 here).
+    #[test]
+    fn edge_eval_is_accurate_on_the_edge_line() {
+        let mut rng = toolbox::SplitMix64::new(3);
+        let mut worst = 0.0f64;
+        for _ in 0..2000 {
+            let a = Ball {
+                c: V3(
+                    rng.next_f64() * 1000.0,
+                    rng.next_f64() * 1000.0,
+                    rng.next_f64() * 1000.0,
+                ),
+                r: 0.2 + rng.next_f64(),
+            };
+            let dir = V3(
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+            );
+            let b = Ball {
+                c: a.c + dir * 800.0,
+                r: 0.2 + rng.next_f64(),
+            };
+            let u = rng.next_f64();
+            let p = a.c + dir * (800.0 * u);
+            // On the axis the optimum is the foot point itself.
+            let want = a.r + (b.r - a.r) * u;
+            let v = EdgeEval::new(a, b).eval(p);
+            worst = worst.max((v - want).abs());
+        }
+        assert!(worst < 1e-10, "worst deviation {worst}");
     }
 
     /// The closed-form exit of a line agrees with a bisection on the
