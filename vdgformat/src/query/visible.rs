@@ -233,7 +233,7 @@ impl<'a> Vdg<'a> {
     pub fn visible(&self, s: [f32; 3], e: [f32; 3]) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
-        match self.best_cover_step(start.iter().copied(), None, &seg, 0.0, INSIDE_EPS) {
+        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS) {
             Some((f, t)) => {
                 let mut budget = CoverBudget::UNBOUNDED;
                 t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
@@ -465,7 +465,7 @@ impl<'a> Vdg<'a> {
                 // enough, so only the others can; of those, only faces whose
                 // box holds `here`.
                 let corners = self.faces[cur as usize];
-                let holding = leaf.iter().copied().filter(|&f| {
+                let holding = leaf.iter().filter(|&f| {
                     !self.faces[f as usize].iter().any(|v| corners.contains(v))
                         && self.box_holds(f, here)
                 });
