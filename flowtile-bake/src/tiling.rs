@@ -608,13 +608,18 @@ impl Tiling {
     }
 
     /// Vertices of slot `(x, y)`: bottom-left, bottom-right, top-right, top-left.
+    /// Indexed directly like [`Tiling::slot_arcs`] (`(x, y)` inside the grid).
     fn slot_vertices(&self, x: u32, y: u32) -> [usize; 4] {
-        [
-            self.vertex(x, y),
-            self.vertex(x + 1, y),
-            self.vertex(x + 1, y + 1),
-            self.vertex(x, y + 1),
-        ]
+        debug_assert!(x < self.width && y < self.height);
+        let (px, py) = (
+            self.border_x == Border::Periodic,
+            self.border_y == Border::Periodic,
+        );
+        let vw = if px { self.width } else { self.width + 1 };
+        let right = if px && x + 1 == self.width { 0 } else { x + 1 };
+        let above = if py && y + 1 == self.height { 0 } else { y + 1 };
+        let v = |xx: u32, yy: u32| (yy * vw + xx) as usize;
+        [v(x, y), v(right, y), v(right, above), v(x, above)]
     }
 
     /// The tile set.
@@ -1163,69 +1168,58 @@ impl Tiling {
     /// its column `c` (from `next` to `last_col`) and its top row. Raising
     /// (`up`) walks right along row `y`, up column `c`, left along the top
     /// row and down column `x`; lowering walks the same cycle backwards.
-    fn find_ladder(&self, x: u32, y: u32, next: u32, last_col: u32, up: bool) -> Option<(u32, u32)> {
-        let w = self.width;
-        let node = |col: u32, row: u32| row * w + col;
-        // Room of a step between two nodes along `arc`, in the cycle's
-        // direction when raising (from `a` to `b`) and backwards otherwise.
-        let room = |a: u32, b: u32, arc: ArcId| {
-            if up {
-                self.net.room_from(a, arc)
-            } else {
-                self.net.room_from(b, arc)
-            }
+    ///
+    /// Every arc of a ladder points right or up (tail in the left or lower
+    /// slot, also across the periodic seam in x), so the room of a step
+    /// follows from the arc alone: `hi - x` along it, `x - lo` against it.
+    fn find_ladder(
+        &self,
+        x: u32,
+        y: u32,
+        next: u32,
+        last_col: u32,
+        up: bool,
+    ) -> Option<(u32, u32)> {
+        let net = &self.net;
+        // Room along the arc's direction in the cycle when raising (`fwd`:
+        // rightwards or upwards) and against it; swapped for lowering.
+        let fwd = |arc: ArcId| {
+            let a = net.arc(arc);
+            if up { a.hi - a.x } else { a.x - a.lo }
+        };
+        let bwd = |arc: ArcId| {
+            let a = net.arc(arc);
+            if up { a.x - a.lo } else { a.hi - a.x }
         };
         let top_row = y + LADDER_RUNGS.min(self.height - 1 - y);
-        // The descent down column x, climbed lazily: `here_top` is the
-        // highest row known to be reachable, `here_done` whether the climb
-        // has hit a full arc or the top.
-        let mut here_top = y;
-        let mut here_done = false;
-        let mut room_here = i32::MAX;
-        let mut climb_here = |upto: u32, here_top: &mut u32, here_done: &mut bool| {
-            while !*here_done && *here_top < upto {
-                let row = *here_top + 1;
-                room_here = room_here.min(room(node(x, row), node(x, row - 1), self.h_arc(x, row)));
-                if room_here <= 0 {
-                    *here_done = true;
-                } else {
-                    *here_top = row;
-                    *here_done = row == top_row;
-                }
-            }
-        };
-        climb_here(y + 1, &mut here_top, &mut here_done);
-        if here_top == y {
+        // The descent down column x is climbed lazily: rows up to `here_top`
+        // are known to have room, none above once `here_done`.
+        if top_row == y || bwd(self.h_arc(x, y + 1)) <= 0 {
             return None;
         }
-        let mut room_row = i32::MAX;
+        let mut here_top = y + 1;
+        let mut here_done = false;
         for c in next..=last_col {
-            if c > next {
-                // Along row y from (c - 1, y) to (c, y).
-                room_row = room_row.min(room(node(c - 1, y), node(c, y), self.v_arc(c, y)));
-                if room_row <= 0 {
-                    return None;
-                }
+            // Along row y from (c - 1, y) to (c, y).
+            if c > next && fwd(self.v_arc(c, y)) <= 0 {
+                return None;
             }
-            let mut room_there = i32::MAX;
             for row in y + 1..=top_row {
-                climb_here(row, &mut here_top, &mut here_done);
                 if row > here_top {
-                    break;
+                    if here_done || bwd(self.h_arc(x, row)) <= 0 {
+                        here_done = true;
+                        break;
+                    }
+                    here_top = row;
                 }
-                room_there =
-                    room_there.min(room(node(c, row - 1), node(c, row), self.h_arc(c, row)));
-                if room_there <= 0 {
+                if fwd(self.h_arc(c, row)) <= 0 {
                     break;
                 }
                 // Back along `row` from column c to column x.
-                let mut cols = (x + 1..=c).rev();
                 let open = if next == 0 {
-                    room(node(0, row), node(x, row), self.v_arc(0, row)) > 0
+                    bwd(self.v_arc(0, row)) > 0
                 } else {
-                    cols.all(|col| {
-                        room(node(col, row), node(col - 1, row), self.v_arc(col, row)) > 0
-                    })
+                    (x + 1..=c).all(|col| bwd(self.v_arc(col, row)) > 0)
                 };
                 if open {
                     return Some((c, row));
