@@ -189,6 +189,15 @@ fn reduce_graph(
         keep.len(),
         crate::standing::KEEP_SPACING
     ));
+    if let Some(at) = rs.seam_phase_at {
+        log.info(format!(
+            "Seam phase from {} vertices: {} seam contractions, {} collapses [{}]",
+            at,
+            rs.seam_contractions,
+            rs.seam_collapses,
+            secs(rs.seam_phase_seconds)
+        ));
+    }
     log.info(match rs.stop {
         reduce::StopReason::LimitReached => "Reduction limit reached.".to_string(),
         reduce::StopReason::NothingRemovable => {

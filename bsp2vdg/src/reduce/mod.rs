@@ -39,6 +39,14 @@
 //! removable vertices all vertices are costed once more (a change two
 //! rings away can make a vertex removable without re-queuing it).
 //!
+//! Not in the thesis: a second phase for the vertices the thesis' cases
+//! cannot remove (seam and border vertices, 2–9 % of the graph on the
+//! shared maps): when the loop stops with nothing removable above the
+//! limit, it goes on with two more operations that keep A–C, the seam
+//! contraction and the collapse along an edge (module `seam`, which gives
+//! their design and proofs). A map the thesis' cases reduce to the limit
+//! gets the same graph as without them.
+//!
 //! Not in the thesis: after the loop the clearances the operations lowered
 //! are raised again as far as condition A against the unreduced volume
 //! allows (the `raise` module; the per-operation proofs lower more than
@@ -51,6 +59,7 @@ mod mesh;
 mod queue;
 mod raise;
 mod remove;
+mod seam;
 mod swap;
 mod volume;
 
@@ -119,6 +128,15 @@ pub struct ReduceStats {
     pub three_faces: usize,
     pub three_faces_existing: usize,
     pub two_faces_concave: usize,
+    /// Seam vertices contracted out of their seam, and vertices collapsed
+    /// into a neighbour along an edge (module `seam`).
+    pub seam_contractions: usize,
+    pub seam_collapses: usize,
+    /// Vertices left when the thesis' cases alone stopped and the second
+    /// phase with the seam operations began (`None`: the limit came first).
+    pub seam_phase_at: Option<usize>,
+    /// Seconds the second phase took (part of the reduction's time).
+    pub seam_phase_seconds: f64,
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
     /// Vertices whose clearance was raised back after the reduction (see
@@ -238,6 +256,8 @@ pub fn reduce_keeping(
     stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
     stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
+    stats.seam_contractions = ops[Op::SeamContract as usize] as usize;
+    stats.seam_collapses = ops[Op::SeamCollapse as usize] as usize;
     if stats.stop == StopReason::NothingRemovable {
         stats.refusals = histogram(&mesh);
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
@@ -247,6 +267,24 @@ pub fn reduce_keeping(
             );
             for (name, n) in &stats.refusals {
                 eprintln!("  {name:<30} {n}");
+            }
+            let mut classes = std::collections::BTreeMap::<String, usize>::new();
+            for v in 0..mesh.pos.len() as u32 {
+                if mesh.vfaces[v as usize].is_empty() {
+                    continue;
+                }
+                let e = Edit::new(&mesh);
+                let why = remove::remove_vertex_why(&mut Edit::new(&mesh), v)
+                    .err()
+                    .map_or("removable", |r| r.as_str());
+                *classes
+                    .entry(format!("{} {}", seam::describe(&e, v), why))
+                    .or_default() += 1;
+            }
+            let mut classes: Vec<_> = classes.into_iter().collect();
+            classes.sort_by(|a, b| b.1.cmp(&a.1));
+            for (name, n) in classes.iter().take(40) {
+                eprintln!("  {name:<50} {n}");
             }
         }
     }
@@ -309,6 +347,7 @@ fn run(
     let mut saved: Vec<Option<Box<Costed>>> = Vec::new();
     saved.resize_with(mesh.pos.len(), || None);
     let mut removals_at_sweep = usize::MAX;
+    let mut seam_start: Option<Instant> = None;
     let mut claims = Claims::new(mesh.pos.len());
     // The batches: the cheapest vertices whose removals cannot interact
     // (see `Claims`), costed in parallel against the same mesh and committed
@@ -329,6 +368,15 @@ fn run(
             // re-queued, but a change two rings away can make a refused
             // vertex removable: before giving up, cost every vertex again.
             if stats.removals == removals_at_sweep {
+                if !mesh.seam_ops {
+                    // Second phase: the thesis' cases are exhausted; the
+                    // seam operations may take the vertices left.
+                    mesh.seam_ops = true;
+                    stats.seam_phase_at = Some(live);
+                    seam_start = Some(Instant::now());
+                    removals_at_sweep = usize::MAX;
+                    continue;
+                }
                 stats.stop = StopReason::NothingRemovable;
                 break;
             }
@@ -463,6 +511,7 @@ fn run(
         }
     }
     progress.finish();
+    stats.seam_phase_seconds = seam_start.map_or(0.0, |t| t.elapsed().as_secs_f64());
     stats.seconds_rest =
         start.elapsed().as_secs_f64() - stats.seconds_initial - stats.seconds_batches;
     (mesh, stats, ops)
@@ -512,7 +561,9 @@ fn in_hilbert_order(graph: &Graph) -> Graph {
 /// assert_eq!(refusals(&g), vec![("isolated_face", 3)]);
 /// ```
 pub fn refusals(graph: &Graph) -> Vec<(&'static str, usize)> {
-    histogram(&Mesh::new(graph))
+    let mut mesh = Mesh::new(graph);
+    mesh.seam_ops = true;
+    histogram(&mesh)
 }
 
 fn histogram(mesh: &Mesh) -> Vec<(&'static str, usize)> {
@@ -618,12 +669,40 @@ impl Claims {
 /// Cost of removing `v` from the mesh as it is, `None` if impossible (or if
 /// it would leave a kept point outside the volume).
 fn cost_of(mesh: &Mesh, keep: Option<&Keep>, v: u32) -> Option<f64> {
+    removal(mesh, keep, v).map(|x| x.0)
+}
+
+/// The removal of `v`: the thesis' (module `remove`, with the seam
+/// operations as its fallback) if it keeps the kept points inside the
+/// volume, else the cheapest collapse of `v` along one of its edges that
+/// does (module `seam`): where keeping the points and reducing conflict,
+/// an operation that takes less volume near them may still be allowed.
+fn removal<'m>(mesh: &'m Mesh, keep: Option<&Keep>, v: u32) -> Option<(f64, Edit<'m>)> {
     if mesh.vfaces[v as usize].is_empty() {
         return None;
     }
     let mut e = Edit::new(mesh);
     let cost = remove::remove_vertex(&mut e, v)?;
-    keep.is_none_or(|k| k.holds(&e)).then_some(cost)
+    let Some(k) = keep else {
+        return Some((cost, e));
+    };
+    if k.holds(&e) {
+        return Some((cost, e));
+    }
+    if !mesh.seam_ops {
+        return None;
+    }
+    let mut best: Option<(f64, Edit<'m>)> = None;
+    for s in Edit::new(mesh).neighbours(v) {
+        let mut t = Edit::new(mesh);
+        if let Ok(c) = seam::collapse(&mut t, v, s)
+            && best.as_ref().is_none_or(|b| c < b.0)
+            && k.holds(&t)
+        {
+            best = Some((c, t));
+        }
+    }
+    best
 }
 
 /// A removal costed on an overlay of the mesh as it was after removal
@@ -636,11 +715,7 @@ struct Costed {
 
 /// Removes `v` on an overlay of the mesh: its cost and changes.
 fn costed(mesh: &Mesh, keep: Option<&Keep>, v: u32, epoch: u32) -> Option<Box<Costed>> {
-    let mut e = Edit::new(mesh);
-    let cost = remove::remove_vertex(&mut e, v)?;
-    if keep.is_some_and(|k| !k.holds(&e)) {
-        return None;
-    }
+    let (cost, e) = removal(mesh, keep, v)?;
     Some(Box::new(Costed {
         epoch,
         cost,
