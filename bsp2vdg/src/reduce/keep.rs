@@ -50,10 +50,10 @@ fn clearance_bound(balls: &[(P3, f64); 3], p: P3) -> f64 {
     balls[0].1.max(balls[1].1).max(balls[2].1) - d2.sqrt()
 }
 
-/// Whether the volume of the face with these balls contains `p`.
+/// Whether the face with these balls gives `p` a clearance above `need`.
 #[inline]
-fn inside(balls: [(P3, f64); 3], p: P3) -> bool {
-    clearance_bound(&balls, p) > 0.0 && vdgformat::triangle_clearance(balls, p) > 0.0
+fn inside_by(balls: [(P3, f64); 3], p: P3, need: f64) -> bool {
+    clearance_bound(&balls, p) > need && vdgformat::triangle_clearance(balls, p) > need
 }
 
 /// A bounding volume hierarchy over the live faces, for the one-off search of each
@@ -267,8 +267,13 @@ impl Keep {
             .filter(move |&f| self.holding[f as usize])
     }
 
-    /// Whether every point the edit puts at risk is still inside a face around it.
-    pub fn holds(&self, e: &Edit) -> bool {
+    /// Whether every point the edit puts at risk is still inside a face around it
+    /// (`margin` 0), or keeps a clearance of at least `margin` (or of what it had,
+    /// if less) in a face around the edit. The
+    /// second phase of the reduction asks this (module `seam`): its operations may
+    /// thin the volume between the kept points, and a point kept deep inside keeps
+    /// the standing places around it inside too.
+    pub fn holds_by(&self, e: &Edit, margin: f64) -> bool {
         let ch = e.changes();
         // Most edits put no kept point at risk: the touched vertices only when needed.
         let mut touched = None;
@@ -281,16 +286,23 @@ impl Keep {
             };
             self.held[f as usize].iter().all(|&i| {
                 let p = self.points[i as usize];
-                self.depth[i as usize] - drop > 0.0
-                    || (!removed && inside(e.balls(f), p))
+                if self.depth[i as usize] - drop > margin {
+                    return true;
+                }
+                let need = if margin > 0.0 {
+                    margin.min(face_clearance(e.base, f, p))
+                } else {
+                    0.0
+                };
+                (!removed && inside_by(e.balls(f), p, need))
                     // The edit's new faces first: they cover what the removed ones did.
                     || (0..ch.new_faces.len() as u32)
                         .map(|k| ch.base + k)
-                        .any(|g| !ch.removed.contains(&g) && inside(e.balls(g), p))
+                        .any(|g| !ch.removed.contains(&g) && inside_by(e.balls(g), p, need))
                     || touched
                         .get_or_insert_with(|| ch.touched())
                         .iter()
-                        .any(|&v| e.faces_of(v).iter().any(|&g| inside(e.balls(g), p)))
+                        .any(|&v| e.faces_of(v).iter().any(|&g| inside_by(e.balls(g), p, need)))
             })
         })
     }

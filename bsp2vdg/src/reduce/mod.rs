@@ -282,7 +282,7 @@ pub fn reduce_keeping(
                     .or_default() += 1;
             }
             let mut classes: Vec<_> = classes.into_iter().collect();
-            classes.sort_by(|a, b| b.1.cmp(&a.1));
+            classes.sort_by_key(|c| std::cmp::Reverse(c.1));
             for (name, n) in classes.iter().take(40) {
                 eprintln!("  {name:<50} {n}");
             }
@@ -686,7 +686,12 @@ fn removal<'m>(mesh: &'m Mesh, keep: Option<&Keep>, v: u32) -> Option<(f64, Edit
     let Some(k) = keep else {
         return Some((cost, e));
     };
-    if k.holds(&e) {
+    let margin = if mesh.seam_ops {
+        seam::KEEP_MARGIN
+    } else {
+        0.0
+    };
+    if k.holds_by(&e, margin) {
         return Some((cost, e));
     }
     if !mesh.seam_ops {
@@ -697,7 +702,7 @@ fn removal<'m>(mesh: &'m Mesh, keep: Option<&Keep>, v: u32) -> Option<(f64, Edit
         let mut t = Edit::new(mesh);
         if let Ok(c) = seam::collapse(&mut t, v, s)
             && best.as_ref().is_none_or(|b| c < b.0)
-            && k.holds(&t)
+            && k.holds_by(&t, margin)
         {
             best = Some((c, t));
         }
