@@ -420,3 +420,70 @@ fn random_wild_input_never_panics_and_never_leaves_the_volume() {
         }
     }
 }
+
+/// A U-shaped corridor (legs 64 wide): bottom y < 64, right x ≥ 704,
+/// top y ≥ 704, on a 24 × 24 grid of 32-unit cells, clearance 24.
+fn u_corridor() -> VdgFile {
+    open(&grid(
+        24,
+        24,
+        32.0,
+        |_, _| 64.0,
+        |_, _| 24.0,
+        |i, j| j < 2 || i >= 22 || j >= 22,
+    ))
+}
+
+/// Along the U at `speed`, after standing `wait` seconds at the start.
+fn u_walk(t: f64, wait: f64, speed: f64) -> Target {
+    let d = (speed * (t - wait)).max(0.0);
+    let legs: [([f64; 2], [f64; 2]); 3] = [
+        ([32.0, 32.0], [736.0, 32.0]),
+        ([736.0, 32.0], [736.0, 736.0]),
+        ([736.0, 736.0], [32.0, 736.0]),
+    ];
+    let mut left = d;
+    for (a, b) in legs {
+        let len: f64 = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let dir = [(b[0] - a[0]) / len, (b[1] - a[1]) / len];
+        if left <= len {
+            let p = [a[0] + dir[0] * left, a[1] + dir[1] * left, 64.0];
+            let v = if d > 0.0 { speed } else { 0.0 };
+            return Target::new(
+                p.map(|c| c as f32),
+                [dir[0] as f32, dir[1] as f32, 0.0],
+                [(dir[0] * v) as f32, (dir[1] * v) as f32, 0.0],
+            );
+        }
+        left -= len;
+    }
+    Target::new([32.0, 736.0, 64.0], [-1.0, 0.0, 0.0], [0.0; 3])
+}
+
+/// Frames of the longest stretch the target stays hidden, and cuts, for a
+/// camera left standing while the target runs round both bends of a U.
+fn left_behind(params: CameraParams) -> (usize, usize) {
+    let file = u_corridor();
+    let g = file.graph();
+    let mut cam = Camera::new(params).unwrap();
+    cam.reset(&g, &u_walk(0.0, 1.0, 320.0));
+    let (mut run, mut longest, mut cuts) = (0, 0, 0);
+    for i in 1..=60 * 8 {
+        let p = cam.update(&g, &u_walk(f64::from(i) / 60.0, 1.0, 320.0), 1.0 / 60.0);
+        assert!(g.contains(p.eye), "frame {i}: eye left the volume");
+        cuts += usize::from(p.cut);
+        run = if p.target_visible { 0 } else { run + 1 };
+        longest = longest.max(run);
+    }
+    (longest, cuts)
+}
+
+#[test]
+fn a_camera_left_behind_catches_up_round_the_bends() {
+    // The target stands a second, then runs at 320 u/s round two bends of
+    // a corridor barely wider than the camera's margin allows: the camera
+    // must follow without losing it for a second or being cut to it.
+    let (longest, cuts) = left_behind(CameraParams::default());
+    assert_eq!(cuts, 0, "the camera lost the target and was cut to it");
+    assert!(longest <= 60, "target hidden {longest} frames in a row");
+}

@@ -169,6 +169,10 @@ pub enum CandidateKind {
     Vis,
     /// The reachable vertex of least f_total.
     Neighb,
+    /// Ours, while the target is hidden: a point further along the
+    /// shortest way through the graph to the target (the distance field's
+    /// descent from the reachable vertex nearest the target by VDistance).
+    Path,
     /// The cost-weighted mean of the others.
     Comb,
 }
@@ -203,7 +207,7 @@ pub struct CandidateDebug {
 /// choice, and the step.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub struct FrameDebug {
-    candidates: [CandidateDebug; 7],
+    candidates: [CandidateDebug; 8],
     count: usize,
     /// Index of the chosen candidate in [`FrameDebug::candidates`].
     pub best: usize,
@@ -353,7 +357,7 @@ pub struct Camera {
     clamp_leaf_searches: u32,
     /// The way each candidate's sight line (by position in the frame's
     /// list, which follows the kinds) and the pose's took last frame.
-    hints: [CoverHint; 8],
+    hints: [CoverHint; 9],
     /// The same for the sight lines of recently tested vertices.
     vertex_hints: VertexHints,
 }
@@ -429,7 +433,13 @@ const CLAMP_TOL: f64 = 0.125;
 const VISIBILITY_HOPS: u32 = 48;
 
 /// The hint slot of the pose's own sight line (after the 7 candidates').
-const POSE_HINT: usize = 7;
+const POSE_HINT: usize = 8;
+
+/// Vertices the camera's distance field may settle per update.
+const FIELD_BUDGET: u32 = 8192;
+
+/// Edges the pursuit candidate's descent may follow (bounds its cost).
+const PURSUIT_STEPS: usize = 8;
 
 impl Camera {
     /// A camera with validated parameters. It is placed on the first
@@ -450,7 +460,7 @@ impl Camera {
                 leaf_searches: 0,
             },
             clamp_leaf_searches: 0,
-            hints: [CoverHint::default(); 8],
+            hints: [CoverHint::default(); 9],
             vertex_hints: VertexHints::default(),
         })
     }
@@ -549,13 +559,18 @@ impl Camera {
         s.vis.clear();
         s.vis.reserve(cap);
         // Hints name faces of the old graph.
-        self.hints = [CoverHint::default(); 8];
+        self.hints = [CoverHint::default(); 9];
         self.vertex_hints = VertexHints::default();
         // Sized whatever `vertex_tests` says now: `set_params` may turn the
         // memo on later without a new graph.
         s.memo.clear();
         s.memo.resize(g.vertex_count(), VisMemo::default());
         self.field.reserve(g);
+        // A target the camera cannot reach (cut off by gaps narrower than
+        // `field_min_clearance`) would have the field settle its whole
+        // component every update to prove it; past this budget distances
+        // are lower bounds, which is all a cost needs.
+        self.field.set_budget(FIELD_BUDGET);
     }
 
     fn hold(&mut self) -> Pose {
@@ -787,6 +802,9 @@ impl Camera {
             // Every VDistance of this update is asked near the camera.
             let near = s.pos.to_f32();
             let radius = FIELD_RADIUS;
+            // Ways the camera cannot pass are no ways to the target.
+            self.field
+                .set_min_clearance(self.params.field_min_clearance);
             self.field
                 .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
         }
@@ -890,7 +908,15 @@ impl Camera {
         };
         let mut step = vel * scene.dt;
         let len = step.norm();
-        let allowed = (v * scene.dt).min(dist_best);
+        let mut allowed = (v * scene.dt).min(dist_best);
+        if self.params.max_decel > 0.0 {
+            // The best candidate may be reached (or may jump to the
+            // camera's own position, another criterion winning) while the
+            // camera is fast: it then brakes at `max_decel` and passes the
+            // point a little instead of stopping dead in one frame.
+            let coast = (s.vel.norm() - f64::from(self.params.max_decel) * scene.dt).max(0.0);
+            allowed = allowed.max((coast * scene.dt).min(len));
+        }
         if len > allowed && len > 0.0 {
             step = step * (allowed / len);
         }
@@ -908,6 +934,9 @@ impl Camera {
             CLAMP_TOL,
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
+        if !a.reached && self.params.slide {
+            (p, f) = slide(g, p, f, s.pos + step, margin, hops);
+        }
         if !a.reached {
             let left = allowed - (p - s.pos).norm();
             if left > 1e-6 {
@@ -951,15 +980,16 @@ impl Camera {
         let k_dist = scene.t + u * d_mu;
         let k_angle = scene.t + slerp(u, scene.a_n, 0.25) * r;
         let k_inertia = s.pos + s.vel * scene.dt;
-        let (k_clear, k_vis, k_neighb, reachable) = self.local_candidates(g, scene, s);
+        let (k_clear, k_vis, k_neighb, k_path, reachable) = self.local_candidates(g, scene, s);
         self.debug.reachable = reachable;
         let wanted = [
-            (CandidateKind::Dist, k_dist),
-            (CandidateKind::Angle, k_angle),
-            (CandidateKind::Inertia, k_inertia),
-            (CandidateKind::Clear, k_clear),
-            (CandidateKind::Vis, k_vis),
-            (CandidateKind::Neighb, k_neighb),
+            (CandidateKind::Dist, Some(k_dist)),
+            (CandidateKind::Angle, Some(k_angle)),
+            (CandidateKind::Inertia, Some(k_inertia)),
+            (CandidateKind::Clear, Some(k_clear)),
+            (CandidateKind::Vis, Some(k_vis)),
+            (CandidateKind::Neighb, Some(k_neighb)),
+            (CandidateKind::Path, k_path),
         ];
         let mut n = 0;
         let mut best = (s.pos, f64::INFINITY, 0usize);
@@ -968,7 +998,7 @@ impl Camera {
         // Candidates often clamp to the same point (a blocked line, one
         // vertex best by two criteria): each point's sight line is tested
         // once.
-        let mut tested = [(V3(0.0, 0.0, 0.0), false); 7];
+        let mut tested = [(V3(0.0, 0.0, 0.0), false); 8];
         let mut n_tested = 0;
         let mut rate = |this: &mut Self, pos: V3, face: u32, clear: f64, slot: usize| {
             let known = tested[..n_tested].iter().find(|e| e.0 == pos).map(|e| e.1);
@@ -980,6 +1010,7 @@ impl Camera {
             costs
         };
         for (kind, k) in wanted {
+            let Some(k) = k else { continue };
             let (pos, face, clear) = self.clamp(g, s, k, margin);
             let costs = rate(self, pos, face, clear, n);
             let total = f64::from(costs.total);
@@ -1057,7 +1088,13 @@ impl Camera {
     /// visible vertex in order of VDistance (all visible vertices cost 0;
     /// the nearest by VDistance breaks the tie), k_neighb a branch and bound
     /// over the cost without visibility (a lower bound).
-    fn local_candidates(&mut self, g: &Vdg<'_>, scene: &Scene, s: &State) -> (V3, V3, V3, u32) {
+    #[allow(clippy::type_complexity)]
+    fn local_candidates(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &State,
+    ) -> (V3, V3, V3, Option<V3>, u32) {
         let mut sc = std::mem::take(&mut self.scratch);
         sc.reach.clear();
         // The thesis' exact Reachable, or (ours) the vertices reachable
@@ -1068,7 +1105,7 @@ impl Camera {
         let n = sc.reach.len();
         if n == 0 {
             self.scratch = sc;
-            return (s.pos, s.pos, s.pos, 0);
+            return (s.pos, s.pos, s.pos, None, 0);
         }
         sc.base.clear();
         sc.vd.clear();
@@ -1106,19 +1143,27 @@ impl Camera {
                 break;
             }
         }
+        let nearest_by_vd = |this: &mut Self, sc: &mut Scratch| {
+            let mut best = (f64::INFINITY, sc.reach[0]);
+            for i in 0..n {
+                let d = this.vertex_vd(g, scene, sc, i);
+                if d < best.0 {
+                    best = (d, sc.reach[i]);
+                }
+            }
+            best.1
+        };
         let k_vis = match k_vis {
             Some(v) => v,
-            None => {
-                let mut best = (f64::INFINITY, sc.reach[0]);
-                for i in 0..n {
-                    let d = self.vertex_vd(g, scene, &mut sc, i);
-                    if d < best.0 {
-                        best = (d, sc.reach[i]);
-                    }
-                }
-                best.1
-            }
+            None => nearest_by_vd(self, &mut sc),
         };
+        // k_path: only while the target is hidden (a visible target is
+        // best served by the local candidates) and the field exists.
+        let k_path = (self.params.pursuit_length > 0.0 && !s.visible && self.params.distance_field)
+            .then(|| {
+                let from = nearest_by_vd(self, &mut sc);
+                self.descend(g, from)
+            });
         // k_neighb: branch and bound on the cost without visibility, a
         // lower bound; VDistance only for hidden vertices.
         sc.order.clear();
@@ -1144,7 +1189,51 @@ impl Camera {
             }
         }
         self.scratch = sc;
-        (g.pos(k_clear), g.pos(k_vis), g.pos(k_neighb), n as u32)
+        (
+            g.pos(k_clear),
+            g.pos(k_vis),
+            g.pos(k_neighb),
+            k_path,
+            n as u32,
+        )
+    }
+
+    /// The point [`CameraParams::pursuit_length`] along the distance
+    /// field's descent from vertex `from` towards the target: each step to
+    /// the settled neighbour through which the target is nearest, never to
+    /// a vertex with less clearance than the near-plane margin (the camera
+    /// could not pass it). Bounded by [`PURSUIT_STEPS`] edges.
+    fn descend(&mut self, g: &Vdg<'_>, from: u32) -> V3 {
+        let min_clear = self.params.near_margin + MARGIN_SLACK as f32;
+        let mut v = from;
+        let mut walked = 0.0f64;
+        for _ in 0..PURSUIT_STEPS {
+            let Some(dv) = self.field.settled_distance(v) else {
+                break;
+            };
+            let pv = g.pos(v);
+            let mut next: Option<(f32, u32, f64)> = None;
+            for &u in g.vertex_neighbours(v) {
+                let Some(du) = self.field.settled_distance(u) else {
+                    continue;
+                };
+                if du >= dv || g.vertices[u as usize].clearance < min_clear {
+                    continue;
+                }
+                let edge = (g.pos(u) - pv).norm();
+                let via = du + edge as f32;
+                if next.is_none_or(|b| via < b.0 || (via == b.0 && u < b.1)) {
+                    next = Some((via, u, edge));
+                }
+            }
+            let Some((_, u, edge)) = next else { break };
+            v = u;
+            walked += edge;
+            if walked >= f64::from(self.params.pursuit_length) {
+                break;
+            }
+        }
+        g.pos(v)
     }
 
     /// Visible(P(v), t) for the `i`-th reachable vertex: asked once per
@@ -1370,6 +1459,49 @@ impl Camera {
 /// A point inside the volume of `face` as close to `t` as a straight line
 /// from the triangle's centroid allows: where visibility is judged for a
 /// target standing outside the volume.
+/// A blocked move's rest along the boundary: from `p` (where the move to
+/// `goal` stopped at the margin), the part of the remaining way that does
+/// not point out of the volume, as far as it goes. A camera grazing a wall
+/// keeps its speed along it instead of stopping dead (a kink in its path
+/// every time its smoothed direction touches the boundary).
+fn slide(g: &Vdg<'_>, p: V3, f: u32, goal: V3, margin: f32, hops: u32) -> (V3, u32) {
+    let rest = goal - p;
+    let Some(n) = inward_normal(g, f, p) else {
+        return (p, f);
+    };
+    let into = rest.dot(n);
+    if into >= 0.0 {
+        return (p, f);
+    }
+    let along = rest - n * into;
+    if along.norm() < 1e-3 {
+        return (p, f);
+    }
+    let b = g.advance_tol(
+        f,
+        p.to_f32(),
+        (p + along).to_f32(),
+        margin,
+        &mut CoverBudget {
+            hops,
+            leaf_searches: 0,
+        },
+        CLAMP_TOL,
+    );
+    (V3::from_f32(b.point), b.face)
+}
+
+/// The direction in which face `f`'s clearance grows fastest at `p` (the
+/// volume boundary's inward normal near the boundary), by central
+/// differences; `None` where it is flat.
+fn inward_normal(g: &Vdg<'_>, f: u32, p: V3) -> Option<V3> {
+    const H: f64 = 0.25;
+    let d = |e: V3| g.fc(f, p + e) - g.fc(f, p - e);
+    let n = V3(d(V3(H, 0.0, 0.0)), d(V3(0.0, H, 0.0)), d(V3(0.0, 0.0, H)));
+    let len = n.norm();
+    (len > 1e-9).then(|| n * (1.0 / len))
+}
+
 fn anchor(g: &Vdg<'_>, face: u32, t: V3) -> V3 {
     let [a, b, c] = g.faces[face as usize].map(|v| g.pos(v));
     let centroid = (a + b + c) * (1.0 / 3.0);

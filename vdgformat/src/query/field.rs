@@ -61,6 +61,9 @@ pub struct DistanceField {
     /// Where the questions will come from, and how far around it: the
     /// search is steered there (A* with a consistent heuristic).
     goal: Option<(V3, f64)>,
+    /// Vertices with less clearance are not entered (the source face's own
+    /// vertices excepted): distances for an agent of this radius.
+    min_clearance: f32,
 }
 
 impl Default for DistanceField {
@@ -84,6 +87,7 @@ impl DistanceField {
             budget: DEFAULT_SETTLE_BUDGET,
             active: false,
             goal: None,
+            min_clearance: 0.0,
         }
     }
 
@@ -94,6 +98,16 @@ impl DistanceField {
     /// straight distance).
     pub fn set_budget(&mut self, budget: u32) {
         self.budget = budget.max(1);
+    }
+
+    /// Distances for an agent of radius `r`: ways through vertices of
+    /// clearance below `r` are not taken (the source's face is always
+    /// entered; an agent standing there is where it stands). The default
+    /// 0 gives the thesis' Voronoi distance. A camera asks with its
+    /// near-plane margin: a way through a gap it cannot pass is no way to
+    /// its target. Takes effect at the next reset.
+    pub fn set_min_clearance(&mut self, r: f32) {
+        self.min_clearance = if r.is_finite() { r.max(0.0) } else { 0.0 };
     }
 
     /// Sizes the scratch memory for `g` (8 bytes per vertex plus 8 per
@@ -236,7 +250,7 @@ impl DistanceField {
             self.settled += 1;
             self.frontier = f;
             for &w in g.vertex_neighbours(u) {
-                if !self.is_settled(w) {
+                if !self.is_settled(w) && g.vertices[w as usize].clearance >= self.min_clearance {
                     let pw = g.pos(w);
                     let dw = d + (pw - pu).norm() as f32;
                     if !self.seen(w) || dw < self.dist[w as usize] {
@@ -254,6 +268,10 @@ impl DistanceField {
     /// was never reset.
     pub fn vertex_distance(&mut self, g: &Vdg<'_>, v: u32) -> f32 {
         assert!(self.active, "DistanceField::vertex_distance before reset");
+        if !self.seen(v) && g.vertices[v as usize].clearance < self.min_clearance {
+            // Never entered: proving it would settle the whole component.
+            return f32::INFINITY;
+        }
         self.grow_until(g, v);
         if self.is_settled(v) {
             return self.dist[v as usize];
@@ -264,6 +282,15 @@ impl DistanceField {
         // Every unsettled vertex has g + h ≥ the last key settled.
         let p = g.pos(v);
         (self.frontier - self.h(p)).max((p - self.source).norm() as f32)
+    }
+
+    /// The distance of `v` if it is settled already, without growing the
+    /// field. The next vertex of a shortest way from a settled vertex to
+    /// the source is settled too (the heuristic is consistent), so a walk
+    /// towards the source along settled vertices never needs to grow it.
+    pub fn settled_distance(&self, v: u32) -> Option<f32> {
+        (self.active && (v as usize) < self.stamp.len() && self.is_settled(v))
+            .then(|| self.dist[v as usize])
     }
 
     /// `VDistance(p, source)` for a point `p` in face `face` (thesis 5.1):
@@ -351,6 +378,58 @@ mod tests {
             let (x, y) = (plain.vdistance(&g, f, p), steered.vdistance(&g, f, p));
             assert!((x - y).abs() < 1e-2, "face {f}: {x} vs {y}");
         }
+    }
+
+    /// A ring of 8 vertices round a square hole, one of them narrow: an
+    /// agent too wide for it goes the long way round.
+    #[test]
+    fn a_minimum_clearance_takes_the_way_an_agent_fits_through() {
+        let mut b = VdgBuilder::new();
+        let ring: Vec<[f32; 2]> = vec![
+            [0.0, 0.0],
+            [100.0, 0.0],
+            [200.0, 0.0],
+            [200.0, 100.0],
+            [200.0, 200.0],
+            [100.0, 200.0],
+            [0.0, 200.0],
+            [0.0, 100.0],
+        ];
+        let outer: Vec<u32> = ring
+            .iter()
+            .enumerate()
+            .map(|(i, &[x, y])| b.add_vertex([x, y, 0.0], if i == 1 { 2.0 } else { 16.0 }))
+            .collect();
+        // An inner ring, so that every outer edge has a triangle.
+        let inner: Vec<u32> = ring
+            .iter()
+            .map(|&[x, y]| b.add_vertex([50.0 + x / 2.0, 50.0 + y / 2.0, 0.0], 16.0))
+            .collect();
+        for i in 0..8 {
+            let j = (i + 1) % 8;
+            b.add_face([outer[i], outer[j], inner[i]]);
+            b.add_face([outer[j], inner[j], inner[i]]);
+        }
+        let bytes = b.to_bytes().unwrap();
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut field = DistanceField::new();
+        // From a face at outer vertex 0 (not touching vertex 1) to outer
+        // vertex 2.
+        field.reset(&g, 15, [1.0, 1.0, 0.0]);
+        let thin = field.vertex_distance(&g, outer[2]);
+        field.set_min_clearance(8.0);
+        field.reset(&g, 15, [1.0, 1.0, 0.0]);
+        let wide = field.vertex_distance(&g, outer[2]);
+        // The thin way runs along the bottom edge through the narrow
+        // vertex; the wide one must leave it out.
+        assert!((thin - 200.0).abs() < 2.0, "thin {thin}");
+        assert!(wide > thin + 10.0, "wide {wide} vs thin {thin}");
+        assert_eq!(field.settled_distance(outer[1]), None);
+        // Settled distances never grow the field.
+        let settled = field.settled();
+        assert!(field.settled_distance(outer[2]).is_some());
+        assert_eq!(field.settled(), settled);
     }
 
     #[test]
