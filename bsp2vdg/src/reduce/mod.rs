@@ -137,6 +137,8 @@ pub struct ReduceStats {
     pub seam_phase_at: Option<usize>,
     /// Seconds the second phase took (part of the reduction's time).
     pub seam_phase_seconds: f64,
+    /// Deep points the second phase keeps (see `seam::DEEP_CLEARANCE`).
+    pub seam_deep_points: usize,
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
     /// Vertices whose clearance was raised back after the reduction (see
@@ -326,7 +328,7 @@ fn run(
     let mut queue = CostQueue::new(mesh.pos.len());
     let initial: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
         .into_par_iter()
-        .map(|v| cost_of(&mesh, kept.as_ref(), v))
+        .map(|v| cost_of(&mesh, kept.as_ref(), None, v))
         .collect();
     for (v, c) in initial.into_iter().enumerate() {
         queue.set(v as u32, c);
@@ -348,6 +350,8 @@ fn run(
     saved.resize_with(mesh.pos.len(), || None);
     let mut removals_at_sweep = usize::MAX;
     let mut seam_start: Option<Instant> = None;
+    // The second phase's deep points (see `deep_points`).
+    let mut deep: Option<Keep> = None;
     let mut claims = Claims::new(mesh.pos.len());
     // The batches: the cheapest vertices whose removals cannot interact
     // (see `Claims`), costed in parallel against the same mesh and committed
@@ -372,6 +376,8 @@ fn run(
                     // Second phase: the thesis' cases are exhausted; the
                     // seam operations may take the vertices left.
                     mesh.seam_ops = true;
+                    deep = Some(deep_points(graph, &mesh));
+                    stats.seam_deep_points = deep.as_ref().map_or(0, Keep::len);
                     stats.seam_phase_at = Some(live);
                     seam_start = Some(Instant::now());
                     removals_at_sweep = usize::MAX;
@@ -383,7 +389,7 @@ fn run(
             removals_at_sweep = stats.removals;
             let costs: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
                 .into_par_iter()
-                .map(|v| cost_of(&mesh, kept.as_ref(), v))
+                .map(|v| cost_of(&mesh, kept.as_ref(), deep.as_ref(), v))
                 .collect();
             for (v, c) in costs.into_iter().enumerate() {
                 if c.is_some() {
@@ -412,7 +418,7 @@ fn run(
                     .zip(&results)
                     .map(|(&(v, _), r)| match r {
                         Some(_) => None,
-                        None => costed(&mesh, kept.as_ref(), v, batch_epoch),
+                        None => costed(&mesh, kept.as_ref(), deep.as_ref(), v, batch_epoch),
                     })
                     .collect::<Vec<Option<Box<Costed>>>>()
             },
@@ -475,10 +481,17 @@ fn run(
                 .as_ref()
                 .map(|k| k.before_apply(&ch, &mesh))
                 .unwrap_or_default();
+            let deep_at_risk = deep
+                .as_ref()
+                .map(|k| k.before_apply(&ch, &mesh))
+                .unwrap_or_default();
             let first_new = mesh.faces.len() as u32;
             mesh.apply(ch);
             if let Some(k) = kept.as_mut() {
                 k.rehome(&mesh, &at_risk, first_new, &touched);
+            }
+            if let Some(k) = deep.as_mut() {
+                k.rehome(&mesh, &deep_at_risk, first_new, &touched);
             }
             let after: usize = touched
                 .iter()
@@ -668,8 +681,27 @@ impl Claims {
 
 /// Cost of removing `v` from the mesh as it is, `None` if impossible (or if
 /// it would leave a kept point outside the volume).
-fn cost_of(mesh: &Mesh, keep: Option<&Keep>, v: u32) -> Option<f64> {
-    removal(mesh, keep, v).map(|x| x.0)
+fn cost_of(mesh: &Mesh, keep: Option<&Keep>, deep: Option<&Keep>, v: u32) -> Option<f64> {
+    removal(mesh, keep, deep, v).map(|x| x.0)
+}
+
+/// The deep points of the second phase: every vertex of the unreduced graph
+/// whose ball reaches deeper than [`seam::DEEP_CLEARANCE`], keeping its ball
+/// shrunk by that clearance (or what the volume holds of it when the phase
+/// begins) inside the volume. The points of clearance ≥ `DEEP_CLEARANCE` (the
+/// coverage `vdgview check` measures) are about the union of those shrunk
+/// balls (the free space is the union of its medial balls), so the second
+/// phase loses next to no coverage: where coverage and ratio conflict,
+/// coverage wins.
+fn deep_points(graph: &Graph, mesh: &Mesh) -> Keep {
+    let (points, reach): (Vec<[f64; 3]>, Vec<f64>) = graph
+        .vertices
+        .iter()
+        .zip(&graph.clearance)
+        .filter(|&(_, &r)| r > seam::DEEP_CLEARANCE)
+        .map(|(&p, &r)| (p, r - seam::DEEP_CLEARANCE))
+        .unzip();
+    Keep::deep(mesh, &points, &reach)
 }
 
 /// The removal of `v`: the thesis' (module `remove`, with the seam
@@ -677,21 +709,26 @@ fn cost_of(mesh: &Mesh, keep: Option<&Keep>, v: u32) -> Option<f64> {
 /// volume, else the cheapest collapse of `v` along one of its edges that
 /// does (module `seam`): where keeping the points and reducing conflict,
 /// an operation that takes less volume near them may still be allowed.
-fn removal<'m>(mesh: &'m Mesh, keep: Option<&Keep>, v: u32) -> Option<(f64, Edit<'m>)> {
+fn removal<'m>(
+    mesh: &'m Mesh,
+    keep: Option<&Keep>,
+    deep: Option<&Keep>,
+    v: u32,
+) -> Option<(f64, Edit<'m>)> {
     if mesh.vfaces[v as usize].is_empty() {
         return None;
     }
     let mut e = Edit::new(mesh);
     let cost = remove::remove_vertex(&mut e, v)?;
-    let Some(k) = keep else {
-        return Some((cost, e));
-    };
     let margin = if mesh.seam_ops {
         seam::KEEP_MARGIN
     } else {
         0.0
     };
-    if k.holds_by(&e, margin) {
+    let holds = |e: &Edit| {
+        keep.is_none_or(|k| k.holds_by(e, margin)) && deep.is_none_or(|d| d.holds_by(e, 0.0))
+    };
+    if holds(&e) {
         return Some((cost, e));
     }
     if !mesh.seam_ops {
@@ -702,7 +739,7 @@ fn removal<'m>(mesh: &'m Mesh, keep: Option<&Keep>, v: u32) -> Option<(f64, Edit
         let mut t = Edit::new(mesh);
         if let Ok(c) = seam::collapse(&mut t, v, s)
             && best.as_ref().is_none_or(|b| c < b.0)
-            && k.holds_by(&t, margin)
+            && holds(&t)
         {
             best = Some((c, t));
         }
@@ -719,8 +756,14 @@ struct Costed {
 }
 
 /// Removes `v` on an overlay of the mesh: its cost and changes.
-fn costed(mesh: &Mesh, keep: Option<&Keep>, v: u32, epoch: u32) -> Option<Box<Costed>> {
-    let (cost, e) = removal(mesh, keep, v)?;
+fn costed(
+    mesh: &Mesh,
+    keep: Option<&Keep>,
+    deep: Option<&Keep>,
+    v: u32,
+    epoch: u32,
+) -> Option<Box<Costed>> {
+    let (cost, e) = removal(mesh, keep, deep, v)?;
     Some(Box::new(Costed {
         epoch,
         cost,
