@@ -226,6 +226,50 @@ fn seam_phase_reaches_a_limit_the_thesis_cases_miss() {
     assert!(share >= 0.99, "walkable coverage {share}");
 }
 
+/// The second phase keeps the deep points (module `reduce::seam`): the
+/// points with clearance ≥ 32 (the exact clearance of the manifest's world)
+/// inside the volume when the thesis' cases stopped stay inside after the
+/// seam operations, up to a few not in any unreduced vertex's shrunk ball.
+#[test]
+fn seam_phase_keeps_the_points_of_clearance_32() {
+    let map = "sky_room";
+    let (_, stats) = compile_json(map, "deep", &["-rl", "0.0184"]);
+    let before = stats["reduce_vertices_before"].as_u64().unwrap();
+    let at = stats["reduce_seam_phase_at"]
+        .as_u64()
+        .expect("the second phase runs at this limit");
+    assert!(stats["reduce_seam_deep_points"].as_u64().unwrap() > 0);
+    // The graph where the thesis' cases stopped: the same removals, the limit
+    // at the vertex count where the second phase began.
+    let rl_at = (at as f64 - 0.5) / before as f64;
+    let (first, s1) = compile_json(map, "first", &["-rl", &rl_at.to_string()]);
+    assert_eq!(s1["reduce_seam_phase_at"], serde_json::Value::Null, "{s1}");
+    assert_eq!(s1["reduced_vertices"].as_u64(), Some(at));
+    let (last, _) = compile_json(map, "last", &["-rl", "0.0184"]);
+    let (first, last) = (
+        VdgFile::from_bytes(&first).unwrap(),
+        VdgFile::from_bytes(&last).unwrap(),
+    );
+    let world = World::from_manifest_json(
+        &std::fs::read_to_string(maps_dir().join(format!("{map}.json"))).unwrap(),
+    )
+    .unwrap();
+    let b = world.free_bounds();
+    let mut rng = SplitMix64::new(0xdee9);
+    let mut deep = Vec::new();
+    while deep.len() < 4000 {
+        let p = [0, 1, 2].map(|i| rng.range(b.min[i], b.max[i]));
+        if world.clearance(p) >= 32.0 {
+            deep.push(p.map(|c| c as f32));
+        }
+    }
+    let inside = |g: &VdgFile| deep.iter().filter(|&&p| g.graph().contains(p)).count();
+    let (a, z) = (inside(&first), inside(&last));
+    eprintln!("{map}: clearance >= 32 inside: thesis' cases {a}, after the seam phase {z} of 4000");
+    assert!(a > 3800, "{a}");
+    assert!(z + 8 >= a, "the seam phase lost coverage: {a} -> {z}");
+}
+
 #[test]
 fn box_room_reduces_to_its_medial_axis() {
     let json = std::fs::read_to_string(maps_dir().join("box_room.json")).unwrap();

@@ -503,6 +503,32 @@ mod tests {
     }
 
     #[test]
+    fn a_deep_point_refuses_the_collapse_that_takes_its_ball() {
+        use crate::reduce::keep::Keep;
+        let mesh = Mesh::new(&book());
+        // Vertex 0's ball (radius 12) shrunk to 10 must stay inside; every
+        // collapse of 0 (into a page's corner) takes it. A ball of 2 near
+        // vertex 1 (radius 12, 3 units away) stays inside.
+        let deep = Keep::deep(&mesh, &[[0.0, 0.0, 0.0], [17.0, 0.0, 0.0]], &[10.0, 2.0]);
+        assert_eq!(deep.len(), 2);
+        let far = Keep::deep(&mesh, &[[17.0, 0.0, 0.0]], &[2.0]);
+        let mut collapses = 0;
+        for s in Edit::new(&mesh).neighbours(0) {
+            let mut e = Edit::new(&mesh);
+            if collapse(&mut e, 0, s).is_err() {
+                continue;
+            }
+            collapses += 1;
+            assert!(!deep.holds_by(&e, 0.0), "collapse into {s} kept the ball");
+            assert!(far.holds_by(&e, 0.0), "collapse into {s} took the far ball");
+        }
+        assert!(collapses > 0);
+        // Not kept: a point outside the volume, and a ball that would be too small.
+        assert_eq!(Keep::deep(&mesh, &[[0.0, 0.0, 50.0]], &[10.0]).len(), 0);
+        assert_eq!(Keep::deep(&mesh, &[[0.0, 0.0, 0.0]], &[0.5]).len(), 0);
+    }
+
+    #[test]
     fn collapse_refuses_to_flatten_a_closed_shell() {
         // A tetrahedron's surface: collapsing any edge would flatten it.
         let g = Graph {
