@@ -336,3 +336,37 @@ fn volume_kept_on_given_files() {
         100.0 * kept as f64 / n as f64
     );
 }
+
+/// Issue 14's file size bound (≤ 100 bytes per face, header and metadata
+/// included) end to end on the large generated open map: mapgen's extra world
+/// `open_field` compiled at the default options. A minute in the test profile,
+/// so outside the default run (the default suite checks the writer on the
+/// stored graph, `vdgformat/tests/size.rs`):
+/// `cargo test --release -p bsp2vdg --test reduce -- --ignored open_field`.
+#[test]
+#[ignore]
+fn open_field_file_is_compact() {
+    let dir = std::env::temp_dir().join(format!("bsp2vdg-open-field-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = dir.join("open_field.bsp");
+    std::fs::write(
+        &map,
+        mapgen::bsp::write_world(&mapgen::worlds::open_field()),
+    )
+    .unwrap();
+    let out = dir.join("open_field.vdg");
+    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(["-quiet", "-o"])
+        .arg(&out)
+        .arg(&map)
+        .output()
+        .expect("bsp2vdg runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&out).unwrap().len();
+    let faces = VdgFile::open(&out).unwrap().graph().face_count();
+    let _ = std::fs::remove_dir_all(&dir);
+    let per_face = bytes as f64 / faces as f64;
+    println!("open_field: {faces} faces, {bytes} bytes, {per_face:.1} bytes per face");
+    assert!(per_face <= 100.0, "{per_face:.1} bytes per face");
+}

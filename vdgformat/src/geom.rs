@@ -178,6 +178,12 @@ impl Aabb {
     /// Euclidean distance from `p` to the box (0 inside).
     #[inline]
     pub fn distance(&self, p: V3) -> f64 {
+        self.distance2(p).sqrt()
+    }
+
+    /// Squared distance from `p` to the box (0 inside).
+    #[inline]
+    pub fn distance2(&self, p: V3) -> f64 {
         let mut d2 = 0.0;
         for (i, c) in [p.0, p.1, p.2].into_iter().enumerate() {
             let lo = f64::from(self.min[i]);
@@ -191,7 +197,7 @@ impl Aabb {
             };
             d2 += e * e;
         }
-        d2.sqrt()
+        d2
     }
 }
 

@@ -17,7 +17,7 @@ use std::collections::BinaryHeap;
 
 use crate::geom::{Aabb, Ball, V3, face_clearance};
 use crate::layout::{Info, TreeNode, Vertex};
-use crate::read::Vdg;
+use crate::read::{LeafList, Vdg};
 
 /// Best-first search entry, ordered by `key` (largest first).
 struct Candidate {
@@ -205,17 +205,17 @@ impl<'a> Vdg<'a> {
 
     /// Faces of the tree leaf whose cell contains `p` — a superset of the
     /// faces whose volume contains `p`. Empty outside the root cell.
-    pub(crate) fn leaf_faces_at(&self, p: V3) -> &'a [u32] {
+    pub(crate) fn leaf_faces_at(&self, p: V3) -> LeafList<'a> {
         let c = [p.0, p.1, p.2];
         let root = self.root_cell();
         if (0..3).any(|i| c[i] < f64::from(root.min[i]) || c[i] > f64::from(root.max[i])) {
-            return &[];
+            return self.leaf_faces.range(0, 0);
         }
         let mut n = 0usize;
         loop {
             let node = self.nodes[n];
             if node.kind == TreeNode::LEAF {
-                return &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize];
+                return self.leaf_faces.range(node.a, node.b);
             }
             n = if c[node.kind as usize] < f64::from(node.split) {
                 node.a as usize
@@ -280,7 +280,7 @@ impl<'a> Vdg<'a> {
         // Faces with clearance ≤ floor may come back as bounds, so only
         // values above the floor are taken (those are exact).
         let mut best = (u32::MAX, f64::NEG_INFINITY);
-        for &f in self.leaf_faces_at(p) {
+        for f in self.leaf_faces_at(p).iter() {
             let floor = best.1.max(0.0);
             let c = self.fc_above(f, p, floor);
             if c > floor {
@@ -318,7 +318,7 @@ impl<'a> Vdg<'a> {
             let cell = cells[ci as usize];
             let node = self.nodes[n as usize];
             if node.kind == TreeNode::LEAF {
-                for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
+                for f in self.leaf_faces.range(node.a, node.b).iter() {
                     let c = self.fc_above(f, p, best.1);
                     if c > best.1 {
                         best = (f, c);
@@ -445,7 +445,7 @@ impl<'a> Vdg<'a> {
         let q = V3::from_f32(p);
         self.leaf_faces_at(q)
             .iter()
-            .any(|&f| self.fc_above(f, q, 0.0) > 0.0)
+            .any(|f| self.fc_above(f, q, 0.0) > 0.0)
     }
 
     /// Every face whose volume contains `p` (clearance > 0), ascending.
@@ -454,7 +454,6 @@ impl<'a> Vdg<'a> {
         let mut out: Vec<u32> = self
             .leaf_faces_at(q)
             .iter()
-            .copied()
             .filter(|&f| self.fc_above(f, q, 0.0) > 0.0)
             .collect();
         out.sort_unstable();

@@ -282,7 +282,7 @@ impl<'a> Vdg<'a> {
     pub fn visible(&self, s: [f32; 3], e: [f32; 3]) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
-        match self.best_cover_step(start.iter().copied(), &seg, 0.0, INSIDE_EPS) {
+        match self.best_cover_step(start.iter(), &seg, 0.0, INSIDE_EPS) {
             Some((f, t)) => {
                 let mut budget = CoverBudget::UNBOUNDED;
                 t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
@@ -468,7 +468,7 @@ impl<'a> Vdg<'a> {
             if step.is_none() && budget.leaf_searches > 0 && dead_end.is_none() {
                 budget.leaf_searches -= 1;
                 let leaf = self.leaf_faces_at(here);
-                let holding = leaf.iter().copied().filter(|&f| self.box_holds(f, here));
+                let holding = leaf.iter().filter(|&f| self.box_holds(f, here));
                 step = self
                     .best_cover_step(holding, seg, t, eps)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
