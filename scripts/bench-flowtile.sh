@@ -7,25 +7,42 @@
 # the library benchmark (benches/tiling.rs) over more sets and borders.
 #
 # Usage: scripts/bench-flowtile.sh [runs32] [runs256]
+# With OLD=path/to/an/older/flowtile-bake the two binaries run alternately,
+# seed by seed, and each line gives both medians and their ratio (the machine
+# is shared: only runs interleaved in time compare fairly).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 RUNS32=${1:-101}
 RUNS256=${2:-11}
+OLD=${OLD:-}
 nice cargo build --release -q -p flowtile-bake
 BIN=target/release/flowtile-bake
 
 median() { sort -g | awk '{a[NR]=$1} END {print a[int((NR+1)/2)]}'; }
+seconds() {
+  nice "$@" --json | sed -E 's/.*"seconds":([0-9.eE+-]+).*/\1/'
+}
 
 for spec in "32x32 $RUNS32" "256x256 $RUNS256"; do
   set -- $spec
   for set in 5,5,1 3,3,5; do
     for border in free zero periodic; do
-      secs=$(for s in $(seq 1 "$2"); do
-        nice "$BIN" tile --grid "$1" --set "$set" --border "$border" --seed "$s" --json |
-          sed -E 's/.*"seconds":([0-9.eE+-]+).*/\1/'
-      done | median)
-      printf '%-8s set %-6s border %-9s median %10.3f ms  (%s runs)\n' \
-        "$1" "$set" "$border" "$(awk -v s="$secs" 'BEGIN {print s*1000}')" "$2"
+      args=(tile --grid "$1" --set "$set" --border "$border")
+      new=() old=()
+      for s in $(seq 1 "$2"); do
+        if [ -n "$OLD" ]; then old+=("$(seconds "$OLD" "${args[@]}" --seed "$s")"); fi
+        new+=("$(seconds "$BIN" "${args[@]}" --seed "$s")")
+      done
+      n=$(printf '%s\n' "${new[@]}" | median)
+      if [ -n "$OLD" ]; then
+        o=$(printf '%s\n' "${old[@]}" | median)
+        printf '%-8s set %-6s border %-9s median %10.3f ms  old %10.3f ms  old/new %5.2f  (%s runs each)\n' \
+          "$1" "$set" "$border" "$(awk -v s="$n" 'BEGIN {print s*1000}')" \
+          "$(awk -v s="$o" 'BEGIN {print s*1000}')" "$(awk -v a="$o" -v b="$n" 'BEGIN {print a/b}')" "$2"
+      else
+        printf '%-8s set %-6s border %-9s median %10.3f ms  (%s runs)\n' \
+          "$1" "$set" "$border" "$(awk -v s="$n" 'BEGIN {print s*1000}')" "$2"
+      fi
     done
   done
 done
