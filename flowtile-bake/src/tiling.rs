@@ -1652,7 +1652,7 @@ fn key_with(f: [i32; 4], fixed: [Option<u16>; 4], combo: usize, c: usize) -> Til
 /// Rows a ladder of [`Tiling::ladder_move`] may climb.
 const LADDER_RUNGS: u32 = 64;
 /// Columns a ladder may walk along the slot's row before it climbs.
-const LADDER_SHIFTS: u32 = 8;
+const LADDER_SHIFTS: u32 = 32;
 
 /// Most corner combinations scored by their tile's backflow per slot.
 const MAX_SCORED_CORNERS: usize = 4096;

@@ -88,6 +88,10 @@ fn tile_grid_json_has_the_stats() {
     );
     assert_eq!(v["bytes"], v["bytes_rotated"]);
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    // Processor time of the tiling (Linux only): never negative.
+    if cfg!(target_os = "linux") {
+        assert!(v["cpu_seconds"].as_f64().unwrap() >= 0.0, "{v}");
+    }
     assert!(v["max_divergence"].as_f64().unwrap() <= 1e-12);
     assert!(v["max_seam_mismatch"].as_f64().unwrap() <= 1e-12);
     assert_clean_failure(&run(&["tile", "--grid", "12by9"]), "WxH");
