@@ -149,6 +149,27 @@ fn target_at(route: &[[f32; 3]], t: f64) -> Target {
     Target::new(pos, heading, heading.map(|c| c * speed))
 }
 
+/// One camera update, never inlined, followed by a call of the empty
+/// [`update_done`]: a profiler can cut the run at both, e.g.
+/// `valgrind --tool=callgrind --dump-before='*timed_update*'
+/// --dump-before='*update_done*'` writes one profile per update (those
+/// dumped before `update_done`) and one per stretch of the bench's own work.
+#[inline(never)]
+fn timed_update(
+    camera: &mut Camera,
+    g: &vdgformat::Vdg<'_>,
+    t: &Target,
+    dt: f32,
+) -> vdgformat::camera::Pose {
+    camera.update(g, t, dt)
+}
+
+/// Marks the end of an update for a profiler (see [`timed_update`]).
+#[inline(never)]
+fn update_done() {
+    std::hint::black_box(());
+}
+
 fn main() {
     if let Err(e) = run() {
         eprintln!("camera_bench: {e}");
@@ -190,7 +211,8 @@ fn run() -> Result<(), String> {
         }
         let t = target_at(&route, (i + 1) as f64 * f64::from(args.dt));
         let start = Instant::now();
-        let pose = camera.update(&g, &t, args.dt);
+        let pose = timed_update(&mut camera, &g, &t, args.dt);
+        update_done();
         let us = start.elapsed().as_secs_f64() * 1e6;
         // CAMERA_BENCH_TRACE=US prints every update slower than US µs.
         if std::env::var("CAMERA_BENCH_TRACE")

@@ -15,7 +15,7 @@ pub use visible::{Advance, CoverBudget, CoverHint};
 
 use std::collections::BinaryHeap;
 
-use crate::geom::{Aabb, Ball, V3, face_clearance};
+use crate::geom::{Aabb, Ball, FaceEval, V3};
 use crate::layout::{Info, TreeNode, Vertex};
 use crate::read::{LeafList, Vdg};
 
@@ -123,8 +123,16 @@ impl<'a> Vdg<'a> {
     /// Clearance of `p` for face `f`, in f64.
     #[inline]
     pub(crate) fn fc(&self, f: u32, p: V3) -> f64 {
+        self.face_eval(f).eval(p)
+    }
+
+    /// Face `f`'s clearance function with its invariants worked out once:
+    /// for several evaluations of one face (an exit search), or the exit
+    /// of a line in closed form.
+    #[inline]
+    pub(crate) fn face_eval(&self, f: u32) -> FaceEval {
         let [a, b, c] = self.faces[f as usize];
-        face_clearance(self.ball(a), self.ball(b), self.ball(c), p)
+        FaceEval::new(self.ball(a), self.ball(b), self.ball(c))
     }
 
     /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
@@ -134,50 +142,39 @@ impl<'a> Vdg<'a> {
     /// evaluation that culls most candidates of a leaf.
     #[inline]
     pub(crate) fn fc_above(&self, f: u32, p: V3, floor: f64) -> f64 {
-        let [a, b, c] = self.faces[f as usize];
-        let (a, b, c) = (
-            self.vertices[a as usize],
-            self.vertices[b as usize],
-            self.vertices[c as usize],
-        );
+        match self.box_bound(f, p, floor) {
+            Some(bound) => bound,
+            None => self.fc(f, p),
+        }
+    }
+
+    /// Minus the distance of `p` to the box of face `f`'s vertex balls when
+    /// that proves the clearance at `p` is at most `floor` (then `p` lies
+    /// outside the box); `None` when the exact value is needed.
+    #[inline]
+    pub(crate) fn box_bound(&self, f: u32, p: V3, floor: f64) -> Option<f64> {
+        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize]);
         let mut d2 = 0.0;
-        for (i, qi) in [p.0, p.1, p.2].into_iter().enumerate() {
-            let lo = (a.pos[i] - a.clearance)
-                .min(b.pos[i] - b.clearance)
-                .min(c.pos[i] - c.clearance);
-            let hi = (a.pos[i] + a.clearance)
-                .max(b.pos[i] + b.clearance)
-                .max(c.pos[i] + c.clearance);
-            // f32 rounding of the bounds: widen by a relative epsilon so
-            // the box test never culls a face it should not.
-            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
-            let e = (f64::from(lo) - slack - qi).max(qi - f64::from(hi) - slack);
+        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
+            let (lo, hi) = ball_box_axis(&corners, i);
+            let e = if lo - q > q - hi { lo - q } else { q - hi };
             if e > 0.0 {
                 d2 += e * e;
             }
         }
         let bound = -d2.sqrt();
-        if bound <= floor && d2 > 0.0 {
-            return bound;
-        }
-        self.fc(f, p)
+        (bound <= floor && d2 > 0.0).then_some(bound)
     }
 
     /// Whether `p` lies in the box of face `f`'s three vertex balls (widened
-    /// for the f32 data), which holds the face's volume: `false` proves
-    /// `p` is outside the volume, without a square root.
+    /// for rounding), which holds the face's volume: `false` proves `p` is
+    /// outside the volume, without a square root and usually after one axis.
     #[inline]
     pub(crate) fn box_holds(&self, f: u32, p: V3) -> bool {
-        let [a, b, c] = self.faces[f as usize].map(|v| self.vertices[v as usize]);
+        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize]);
         [p.0, p.1, p.2].into_iter().enumerate().all(|(i, q)| {
-            let lo = (a.pos[i] - a.clearance)
-                .min(b.pos[i] - b.clearance)
-                .min(c.pos[i] - c.clearance);
-            let hi = (a.pos[i] + a.clearance)
-                .max(b.pos[i] + b.clearance)
-                .max(c.pos[i] + c.clearance);
-            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
-            q >= f64::from(lo) - slack && q <= f64::from(hi) + slack
+            let (lo, hi) = ball_box_axis(&corners, i);
+            q >= lo && q <= hi
         })
     }
 
@@ -224,6 +221,24 @@ impl<'a> Vdg<'a> {
             };
         }
     }
+}
+
+/// The extent along axis `i` of three vertex balls, in f64 (exact for the
+/// f32 data up to one rounding) and widened by a relative millionth, so a
+/// box test never culls a face it should not. Plain comparisons instead of
+/// `f64::min`, whose NaN rules cost more than the test itself: a NaN makes
+/// the bounds NaN and every containment test false.
+#[inline]
+fn ball_box_axis(corners: &[Vertex; 3], i: usize) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in corners {
+        let (c, r) = (f64::from(v.pos[i]), f64::from(v.clearance));
+        let (l, h) = (c - r, c + r);
+        lo = if l < lo { l } else { lo };
+        hi = if h > hi { h } else { hi };
+    }
+    let slack = 1e-6 * (1.0 + if -lo > hi { -lo } else { hi }.abs());
+    (lo - slack, hi + slack)
 }
 
 /// Clearance queries (thesis 3.7) and face lookup.
@@ -414,7 +429,9 @@ impl<'a> Vdg<'a> {
         for _ in 0..rounds {
             let mut best = cur;
             self.for_face_and_neighbours(cur.0, |f| {
-                let c = self.fc(f, q);
+                // Exact whenever it can beat the best, so the same answer as
+                // evaluating every face, with most neighbours culled by box.
+                let c = self.fc_above(f, q, best.1);
                 if c > best.1 {
                     best = (f, c);
                 }
