@@ -189,6 +189,16 @@ fn reduce_graph(
         keep.len(),
         crate::standing::KEEP_SPACING
     ));
+    if let Some(at) = rs.seam_phase_at {
+        log.info(format!(
+            "Seam phase from {} vertices: {} seam contractions, {} collapses, {} deep points kept [{}]",
+            at,
+            rs.seam_contractions,
+            rs.seam_collapses,
+            rs.seam_deep_points,
+            secs(rs.seam_phase_seconds)
+        ));
+    }
     log.info(match rs.stop {
         reduce::StopReason::LimitReached => "Reduction limit reached.".to_string(),
         reduce::StopReason::NothingRemovable => {

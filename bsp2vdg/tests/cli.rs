@@ -593,3 +593,41 @@ fn baseline_catches_a_change_of_sd_and_passes_a_rebuild() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stdout).contains("run --update-baseline first"));
 }
+
+/// `-md` is what the help and README say: the minimum clearance of the unreduced
+/// graph. Without reduction no written vertex is below it, and the value matters
+/// (a lower `-md` keeps vertices the higher one dropped). After the reduction it is no
+/// floor (condition A lowers clearances); `vdgview info` says so, see its tests.
+#[test]
+fn md_is_the_minimum_clearance_of_the_unreduced_graph() {
+    let Some(map) = some_map() else { return };
+    let dir = tempdir("md");
+    let min_clearance = |md: &str| {
+        let out = dir.join(format!("md{md}.vdg"));
+        let o = bsp2vdg(&[
+            "-quiet",
+            "-rl",
+            "1.0",
+            "-md",
+            md,
+            "-o",
+            out.to_str().unwrap(),
+            map.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let file = vdgformat::VdgFile::open(&out).unwrap();
+        let g = file.graph();
+        assert_eq!(g.metadata_value("md"), Some(md));
+        g.vertices()
+            .iter()
+            .map(|v| v.clearance)
+            .fold(f32::INFINITY, f32::min)
+    };
+    let (low, high) = (min_clearance("8"), min_clearance("40"));
+    assert!(low >= 8.0, "a vertex at {low} under -md 8");
+    assert!(high >= 40.0, "a vertex at {high} under -md 40");
+    assert!(
+        low < 40.0,
+        "-md 8 kept nothing below 40 ({low}): the test shows nothing"
+    );
+}

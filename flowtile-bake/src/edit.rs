@@ -82,13 +82,13 @@ pub fn edit(a: EditArgs) -> Result<()> {
             std::fs::read_to_string(script).with_context(|| format!("{}", script.display()))?;
         let log = run_script(&mut ed, &text, Some(&mut view.settings))
             .map_err(|e| anyhow::anyhow!("{}: {e}", script.display()))?;
-        print!("{log}");
+        out!("{log}")?;
     }
     if let Some(out) = &a.screenshot {
         let png = screenshot(&mut ed, &mut view, w, h).map_err(anyhow::Error::msg)?;
         flowtile_bake::bake::write_atomic(out, &png)
             .with_context(|| format!("{}", out.display()))?;
-        println!("wrote {} ({w}x{h})", out.display());
+        outln!("wrote {} ({w}x{h})", out.display())?;
     }
     let headless = (a.script.is_some() || a.screenshot.is_some()) && !a.window;
     if headless {

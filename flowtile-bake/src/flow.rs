@@ -700,7 +700,12 @@ impl Network {
         if value < a.lo || value > a.hi {
             return false;
         }
-        let reached = if value > a.x {
+        if a.lo == a.hi {
+            return true; // already fixed there (the fill's settled edges)
+        }
+        let reached = if value == a.x {
+            value
+        } else if value > a.x {
             self.raise(e, value)
         } else {
             self.lower(e, value)

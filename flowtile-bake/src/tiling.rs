@@ -285,6 +285,8 @@ pub struct Tiling {
     /// tile), restored by [`Tiling::remove`].
     base_bounds: Vec<(i32, i32)>,
     base_corners: Vec<Option<u16>>,
+    /// Scratch buffer of [`Tiling::ladder_move`]'s cycles.
+    cycle: Vec<(u32, ArcId)>,
 }
 
 impl Tiling {
@@ -422,6 +424,7 @@ impl Tiling {
             slots: vec![None; slots],
             base_bounds: Vec::new(),
             base_corners: Vec::new(),
+            cycle: Vec::new(),
         };
         tiling.apply_corner_conditions(cond)?;
         let mut fixed: Vec<Option<i32>> = vec![None; tiling.net.arc_count()];
@@ -579,25 +582,44 @@ impl Tiling {
         }
     }
 
-    /// Arcs of slot `(x, y)`: left, bottom, right, top.
+    /// Arcs of slot `(x, y)` (inside the grid): left, bottom, right, top.
+    /// Indexed directly, wrapping only the far edges of periodic grids: the
+    /// fill asks for them at every slot.
     fn slot_arcs(&self, x: u32, y: u32) -> [ArcId; 4] {
-        let arc = |e| self.edge_arc(e).expect("slot inside grid");
+        debug_assert!(x < self.width && y < self.height);
+        let w = self.width;
+        let per_row = if self.border_x == Border::Periodic {
+            w
+        } else {
+            w + 1
+        };
+        let right = if x + 1 == per_row { 0 } else { x + 1 };
+        let above = if y + 1 == self.height && self.border_y == Border::Periodic {
+            0
+        } else {
+            y + 1
+        };
         [
-            arc(Edge::Vertical { x, y }),
-            arc(Edge::Horizontal { x, y }),
-            arc(Edge::Vertical { x: x + 1, y }),
-            arc(Edge::Horizontal { x, y: y + 1 }),
+            self.v_arcs[(y * per_row + x) as usize],
+            self.h_arcs[(y * w + x) as usize],
+            self.v_arcs[(y * per_row + right) as usize],
+            self.h_arcs[(above * w + x) as usize],
         ]
     }
 
     /// Vertices of slot `(x, y)`: bottom-left, bottom-right, top-right, top-left.
+    /// Indexed directly like [`Tiling::slot_arcs`] (`(x, y)` inside the grid).
     fn slot_vertices(&self, x: u32, y: u32) -> [usize; 4] {
-        [
-            self.vertex(x, y),
-            self.vertex(x + 1, y),
-            self.vertex(x + 1, y + 1),
-            self.vertex(x, y + 1),
-        ]
+        debug_assert!(x < self.width && y < self.height);
+        let (px, py) = (
+            self.border_x == Border::Periodic,
+            self.border_y == Border::Periodic,
+        );
+        let vw = if px { self.width } else { self.width + 1 };
+        let right = if px && x + 1 == self.width { 0 } else { x + 1 };
+        let above = if py && y + 1 == self.height { 0 } else { y + 1 };
+        let v = |xx: u32, yy: u32| (yy * vw + xx) as usize;
+        [v(x, y), v(right, y), v(right, above), v(x, above)]
     }
 
     /// The tile set.
@@ -957,12 +979,18 @@ impl Tiling {
         let fixed = self.slot_vertices(x, y).map(|v| self.corner_fixed[v]);
         let arcs = self.slot_arcs(x, y);
         let distinct = (0..4).all(|i| (0..i).all(|j| arcs[i] != arcs[j]));
-        let free: Vec<usize> = (0..4)
-            .filter(|&k| {
-                let a = self.net.arc(arcs[k]);
-                a.lo < a.hi
-            })
-            .collect();
+        // The slot's free edges, in side order (no allocation: this runs for
+        // every slot of the fill).
+        let mut free = [0usize; 4];
+        let mut free_count = 0;
+        for (k, &a) in arcs.iter().enumerate() {
+            let a = self.net.arc(a);
+            if a.lo < a.hi {
+                free[free_count] = k;
+                free_count += 1;
+            }
+        }
+        let free = &free[..free_count];
         if !distinct {
             let sel = self.select(x, y)?;
             if sel.is_empty() {
@@ -1077,15 +1105,16 @@ impl Tiling {
     ///
     /// In scan-line order the only free edges of the slot are its right and
     /// top edges, so every cycle through the right edge returns through the
-    /// top one: up the next column, across some row above, down this
-    /// column. Above the filled rows the unfilled rows carry the running
-    /// sum of the fluxes that leave the filled part, and the nearest rows
-    /// fill up to their bounds; the shortest cycle then climbs a few rows.
-    /// Testing the ladders rung by rung finds it with a few arc reads,
-    /// where the breadth-first search of the network would visit the whole
-    /// band (most of the fill's time at 256×256).
+    /// top one: along this row to some column `c ≥ x + 1`, up column `c`,
+    /// back along some row above, down this column. Above the filled rows
+    /// the unfilled rows carry the running sum of the fluxes that leave the
+    /// filled part, and the nearest rows fill up to their bounds; the
+    /// shortest cycle then climbs a few rows, and when the next slot's top
+    /// edge is full it first walks a column or two along this row. Testing
+    /// these cycles column by column and rung by rung finds one with a few
+    /// arc reads, where the breadth-first search of the network would visit
+    /// the whole band (most of the fill's time at 256×256).
     fn ladder_move(&mut self, x: u32, y: u32, target: i32) {
-        const RUNGS: u32 = 64;
         let w = self.width;
         let next = if x + 1 < w {
             x + 1
@@ -1094,74 +1123,152 @@ impl Tiling {
         } else {
             return;
         };
+        // Walking along the row only makes sense without wrap-around.
+        let last_col = if next == 0 {
+            0
+        } else {
+            (x + LADDER_SHIFTS).min(w - 1)
+        };
         let e = self.slot_arcs(x, y)[2];
-        let (here, there) = (y * w + x, y * w + next);
-        // Direct indices (rows above y stay inside the grid): the arc of the
-        // horizontal edge at (col, row) and of the vertical edge right of x.
-        let h_arc = |col: u32, row: u32| self.h_arcs[(row * w + col) as usize];
-        let per_row = self.v_arcs.len() as u32 / self.height;
-        let cross_col = (x + 1) % per_row;
-        let v_arc = |row: u32| self.v_arcs[(row * per_row + cross_col) as usize];
-        let top_row = y + RUNGS.min(self.height - 1 - y);
-        let mut cycle = [(0u32, 0 as ArcId); 2 * RUNGS as usize + 2];
+        // The cycle buffer lives in the tiling (no zeroing or allocation per call).
+        let mut cycle = std::mem::take(&mut self.cycle);
         for _ in 0..4 {
             let cur = self.net.arc(e).x;
             if cur == target {
-                return;
+                break;
             }
             let up = target > cur;
-            // Raise: here → there along e, then up `next`, across, down `x`.
-            // Lower: the reverse walk. Vertical-edge arcs point up: climbing
-            // `next` goes forward when raising, `x` is descended, and vice versa.
-            let (mut room_there, mut room_here) = (i32::MAX, i32::MAX);
-            let mut rung = None;
-            for row in y + 1..=top_row {
-                let (lower_there, lower_here) = ((row - 1) * w + next, (row - 1) * w + x);
-                let (upper_there, upper_here) = (row * w + next, row * w + x);
-                let (from_there, from_here) = if up {
-                    (lower_there, upper_here)
-                } else {
-                    (upper_there, lower_here)
-                };
-                room_there = room_there.min(self.net.room_from(from_there, h_arc(next, row)));
-                room_here = room_here.min(self.net.room_from(from_here, h_arc(x, row)));
-                if room_there <= 0 || room_here <= 0 {
-                    break;
-                }
-                let cross_from = if up { upper_there } else { upper_here };
-                if self.net.room_from(cross_from, v_arc(row)) > 0 {
-                    rung = Some(row);
-                    break;
-                }
-            }
-            let Some(top) = rung else { return };
-            let mut len = 0;
-            let mut step = |from: u32, arc: ArcId| {
-                cycle[len] = (from, arc);
-                len += 1;
+            let Some((c, top)) = self.find_ladder(x, y, next, last_col, up) else {
+                break;
             };
-            if up {
-                step(here, e);
-                for row in y + 1..=top {
-                    step((row - 1) * w + next, h_arc(next, row));
+            self.ladder_cycle(x, y, next, c, top, up, e, &mut cycle);
+            if self.net.push_cycle(&cycle, (target - cur).abs()) == 0 {
+                break;
+            }
+        }
+        self.cycle = cycle;
+    }
+
+    /// The arc of horizontal edge `(col, row)` for `row < H` (no wrap-around).
+    fn h_arc(&self, col: u32, row: u32) -> ArcId {
+        self.h_arcs[(row * self.width + col) as usize]
+    }
+
+    /// The arc of vertical edge `(col, row)` for `col < W` (no wrap-around).
+    fn v_arc(&self, col: u32, row: u32) -> ArcId {
+        let per_row = if self.border_x == Border::Periodic {
+            self.width
+        } else {
+            self.width + 1
+        };
+        self.v_arcs[(row * per_row + col) as usize]
+    }
+
+    /// The first ladder of [`Tiling::ladder_move`] with room in every step:
+    /// its column `c` (from `next` to `last_col`) and its top row. Raising
+    /// (`up`) walks right along row `y`, up column `c`, left along the top
+    /// row and down column `x`; lowering walks the same cycle backwards.
+    ///
+    /// Every arc of a ladder points right or up (tail in the left or lower
+    /// slot, also across the periodic seam in x), so the room of a step
+    /// follows from the arc alone: `hi - x` along it, `x - lo` against it.
+    fn find_ladder(
+        &self,
+        x: u32,
+        y: u32,
+        next: u32,
+        last_col: u32,
+        up: bool,
+    ) -> Option<(u32, u32)> {
+        let net = &self.net;
+        // Room along the arc's direction in the cycle when raising (`fwd`:
+        // rightwards or upwards) and against it; swapped for lowering.
+        let fwd = |arc: ArcId| {
+            let a = net.arc(arc);
+            if up { a.hi - a.x } else { a.x - a.lo }
+        };
+        let bwd = |arc: ArcId| {
+            let a = net.arc(arc);
+            if up { a.x - a.lo } else { a.hi - a.x }
+        };
+        let top_row = y + LADDER_RUNGS.min(self.height - 1 - y);
+        // The descent down column x is climbed lazily: rows up to `here_top`
+        // are known to have room, none above once `here_done`.
+        if top_row == y || bwd(self.h_arc(x, y + 1)) <= 0 {
+            return None;
+        }
+        let mut here_top = y + 1;
+        let mut here_done = false;
+        for c in next..=last_col {
+            // Along row y from (c - 1, y) to (c, y).
+            if c > next && fwd(self.v_arc(c, y)) <= 0 {
+                return None;
+            }
+            for row in y + 1..=top_row {
+                if row > here_top {
+                    if here_done || bwd(self.h_arc(x, row)) <= 0 {
+                        here_done = true;
+                        break;
+                    }
+                    here_top = row;
                 }
-                step(top * w + next, v_arc(top));
-                for row in (y + 1..=top).rev() {
-                    step(row * w + x, h_arc(x, row));
+                if fwd(self.h_arc(c, row)) <= 0 {
+                    break;
                 }
-            } else {
-                step(there, e);
-                for row in y + 1..=top {
-                    step((row - 1) * w + x, h_arc(x, row));
-                }
-                step(top * w + x, v_arc(top));
-                for row in (y + 1..=top).rev() {
-                    step(row * w + next, h_arc(next, row));
+                // Back along `row` from column c to column x.
+                let open = if next == 0 {
+                    bwd(self.v_arc(0, row)) > 0
+                } else {
+                    (x + 1..=c).all(|col| bwd(self.v_arc(col, row)) > 0)
+                };
+                if open {
+                    return Some((c, row));
                 }
             }
-            if self.net.push_cycle(&cycle[..len], (target - cur).abs()) == 0 {
-                return;
+        }
+        None
+    }
+
+    /// Writes the ladder `(c, top)` of [`Tiling::find_ladder`] as a cycle of
+    /// (node the step leaves, arc) pairs into `out`.
+    #[allow(clippy::too_many_arguments)]
+    fn ladder_cycle(
+        &self,
+        x: u32,
+        y: u32,
+        next: u32,
+        c: u32,
+        top: u32,
+        up: bool,
+        e: ArcId,
+        out: &mut Vec<(u32, ArcId)>,
+    ) {
+        let w = self.width;
+        let node = |col: u32, row: u32| row * w + col;
+        // The cycle when raising, as (from, to, arc); reversed for lowering.
+        out.clear();
+        let mut step = |from: u32, to: u32, arc: ArcId| {
+            out.push(if up { (from, arc) } else { (to, arc) });
+        };
+        step(node(x, y), node(next, y), e);
+        for col in next + 1..=c {
+            step(node(col - 1, y), node(col, y), self.v_arc(col, y));
+        }
+        for row in y + 1..=top {
+            step(node(c, row - 1), node(c, row), self.h_arc(c, row));
+        }
+        if next == 0 {
+            step(node(0, top), node(x, top), self.v_arc(0, top));
+        } else {
+            for col in (x + 1..=c).rev() {
+                step(node(col, top), node(col - 1, top), self.v_arc(col, top));
             }
+        }
+        for row in (y + 1..=top).rev() {
+            step(node(x, row), node(x, row - 1), self.h_arc(x, row));
+        }
+        if !up {
+            out.reverse();
         }
     }
 
@@ -1312,7 +1419,15 @@ impl Tiling {
                 self.seam_move(x, values[1]);
             }
             self.ladder_move(x, y, values[2]);
-            if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
+            // Fixing the left and bottom edges may route flux through the
+            // right edge (the short way round); a ladder puts it back before
+            // the right edge is fixed, which otherwise takes a long search.
+            // Whether the tuple fits does not depend on the order.
+            let fits = self.net.fix(arcs[0], values[0]) && self.net.fix(arcs[1], values[1]) && {
+                self.ladder_move(x, y, values[2]);
+                self.net.fix(arcs[2], values[2]) && self.net.fix(arcs[3], values[3])
+            };
+            if fits {
                 self.net.commit();
                 return Ok(self.commit_slot(x, y, values, rng, chooser));
             }
@@ -1541,6 +1656,11 @@ fn key_with(f: [i32; 4], fixed: [Option<u16>; 4], combo: usize, c: usize) -> Til
         corners,
     }
 }
+
+/// Rows a ladder of [`Tiling::ladder_move`] may climb.
+const LADDER_RUNGS: u32 = 64;
+/// Columns a ladder may walk along the slot's row before it climbs.
+const LADDER_SHIFTS: u32 = 32;
 
 /// Most corner combinations scored by their tile's backflow per slot.
 const MAX_SCORED_CORNERS: usize = 4096;

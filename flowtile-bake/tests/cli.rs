@@ -88,6 +88,10 @@ fn tile_grid_json_has_the_stats() {
     );
     assert_eq!(v["bytes"], v["bytes_rotated"]);
     assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    // Processor time of the tiling (POSIX systems): never negative.
+    if cfg!(unix) {
+        assert!(v["cpu_seconds"].as_f64().unwrap() >= 0.0, "{v}");
+    }
     assert!(v["max_divergence"].as_f64().unwrap() <= 1e-12);
     assert!(v["max_seam_mismatch"].as_f64().unwrap() <= 1e-12);
     assert_clean_failure(&run(&["tile", "--grid", "12by9"]), "WxH");
@@ -501,4 +505,36 @@ fn region_from_a_nav_mesh() {
     assert_clean_failure(&o, "bad.nav: area count 718");
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A reader that closes the pipe early (`flowtile-bake info F | head -1`)
+/// ends the program quietly: exit 0, no panic message. The read end is
+/// closed before the child can write, for a command with one short line
+/// (`count`) and one with several (`info` on a baked file).
+#[test]
+fn closed_stdout_pipe_ends_quietly() {
+    use std::process::Stdio;
+    let dir = scratch("pipe");
+    let ftb = dir.join("g.ftb");
+    let o = run(&["tile", "--grid", "6x4", "-o", ftb.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let commands: [&[&str]; 3] = [
+        &["count", "--mx", "5", "--my", "5", "--corners", "1"],
+        &["info", ftb.to_str().unwrap()],
+        &["tile", "--grid", "8x8", "--json"],
+    ];
+    for args in commands {
+        let mut child = bin()
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("binary runs");
+        drop(child.stdout.take()); // the reader goes away at once
+        let o = child.wait_with_output().expect("binary ends");
+        let err = stderr(&o);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(o.status.success(), "{args:?}: {:?} {err}", o.status);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

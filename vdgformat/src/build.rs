@@ -4,12 +4,14 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::geom::Aabb;
+use crate::geom::{Aabb, V3};
 use crate::hash::xxh64;
 use crate::layout::{
     CHECKSUM_END, CHECKSUM_OFFSET, FORMAT_VERSION, Header, Info, MAGIC, MAX_BUILD_DEPTH,
-    NodeBounds, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
+    MAX_FACES_FOR_NARROW_LEAVES, NodeBounds, SECTION_ALIGN, SectionEntry, TreeNode, Vertex,
+    section,
 };
+use crate::read::LeafList;
 
 /// Default minimum leaf extent of the BBox tree (thesis 6.1.6, `-bb`).
 pub const DEFAULT_LEAF_SIZE: f32 = 256.0;
@@ -309,7 +311,12 @@ impl VdgBuilder {
         let (vn_offsets, vn_targets) = vertex_neighbours(vcount, &self.faces);
         let reach: Vec<Reach> = self.faces.iter().map(|f| self.face_reach(f)).collect();
         let tree = build_tree(&face_boxes, &reach, volume, self.leaf_size);
-        let node_bounds = node_bounds(&tree.nodes, &tree.leaf_faces, &self.faces, &self.vertices);
+        let node_bounds = node_bounds(
+            &tree.nodes,
+            LeafList::Wide(&tree.leaf_faces),
+            &self.faces,
+            &self.vertices,
+        );
         if tree.leaf_faces.len() >= u32::MAX as usize || tree.nodes.len() >= u32::MAX as usize {
             return Err(BuildError::TooLarge("tree entries"));
         }
@@ -338,6 +345,20 @@ impl VdgBuilder {
             meta.push('\n');
         }
 
+        // 16-bit leaf entries whenever every face index fits (version 2): the
+        // leaf lists are most of a reduced graph's tree, and half of them is
+        // the difference between ~75 and ~100 bytes per face on open maps.
+        let narrow: Vec<u16>;
+        let (leaf_id, leaf_bytes): (u32, &[u8]) = if self.faces.len() <= MAX_FACES_FOR_NARROW_LEAVES
+        {
+            narrow = tree.leaf_faces.iter().map(|&f| f as u16).collect();
+            (section::TREE_LEAF_FACES16, bytemuck::cast_slice(&narrow))
+        } else {
+            (
+                section::TREE_LEAF_FACES,
+                bytemuck::cast_slice(&tree.leaf_faces),
+            )
+        };
         let sections: [(u32, &[u8], u64); 11] = [
             (section::INFO, bytemuck::bytes_of(&info), 1),
             (
@@ -375,11 +396,7 @@ impl VdgBuilder {
                 bytemuck::cast_slice(&tree.nodes),
                 tree.nodes.len() as u64,
             ),
-            (
-                section::TREE_LEAF_FACES,
-                bytemuck::cast_slice(&tree.leaf_faces),
-                tree.leaf_faces.len() as u64,
-            ),
+            (leaf_id, leaf_bytes, tree.leaf_faces.len() as u64),
             (section::METADATA, meta.as_bytes(), meta.len() as u64),
             (
                 section::TREE_NODE_BOUNDS,
@@ -414,7 +431,11 @@ impl VdgBuilder {
             });
             r_max = r_max.max(v.clearance);
         }
-        Reach { tri, r_max }
+        let balls = f.map(|vi| {
+            let v = self.vertices[vi as usize];
+            (V3::from_f32(v.pos), f64::from(v.clearance))
+        });
+        Reach { tri, r_max, balls }
     }
 
     fn face_box(&self, f: &[u32; 3]) -> Aabb {
@@ -437,7 +458,7 @@ impl VdgBuilder {
 /// reader, which recomputes them to validate the stored ones.
 pub(crate) fn node_bounds(
     nodes: &[TreeNode],
-    leaf_faces: &[u32],
+    leaf_faces: LeafList<'_>,
     faces: &[[u32; 3]],
     vertices: &[Vertex],
 ) -> Vec<NodeBounds> {
@@ -458,7 +479,7 @@ pub(crate) fn node_bounds(
             }
         };
         if node.kind == TreeNode::LEAF {
-            for &f in &leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
+            for f in leaf_faces.range(node.a, node.b).iter() {
                 for &v in &faces[f as usize] {
                     let v = vertices[v as usize];
                     add(v.pos, v.pos, v.clearance);
@@ -587,16 +608,25 @@ pub(crate) fn build_tree(boxes: &[Aabb], reach: &[Reach], root: Aabb, leaf_size:
     tree
 }
 
-/// Where a face's volume can be: within `r_max` of the triangle, hence within
-/// `r_max` of its box `tri`. A cell farther than that from the box holds no point
-/// of the volume even when it meets the volume's box: on open maps, where
-/// clearances reach hundreds of units, this keeps a face out of the cells at the
-/// corners of its volume box and the leaf lists about half as long.
+/// Where a face's volume can be: the union of the balls `B(q, r(q))` over the
+/// triangle with the vertex clearances interpolated (the convex hull of the
+/// three vertex balls). A cell holds a point of the volume exactly when
+/// `min_{q ∈ triangle} dist(q, cell) − r(q) < 0`. The box tests of the writer
+/// (the volume's box, then the triangle's box against `r_max`) keep a face in
+/// every cell that meets its box; on open maps, where clearances reach hundreds
+/// of units and big faces lie slanted, most of those cells miss the volume
+/// itself. [`Reach::may_meet`] drops them with a certified lower bound on that
+/// minimum, so a leaf lists only faces whose volume can meet its cell.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Reach {
     pub tri: Aabb,
     pub r_max: f32,
+    /// The three vertices and their clearances, in f64.
+    pub balls: [(V3, f64); 3],
 }
+
+/// Frank–Wolfe rounds [`Reach::may_meet`] spends before it keeps a face (conservatively).
+const MEET_ROUNDS: usize = 24;
 
 impl Reach {
     /// Whether the volume may meet `cell` (conservative: `true` when unsure).
@@ -610,8 +640,113 @@ impl Reach {
         }
         let r = f64::from(self.r_max);
         // Slack for the f32 data and the rounding of the queries' evaluations.
-        let r = r + 1e-3 + 1e-6 * r;
-        d2 < r * r
+        let slack = 1e-3 + 1e-6 * r;
+        let r = r + slack;
+        if d2 >= r * r {
+            return false;
+        }
+        // Most faces that meet a cell have a corner ball in it: decided without a search.
+        if self
+            .balls
+            .iter()
+            .any(|&(v, r)| cell.distance2(v) < (r + slack) * (r + slack))
+        {
+            return true;
+        }
+        self.may_meet_exactly(cell, slack)
+    }
+
+    /// Minimises `f(λ) = dist(q(λ), cell) − r(λ)` over the triangle's barycentric
+    /// coordinates by Frank–Wolfe. `f` is convex (a distance to a convex set minus
+    /// a linear function), so at any `λ` the linearisation's minimum over the
+    /// triangle's corners bounds `min f` from below (the duality gap): once that
+    /// bound exceeds `slack`, no point of the volume lies in the cell. When a
+    /// point with `f ≤ slack` turns up, or the rounds run out, the face is kept.
+    fn may_meet_exactly(&self, cell: &Aabb, slack: f64) -> bool {
+        let lo = V3(
+            f64::from(cell.min[0]),
+            f64::from(cell.min[1]),
+            f64::from(cell.min[2]),
+        );
+        let hi = V3(
+            f64::from(cell.max[0]),
+            f64::from(cell.max[1]),
+            f64::from(cell.max[2]),
+        );
+        let f_at = |lam: [f64; 3]| -> (f64, V3) {
+            let q = self.balls[0].0 * lam[0] + self.balls[1].0 * lam[1] + self.balls[2].0 * lam[2];
+            let r = self.balls[0].1 * lam[0] + self.balls[1].1 * lam[1] + self.balls[2].1 * lam[2];
+            let clamp = V3(
+                q.0.clamp(lo.0, hi.0),
+                q.1.clamp(lo.1, hi.1),
+                q.2.clamp(lo.2, hi.2),
+            );
+            let d = q - clamp;
+            let n = d.norm();
+            let grad = if n > 0.0 {
+                d * (1.0 / n)
+            } else {
+                V3(0.0, 0.0, 0.0)
+            };
+            (n - r, grad)
+        };
+        // Start at the best corner.
+        let mut lam = [0.0; 3];
+        let mut best = (f64::INFINITY, 0);
+        for (i, _) in self.balls.iter().enumerate() {
+            let mut e = [0.0; 3];
+            e[i] = 1.0;
+            let v = f_at(e).0;
+            if v < best.0 {
+                best = (v, i);
+            }
+        }
+        lam[best.1] = 1.0;
+        for _ in 0..MEET_ROUNDS {
+            let (f, g) = f_at(lam);
+            if f <= slack {
+                return true;
+            }
+            // Gradient in λ: ∂f/∂λ_i = g·v_i − r_i.
+            let h = self.balls.map(|(v, r)| g.dot(v) - r);
+            let (s, hmin) = (0..3).fold(
+                (0, f64::INFINITY),
+                |a, i| if h[i] < a.1 { (i, h[i]) } else { a },
+            );
+            let at = lam[0] * h[0] + lam[1] * h[1] + lam[2] * h[2];
+            let lower = f + hmin - at;
+            if lower > slack {
+                return false;
+            }
+            // Golden-section line search towards corner s (f is convex along the segment).
+            let towards = |t: f64| {
+                let mut l = lam.map(|x| x * (1.0 - t));
+                l[s] += t;
+                l
+            };
+            let (mut a, mut b) = (0.0f64, 1.0f64);
+            const PHI: f64 = 0.618_033_988_749_894_9;
+            let mut c = b - PHI * (b - a);
+            let mut d = a + PHI * (b - a);
+            let (mut fc, mut fd) = (f_at(towards(c)).0, f_at(towards(d)).0);
+            for _ in 0..16 {
+                if fc < fd {
+                    b = d;
+                    d = c;
+                    fd = fc;
+                    c = b - PHI * (b - a);
+                    fc = f_at(towards(c)).0;
+                } else {
+                    a = c;
+                    c = d;
+                    fc = fd;
+                    d = a + PHI * (b - a);
+                    fd = f_at(towards(d)).0;
+                }
+            }
+            lam = towards(0.5 * (a + b));
+        }
+        true
     }
 }
 
@@ -770,6 +905,61 @@ mod tests {
         assert_eq!(t, vec![1, 2, 0, 2, 3, 0, 1, 3, 1, 2]);
     }
 
+    /// `min_{q ∈ triangle} dist(q, cell) − r(q)` on a fine barycentric grid: an
+    /// upper bound on the true minimum, within grid spacing of it.
+    fn sampled_gap(reach: &Reach, cell: &Aabb) -> f64 {
+        let n = 60;
+        let mut best = f64::INFINITY;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let l = [
+                    i as f64 / n as f64,
+                    j as f64 / n as f64,
+                    (n - i - j) as f64 / n as f64,
+                ];
+                let q = reach.balls[0].0 * l[0] + reach.balls[1].0 * l[1] + reach.balls[2].0 * l[2];
+                let r = reach.balls[0].1 * l[0] + reach.balls[1].1 * l[1] + reach.balls[2].1 * l[2];
+                best = best.min(cell.distance(q) - r);
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn a_cell_is_dropped_only_when_the_volume_misses_it() {
+        let mut rng = toolbox::SplitMix64::new(7);
+        let (mut dropped, mut kept_far) = (0, 0);
+        for _ in 0..4000 {
+            let mut b = VdgBuilder::new();
+            let vs: Vec<u32> = (0..3)
+                .map(|_| {
+                    let p = [0; 3].map(|_| rng.range(-300.0, 300.0) as f32);
+                    b.add_vertex(p, rng.range(0.0, 200.0) as f32)
+                })
+                .collect();
+            let reach = b.face_reach(&[vs[0], vs[1], vs[2]]);
+            let lo = [0; 3].map(|_| rng.range(-500.0, 400.0) as f32);
+            let size = [0; 3].map(|_| rng.range(10.0, 300.0) as f32);
+            let cell = Aabb {
+                min: lo,
+                max: [0, 1, 2].map(|i| lo[i] + size[i]),
+            };
+            let gap = sampled_gap(&reach, &cell);
+            if !reach.may_meet(&cell) {
+                dropped += 1;
+                assert!(gap > 0.0, "dropped a cell the volume meets (gap {gap})");
+            } else if gap > 10.0 {
+                kept_far += 1;
+            }
+        }
+        // The test is tight: cells missed by more than 10 units are nearly always dropped.
+        assert!(dropped > 500, "{dropped}");
+        assert!(
+            kept_far * 50 < dropped,
+            "kept {kept_far} far cells, dropped {dropped}"
+        );
+    }
+
     #[test]
     fn tree_leaves_respect_leaf_size() {
         // 1000 tiny boxes spread over [0, 4096]: cells never shrink below bb.
@@ -795,6 +985,7 @@ mod tests {
                 Reach {
                     tri: Aabb { min: c, max: c },
                     r_max: 0.5,
+                    balls: [(V3::from_f32(c), 0.5); 3],
                 }
             })
             .collect();

@@ -14,8 +14,18 @@ compile_error!("vdgformat views little-endian files in place and needs a little-
 /// CR LF / ^Z / LF tail catch 7-bit and text-mode transfers (the PNG trick).
 pub const MAGIC: [u8; 8] = *b"\x89VDG\r\n\x1a\n";
 
-/// The format version this crate writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+/// The format version this crate writes. It reads this one and every older one
+/// ([`OLDEST_READABLE_VERSION`]..=`FORMAT_VERSION`).
+///
+/// Version 2 added the 16-bit tree leaf faces ([`section::TREE_LEAF_FACES16`]),
+/// written instead of the 32-bit ones when every face index fits in 16 bits.
+pub const FORMAT_VERSION: u32 = 2;
+
+/// The oldest format version the reader still opens (version 1: 32-bit leaf faces only).
+pub const OLDEST_READABLE_VERSION: u32 = 1;
+
+/// Graphs with at most this many faces get 16-bit tree leaf faces.
+pub const MAX_FACES_FOR_NARROW_LEAVES: usize = 1 << 16;
 
 /// Every section starts at a multiple of this many bytes.
 pub const SECTION_ALIGN: u64 = 16;
@@ -83,15 +93,22 @@ pub mod section {
     pub const VERTEX_NEIGHBOURS: u32 = 7;
     /// [`super::TreeNode`] records in preorder, root first.
     pub const TREE_NODES: u32 = 8;
-    /// u32 face indices referenced by the tree leaves.
+    /// u32 face indices referenced by the tree leaves (graphs of more than
+    /// 65 536 faces, and every version-1 file). A file holds this section or
+    /// [`TREE_LEAF_FACES16`], never both.
     pub const TREE_LEAF_FACES: u32 = 9;
     /// UTF-8 text, `key=value` lines.
     pub const METADATA: u32 = 10;
     /// [`super::NodeBounds`] records, one per tree node.
     pub const TREE_NODE_BOUNDS: u32 = 11;
+    /// u16 face indices referenced by the tree leaves (version 2, graphs of at
+    /// most 65 536 faces): the same lists as [`TREE_LEAF_FACES`] in half the bytes.
+    pub const TREE_LEAF_FACES16: u32 = 12;
 
-    /// Every section a version-1 file must contain, in file order.
-    pub const REQUIRED: [u32; 11] = [
+    /// Every section id a reader knows, in file order; [`TREE_LEAF_FACES`] and
+    /// [`TREE_LEAF_FACES16`] are alternatives (exactly one is present), all
+    /// others are required.
+    pub const KNOWN: [u32; 12] = [
         INFO,
         VERTICES,
         FACES,
@@ -103,6 +120,7 @@ pub mod section {
         TREE_LEAF_FACES,
         METADATA,
         TREE_NODE_BOUNDS,
+        TREE_LEAF_FACES16,
     ];
 
     /// Element size of a known section id.
@@ -119,6 +137,7 @@ pub mod section {
             TREE_NODES => size_of::<super::TreeNode>() as u32,
             METADATA => 1,
             TREE_NODE_BOUNDS => size_of::<super::NodeBounds>() as u32,
+            TREE_LEAF_FACES16 => 2,
             _ => return None,
         })
     }
@@ -137,6 +156,7 @@ pub mod section {
             TREE_LEAF_FACES => "tree leaf faces",
             METADATA => "metadata",
             TREE_NODE_BOUNDS => "tree node bounds",
+            TREE_LEAF_FACES16 => "tree leaf faces (16-bit)",
             _ => "unknown",
         }
     }
@@ -178,8 +198,8 @@ pub struct Vertex {
 
 /// Node of the BBox (kd) tree. Inner nodes split their cell at `split` on
 /// axis `kind` (0 = x, 1 = y, 2 = z) into children `a` (below) and `b`
-/// (above); leaves (`kind == LEAF`) list `b` faces starting at `a` in the
-/// leaf-face section.
+/// (above); leaves (`kind == LEAF`) list `b` faces starting at entry `a` of
+/// the leaf-face section (32- or 16-bit).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct TreeNode {

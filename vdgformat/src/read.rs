@@ -5,8 +5,8 @@ use std::path::Path;
 
 use crate::hash::xxh64;
 use crate::layout::{
-    CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, NodeBounds, SECTION_ALIGN,
-    SectionEntry, TreeNode, Vertex, section,
+    CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, NodeBounds,
+    OLDEST_READABLE_VERSION, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
 };
 
 /// Why a file was rejected. Every malformed-file class has its own variant;
@@ -41,6 +41,9 @@ pub enum ReadError {
     DuplicateSection { id: u32 },
     /// A required section is absent.
     MissingSection { id: u32 },
+    /// Two sections that are alternatives to each other are both present
+    /// (the 32- and the 16-bit tree leaf faces).
+    ConflictingSections { first: u32, second: u32 },
     /// A count in one place disagrees with another.
     CountMismatch {
         what: &'static str,
@@ -93,7 +96,7 @@ impl fmt::Display for ReadError {
             BadMagic => write!(f, "not a .vdg file (wrong magic bytes)"),
             UnsupportedVersion { found, supported } => write!(
                 f,
-                "unsupported .vdg format version {found} (this reader supports {supported})"
+                "unsupported .vdg format version {found} (this reader supports {OLDEST_READABLE_VERSION} to {supported})"
             ),
             BadHeader(what) => write!(f, "corrupt .vdg header: {what}"),
             ChecksumMismatch { stored, computed } => write!(
@@ -131,6 +134,12 @@ impl fmt::Display for ReadError {
                 f,
                 "corrupt .vdg file: required section {id} ({}) is missing",
                 name(*id)
+            ),
+            ConflictingSections { first, second } => write!(
+                f,
+                "corrupt .vdg file: sections {first} ({}) and {second} ({}) exclude each other, both are present",
+                name(*first),
+                name(*second)
             ),
             CountMismatch {
                 what,
@@ -209,7 +218,7 @@ pub struct Vdg<'a> {
     pub(crate) vn_offsets: &'a [u32],
     pub(crate) vn: &'a [u32],
     pub(crate) nodes: &'a [TreeNode],
-    pub(crate) leaf_faces: &'a [u32],
+    pub(crate) leaf_faces: LeafList<'a>,
     pub(crate) metadata: &'a str,
     pub(crate) node_bounds: &'a [NodeBounds],
 }
@@ -223,6 +232,67 @@ impl fmt::Debug for Vdg<'_> {
             .field("leaf_entries", &self.leaf_faces.len())
             .field("leaf_size", &self.info.leaf_size)
             .finish()
+    }
+}
+
+/// The tree's leaf-face entries as stored: 32-bit, or 16-bit in version-2
+/// files of at most 65 536 faces. Iterating yields face indices as `u32`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum LeafList<'a> {
+    Wide(&'a [u32]),
+    Narrow(&'a [u16]),
+}
+
+impl<'a> LeafList<'a> {
+    pub(crate) fn len(&self) -> usize {
+        match self {
+            LeafList::Wide(s) => s.len(),
+            LeafList::Narrow(s) => s.len(),
+        }
+    }
+
+    /// Entries `start .. start + count` (a leaf's list). Panics when out of
+    /// range, which validation rules out for every leaf.
+    #[inline]
+    pub(crate) fn range(&self, start: u32, count: u32) -> LeafList<'a> {
+        let r = start as usize..start as usize + count as usize;
+        match self {
+            LeafList::Wide(s) => LeafList::Wide(&s[r]),
+            LeafList::Narrow(s) => LeafList::Narrow(&s[r]),
+        }
+    }
+
+    #[inline]
+    pub(crate) fn iter(&self) -> LeafIter<'a> {
+        match *self {
+            LeafList::Wide(s) => LeafIter::Wide(s.iter()),
+            LeafList::Narrow(s) => LeafIter::Narrow(s.iter()),
+        }
+    }
+}
+
+/// Iterator over a [`LeafList`]'s face indices.
+#[derive(Clone, Debug)]
+pub(crate) enum LeafIter<'a> {
+    Wide(std::slice::Iter<'a, u32>),
+    Narrow(std::slice::Iter<'a, u16>),
+}
+
+impl Iterator for LeafIter<'_> {
+    type Item = u32;
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        match self {
+            LeafIter::Wide(i) => i.next().copied(),
+            LeafIter::Narrow(i) => i.next().map(|&f| u32::from(f)),
+        }
+    }
+    #[inline]
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        match self {
+            LeafIter::Wide(i) => i.size_hint(),
+            LeafIter::Narrow(i) => i.size_hint(),
+        }
     }
 }
 
@@ -270,7 +340,11 @@ impl fmt::Debug for VdgFile {
 /// Validated byte ranges of the sections.
 #[derive(Clone, Copy, Debug, Default)]
 struct Layout {
-    ranges: [(usize, usize); 11],
+    /// Byte ranges by position in [`section::KNOWN`]; the absent one of the
+    /// two leaf-face sections has an empty range.
+    ranges: [(usize, usize); 12],
+    /// Whether the leaf faces are the 16-bit section.
+    narrow_leaves: bool,
 }
 
 impl VdgFile {
@@ -335,7 +409,11 @@ fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
         vn_offsets: bytemuck::cast_slice(s(5)),
         vn: bytemuck::cast_slice(s(6)),
         nodes: bytemuck::cast_slice(s(7)),
-        leaf_faces: bytemuck::cast_slice(s(8)),
+        leaf_faces: if l.narrow_leaves {
+            LeafList::Narrow(bytemuck::cast_slice(s(11)))
+        } else {
+            LeafList::Wide(bytemuck::cast_slice(s(8)))
+        },
         metadata: std::str::from_utf8(s(9)).unwrap_or(""),
         node_bounds: bytemuck::cast_slice(s(10)),
     }
@@ -367,7 +445,7 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         });
     }
     let h: Header = read_pod(bytes, 0);
-    if h.version != FORMAT_VERSION {
+    if !(OLDEST_READABLE_VERSION..=FORMAT_VERSION).contains(&h.version) {
         return Err(UnsupportedVersion {
             found: h.version,
             supported: FORMAT_VERSION,
@@ -410,7 +488,11 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         .map(|i| read_pod(bytes, header_len + i * size_of::<SectionEntry>()))
         .collect();
     let mut layout = Layout::default();
-    let mut found = [false; 11];
+    let mut found = [false; section::KNOWN.len()];
+    // Version 1 knew no 16-bit leaf faces: there, id 12 is an unknown section.
+    let known = |id: u32| {
+        section::elem_size(id).is_some() && !(h.version < 2 && id == section::TREE_LEAF_FACES16)
+    };
     for e in &entries {
         if e.offset < table_end || e.offset > len || e.byte_len > len - e.offset {
             return Err(SectionOutOfBounds { id: e.id });
@@ -421,16 +503,16 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
                 offset: e.offset,
             });
         }
-        let Some(size) = section::elem_size(e.id) else {
+        let Some(size) = section::elem_size(e.id).filter(|_| known(e.id)) else {
             continue; // unknown sections are skipped (checked for bounds/overlap)
         };
         if e.elem_size != size || e.count.checked_mul(u64::from(size)) != Some(e.byte_len) {
             return Err(SectionSizeMismatch { id: e.id });
         }
-        let slot = section::REQUIRED
+        let slot = section::KNOWN
             .iter()
             .position(|&id| id == e.id)
-            .expect("known ids are required");
+            .expect("known ids are listed");
         if found[slot] {
             return Err(DuplicateSection { id: e.id });
         }
@@ -447,11 +529,33 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
             });
         }
     }
-    if let Some(slot) = found.iter().position(|&f| !f) {
-        return Err(MissingSection {
-            id: section::REQUIRED[slot],
+    let slot_of = |id: u32| {
+        section::KNOWN
+            .iter()
+            .position(|&k| k == id)
+            .expect("listed")
+    };
+    let (wide, narrow) = (
+        slot_of(section::TREE_LEAF_FACES),
+        slot_of(section::TREE_LEAF_FACES16),
+    );
+    if found[wide] && found[narrow] {
+        return Err(ConflictingSections {
+            first: section::TREE_LEAF_FACES,
+            second: section::TREE_LEAF_FACES16,
         });
     }
+    if let Some(slot) = (0..found.len()).find(|&i| !found[i] && i != wide && i != narrow) {
+        return Err(MissingSection {
+            id: section::KNOWN[slot],
+        });
+    }
+    if !found[wide] && !found[narrow] {
+        return Err(MissingSection {
+            id: section::TREE_LEAF_FACES,
+        });
+    }
+    layout.narrow_leaves = found[narrow];
     if layout.ranges[0].1 - layout.ranges[0].0 != size_of::<Info>() {
         return Err(CountMismatch {
             what: "info record count",
@@ -701,7 +805,7 @@ fn validate_tree(g: &Vdg<'_>) -> Result<(), ReadError> {
         });
     }
     let nf = g.faces.len() as u64;
-    for (k, &f) in g.leaf_faces.iter().enumerate() {
+    for (k, f) in g.leaf_faces.iter().enumerate() {
         if u64::from(f) >= nf {
             return Err(IndexOutOfRange {
                 what: "tree leaf face",
@@ -712,7 +816,7 @@ fn validate_tree(g: &Vdg<'_>) -> Result<(), ReadError> {
         }
     }
     let mut listed = vec![false; g.faces.len()];
-    for &f in g.leaf_faces {
+    for f in g.leaf_faces.iter() {
         listed[f as usize] = true;
     }
     if listed.contains(&false) {

@@ -231,19 +231,22 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
-    let mut bytes = sample().to_bytes().unwrap();
-    put(&mut bytes, 16, 2u32);
-    let err = VdgFile::from_bytes(&bytes).unwrap_err();
-    assert!(
-        matches!(
-            err,
-            ReadError::UnsupportedVersion {
-                found: 2,
-                supported: 1
-            }
-        ),
-        "{err}"
-    );
+    for v in [0u32, 3, 0x0100_0000] {
+        let mut bytes = sample().to_bytes().unwrap();
+        put(&mut bytes, 16, v);
+        let err = VdgFile::from_bytes(&bytes).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                ReadError::UnsupportedVersion {
+                    found,
+                    supported: 2
+                } if found == v
+            ),
+            "{err}"
+        );
+        assert!(err.to_string().contains("supports 1 to 2"), "{err}");
+    }
 }
 
 #[test]
@@ -348,7 +351,7 @@ fn section_size_mismatch() {
 #[test]
 fn duplicate_section() {
     let err = corrupt(|b| {
-        let (at, _) = section_of(b, section::TREE_LEAF_FACES);
+        let (at, _) = section_of(b, section::VERTEX_NEIGHBOURS);
         put(b, at, section::VERTEX_FACES);
     });
     assert!(
@@ -377,6 +380,94 @@ fn missing_section() {
         ),
         "{err}"
     );
+}
+
+#[test]
+fn leaf_faces_are_one_of_two_sections() {
+    // Both the 32- and the 16-bit leaf faces: a section of 4-byte elements renamed.
+    let err = corrupt(|b| {
+        let (at, _) = section_of(b, section::VERTEX_NEIGHBOURS);
+        put(b, at, section::TREE_LEAF_FACES);
+    });
+    assert!(
+        matches!(
+            err,
+            ReadError::ConflictingSections {
+                first: section::TREE_LEAF_FACES,
+                second: section::TREE_LEAF_FACES16
+            }
+        ),
+        "{err}"
+    );
+    // Neither.
+    let err = corrupt(|b| {
+        let (at, _) = section_of(b, section::TREE_LEAF_FACES16);
+        put(b, at, 99u32);
+    });
+    assert!(
+        matches!(
+            err,
+            ReadError::MissingSection {
+                id: section::TREE_LEAF_FACES
+            }
+        ),
+        "{err}"
+    );
+    // Version 1 knew no 16-bit leaf faces: there the section is an unknown one.
+    let err = corrupt(|b| put(b, 16, 1u32));
+    assert!(
+        matches!(
+            err,
+            ReadError::MissingSection {
+                id: section::TREE_LEAF_FACES
+            }
+        ),
+        "{err}"
+    );
+}
+
+/// A strip of `n` cells (2n faces) along x: big enough for 32-bit leaf entries.
+fn strip(n: usize) -> VdgBuilder {
+    common::grid(
+        n,
+        1,
+        4.0,
+        |_, _| 0.0,
+        |x, _| 3.0 + (x * 0.01).sin(),
+        |_, _| true,
+    )
+}
+
+#[test]
+fn leaf_faces_are_16_bit_exactly_when_every_face_index_fits() {
+    let has = |bytes: &[u8], id| entries(bytes).iter().any(|(_, e)| e.id == id);
+    let narrow = strip(32_768).to_bytes().unwrap(); // 65 536 faces
+    assert!(has(&narrow, section::TREE_LEAF_FACES16) && !has(&narrow, section::TREE_LEAF_FACES));
+    let wide = strip(32_769).to_bytes().unwrap(); // 65 538 faces
+    assert!(has(&wide, section::TREE_LEAF_FACES) && !has(&wide, section::TREE_LEAF_FACES16));
+    // Both answer like the faces themselves; face 65 537 is found through the tree.
+    for bytes in [&narrow, &wide] {
+        let file = VdgFile::from_bytes(bytes).unwrap();
+        let g = file.graph();
+        let last = g.face_count() as u32 - 1;
+        let f = g.faces()[last as usize];
+        let c = [0, 1, 2].map(|k| {
+            f.iter()
+                .map(|&v| g.vertices()[v as usize].pos[k])
+                .sum::<f32>()
+                / 3.0
+        });
+        let hit = g.nearest_face(c).unwrap();
+        assert!(g.faces_containing(c).contains(&last));
+        assert!((hit.clearance - g.face_clearance(last, c)).abs() < 1e-4);
+        assert!(g.contains([c[0], c[1], 1.0]) && !g.contains([c[0], c[1], 9.0]));
+    }
+    // A version-1 file (32-bit leaf entries were its only kind) still opens.
+    let mut v1 = wide.clone();
+    put(&mut v1, 16, 1u32);
+    vdgformat::__private::seal(&mut v1);
+    let file = VdgFile::from_bytes(&v1).unwrap();
+    assert_eq!(file.graph().face_count(), 65_538);
 }
 
 #[test]
@@ -452,8 +543,8 @@ fn index_out_of_range() {
         "{err}"
     );
     let err = corrupt(|b| {
-        let at = elem_at(b, section::TREE_LEAF_FACES, 0);
-        put(b, at, 900u32);
+        let at = elem_at(b, section::TREE_LEAF_FACES16, 0);
+        put(b, at, 900u16);
     });
     assert!(
         matches!(

@@ -55,6 +55,9 @@ pub fn summary(g: &Vdg<'_>) -> String {
             mean,
             sorted[sorted.len() - 1]
         );
+        if let Some(line) = min_clearance_line(g, &sorted) {
+            s.push_str(&line);
+        }
         let _ = writeln!(s, "clearance histogram (vertices):");
         s.push_str(&histogram(&sorted));
     }
@@ -68,6 +71,31 @@ pub fn summary(g: &Vdg<'_>) -> String {
         let _ = writeln!(s, "  (none)");
     }
     s
+}
+
+/// What the recorded `-md` (metadata `md`) means for this graph, next to what it holds:
+/// `-md` is the minimum clearance of the *unreduced* graph (vertices with less are
+/// dropped before the reduction); the reduction then lowers the clearances of the
+/// vertices it keeps so the volume never grows (condition A), so a reduced graph may
+/// hold vertices below it. `None` when the graph records no `-md` (not from bsp2vdg).
+fn min_clearance_line(g: &Vdg<'_>, sorted: &[f32]) -> Option<String> {
+    let md: f32 = g.metadata_value("md")?.parse().ok()?;
+    let below = sorted.partition_point(|&c| c < md);
+    let reduced = g
+        .metadata_value("rl")
+        .and_then(|v| v.parse::<f64>().ok())
+        .is_some_and(|rl| rl < 1.0);
+    let why = match (below, reduced) {
+        (0, _) => "none below it".to_string(),
+        (n, true) => format!(
+            "{n} of {} vertices below it: the reduction lowers clearances (condition A)",
+            sorted.len()
+        ),
+        (n, false) => format!("{n} of {} vertices below it", sorted.len()),
+    };
+    Some(format!(
+        "min clearance  -md {md} before the reduction (not a floor of the output); {why}\n"
+    ))
 }
 
 /// A human-readable overview of a map: its game and format, what it holds, bounds.
@@ -179,5 +207,30 @@ mod tests {
             })
             .sum();
         assert_eq!(total, 4, "{s}");
+        // No `md` recorded (not from bsp2vdg): no claim about it.
+        assert!(!s.contains("-md"), "{s}");
+    }
+
+    /// The `-md` line counts the vertices below the recorded value and says why a
+    /// reduced graph may hold them.
+    #[test]
+    fn min_clearance_line_counts_vertices_below_md() {
+        let graph = |rl: &str| {
+            let mut b = VdgBuilder::new();
+            let v: Vec<u32> = [(0.0, 0.0, 0.0), (100.0, 0.0, 12.5), (0.0, 100.0, 30.0)]
+                .iter()
+                .map(|&(x, y, c)| b.add_vertex([x, y, 0.0], c))
+                .collect();
+            b.add_face([v[0], v[1], v[2]]);
+            b.set_metadata("md", "20").set_metadata("rl", rl);
+            VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap()
+        };
+        let s = summary(&graph("0.025").graph());
+        assert!(
+            s.contains("min clearance  -md 20 before the reduction (not a floor of the output); 2 of 3 vertices below it: the reduction lowers clearances"),
+            "{s}"
+        );
+        let s = summary(&graph("1").graph());
+        assert!(s.contains("; 2 of 3 vertices below it\n"), "{s}");
     }
 }

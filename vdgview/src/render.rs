@@ -41,11 +41,11 @@ impl Mode {
     }
 }
 
-/// Why mode 2 cannot be drawn: version 1 `.vdg` files carry no per-face or
+/// Why mode 2 cannot be drawn: `.vdg` files (versions 1 and 2) carry no per-face or
 /// per-vertex reduction cost (the reduction removes vertices but does not store
 /// what each removal cost).
 pub const NO_REDUCTION_COST: &str = "render mode 2 (reduction cost) is not available: \
-     this .vdg carries no reduction cost (format version 1 stores none)";
+     this .vdg carries no reduction cost (the .vdg format stores none)";
 
 /// Appearance options.
 #[derive(Debug, Clone, Copy)]

@@ -25,6 +25,9 @@ pub(crate) struct Keep {
     /// Per face id, whether it holds points: every costing asks this of the faces an
     /// edit removes or lowers, and a byte per face stays in the cache.
     holding: Vec<bool>,
+    /// Per point, the clearance it must keep (0: inside is enough). Deep points
+    /// ([`Keep::deep`]) keep a ball around them inside the volume.
+    want: Vec<f64>,
 }
 
 fn face_balls(mesh: &Mesh, f: u32) -> [(P3, f64); 3] {
@@ -50,10 +53,10 @@ fn clearance_bound(balls: &[(P3, f64); 3], p: P3) -> f64 {
     balls[0].1.max(balls[1].1).max(balls[2].1) - d2.sqrt()
 }
 
-/// Whether the volume of the face with these balls contains `p`.
+/// Whether the face with these balls gives `p` a clearance above `need`.
 #[inline]
-fn inside(balls: [(P3, f64); 3], p: P3) -> bool {
-    clearance_bound(&balls, p) > 0.0 && vdgformat::triangle_clearance(balls, p) > 0.0
+fn inside_by(balls: [(P3, f64); 3], p: P3, need: f64) -> bool {
+    clearance_bound(&balls, p) > need && vdgformat::triangle_clearance(balls, p) > need
 }
 
 /// A bounding volume hierarchy over the live faces, for the one-off search of each
@@ -164,10 +167,10 @@ impl Bvh {
         Self::build(mesh, centre, faces, mid, b, child + 1, nodes);
     }
 
-    /// A face whose volume holds `p` at least [`DEEP_ENOUGH`] deep, else the one
-    /// that holds it deepest (ties: the smaller id), with that clearance; `None`
-    /// outside the volume.
-    fn deep_face(&self, mesh: &Mesh, p: P3) -> Option<(u32, f64)> {
+    /// A face whose volume holds `p` at least `enough` deep, else the one that
+    /// holds it deepest (ties: the smaller id), with that clearance; `None` outside
+    /// the volume.
+    fn deep_face(&self, mesh: &Mesh, p: P3, enough: f64) -> Option<(u32, f64)> {
         let bound = |n: &Node| {
             let d2: f64 = (0..3)
                 .map(|i| (n.lo[i] - p[i]).max(p[i] - n.hi[i]).max(0.0).powi(2))
@@ -195,7 +198,7 @@ impl Bvh {
                         best = Some((c, f));
                     }
                 }
-                if best.is_some_and(|x| x.0 >= DEEP_ENOUGH) {
+                if best.is_some_and(|x| x.0 >= enough) {
                     break;
                 }
                 continue;
@@ -219,22 +222,66 @@ impl Bvh {
 /// there: deep enough that the first lowerings around it need no evaluation.
 const DEEP_ENOUGH: f64 = 8.0;
 
+/// A deep point keeps its ball this much smaller than the volume held it when it
+/// became kept, so that the face holding it then passes the strict test.
+const DEEP_EPSILON: f64 = 1e-3;
+
+/// Deep points that would keep a ball smaller than this are not kept: they cover
+/// next to nothing.
+const DEEP_MIN: f64 = 1.0;
+
 impl Keep {
     /// The points of `points` inside the mesh's volume, each held by a face whose
     /// volume holds it (see [`Bvh::deep_face`]).
     pub fn new(mesh: &Mesh, points: &[P3]) -> Keep {
+        Self::build(mesh, points, |_| DEEP_ENOUGH, |_, _| Some(0.0))
+    }
+
+    /// Deep points: each point `points[i]` keeps a ball of radius `reach[i]`
+    /// inside the volume, or the ball the mesh's volume holds around it now if
+    /// that is smaller (less [`DEEP_EPSILON`]); points that keep less than
+    /// [`DEEP_MIN`] are left out. The reduction's second phase keeps the balls of
+    /// the unreduced vertices shrunk by the coverage clearance (module `seam`).
+    pub fn deep(mesh: &Mesh, points: &[P3], reach: &[f64]) -> Keep {
+        debug_assert_eq!(points.len(), reach.len());
+        Self::build(
+            mesh,
+            points,
+            |i| reach[i],
+            |i, c| {
+                let want = reach[i].min(c) - DEEP_EPSILON;
+                (want >= DEEP_MIN).then_some(want)
+            },
+        )
+    }
+
+    /// The points whose home search (stopping at `enough(i)` deep) finds a face
+    /// and `want(i, depth)` a clearance to keep.
+    fn build(
+        mesh: &Mesh,
+        points: &[P3],
+        enough: impl Fn(usize) -> f64 + Sync,
+        want: impl Fn(usize, f64) -> Option<f64>,
+    ) -> Keep {
         use rayon::prelude::*;
         let bvh = Bvh::new(mesh);
-        let homes: Vec<Option<(u32, f64)>> =
-            points.par_iter().map(|&p| bvh.deep_face(mesh, p)).collect();
+        let homes: Vec<Option<(u32, f64)>> = points
+            .par_iter()
+            .enumerate()
+            .map(|(i, &p)| bvh.deep_face(mesh, p, enough(i)))
+            .collect();
         let mut held = vec![SmallVec::new(); mesh.faces.len()];
         let mut kept = Vec::new();
         let mut depth = Vec::new();
-        for (&p, home) in points.iter().zip(homes) {
-            if let Some((f, c)) = home {
+        let mut wants = Vec::new();
+        for (i, (&p, home)) in points.iter().zip(homes).enumerate() {
+            if let Some((f, c)) = home
+                && let Some(w) = want(i, c)
+            {
                 held[f as usize].push(kept.len() as u32);
                 kept.push(p);
                 depth.push(c);
+                wants.push(w);
             }
         }
         let holding = held.iter().map(|h| !h.is_empty()).collect();
@@ -243,6 +290,7 @@ impl Keep {
             depth,
             held,
             holding,
+            want: wants,
         }
     }
 
@@ -267,8 +315,13 @@ impl Keep {
             .filter(move |&f| self.holding[f as usize])
     }
 
-    /// Whether every point the edit puts at risk is still inside a face around it.
-    pub fn holds(&self, e: &Edit) -> bool {
+    /// Whether every point the edit puts at risk is still inside a face around it
+    /// (`margin` 0), or keeps a clearance of at least `margin` (or of what it had,
+    /// if less) in a face around the edit. The
+    /// second phase of the reduction asks this (module `seam`): its operations may
+    /// thin the volume between the kept points, and a point kept deep inside keeps
+    /// the standing places around it inside too.
+    pub fn holds_by(&self, e: &Edit, margin: f64) -> bool {
         let ch = e.changes();
         // Most edits put no kept point at risk: the touched vertices only when needed.
         let mut touched = None;
@@ -281,16 +334,26 @@ impl Keep {
             };
             self.held[f as usize].iter().all(|&i| {
                 let p = self.points[i as usize];
-                self.depth[i as usize] - drop > 0.0
-                    || (!removed && inside(e.balls(f), p))
+                let want = self.want[i as usize];
+                if self.depth[i as usize] - drop > margin.max(want) {
+                    return true;
+                }
+                let need = if want > 0.0 {
+                    want
+                } else if margin > 0.0 {
+                    margin.min(face_clearance(e.base, f, p))
+                } else {
+                    0.0
+                };
+                (!removed && inside_by(e.balls(f), p, need))
                     // The edit's new faces first: they cover what the removed ones did.
                     || (0..ch.new_faces.len() as u32)
                         .map(|k| ch.base + k)
-                        .any(|g| !ch.removed.contains(&g) && inside(e.balls(g), p))
+                        .any(|g| !ch.removed.contains(&g) && inside_by(e.balls(g), p, need))
                     || touched
                         .get_or_insert_with(|| ch.touched())
                         .iter()
-                        .any(|&v| e.faces_of(v).iter().any(|&g| inside(e.balls(g), p)))
+                        .any(|&v| e.faces_of(v).iter().any(|&g| inside_by(e.balls(g), p, need)))
             })
         })
     }
@@ -337,29 +400,34 @@ impl Keep {
             self.holding[f as usize] = false;
             for i in points {
                 let p = self.points[i as usize];
+                let want = self.want[i as usize];
                 let d = self.depth[i as usize] - drop;
-                let stays = if d > 0.0 {
+                let stays = if d > want {
                     Some(d)
                 } else if mesh.alive[f as usize] {
-                    Some(face_clearance(mesh, f, p)).filter(|&c| c > 0.0)
+                    Some(face_clearance(mesh, f, p)).filter(|&c| c > want)
                 } else {
                     None
                 };
                 let home = if let Some(c) = stays {
                     Some((f, c))
                 } else {
-                    deepest_of(mesh, &new, p).or_else(|| {
-                        let around = around.get_or_insert_with(|| {
-                            let mut faces: Vec<u32> = touched
-                                .iter()
-                                .flat_map(|&v| mesh.vfaces[v as usize].iter().copied())
-                                .collect();
-                            faces.sort_unstable();
-                            faces.dedup();
-                            faces
-                        });
-                        deepest_of(mesh, around, p)
-                    })
+                    // A new face holding the point less deep than it must stay
+                    // would not be asked when the deeper face around goes.
+                    deepest_of(mesh, &new, p)
+                        .filter(|x| x.1 > want)
+                        .or_else(|| {
+                            let around = around.get_or_insert_with(|| {
+                                let mut faces: Vec<u32> = touched
+                                    .iter()
+                                    .flat_map(|&v| mesh.vfaces[v as usize].iter().copied())
+                                    .collect();
+                                faces.sort_unstable();
+                                faces.dedup();
+                                faces
+                            });
+                            deepest_of(mesh, around, p)
+                        })
                 };
                 debug_assert!(home.is_some(), "kept point {p:?} lost its face");
                 if let Some((g, c)) = home {

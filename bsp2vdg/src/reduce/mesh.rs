@@ -34,6 +34,9 @@ pub(crate) struct Mesh {
     pub volume: Vec<f64>,
     /// The shape of each face (see [`Shape`]).
     pub shape: Vec<Shape>,
+    /// Whether the seam operations (module `seam`) may be used: the
+    /// reduction's second phase, after the thesis' cases alone stopped.
+    pub seam_ops: bool,
 }
 
 impl Mesh {
@@ -76,6 +79,7 @@ impl Mesh {
             shape: Vec::with_capacity(faces.len()),
             faces,
             vfaces,
+            seam_ops: false,
         };
         mesh.shape = mesh
             .faces
@@ -231,10 +235,14 @@ pub(crate) enum Op {
     ThreeFacesExisting = 3,
     /// 4.6.1 two faces at a concave corner replaced by one.
     TwoFacesConcave = 4,
+    /// A seam vertex contracted out of its seam (module `seam`).
+    SeamContract = 5,
+    /// A seam or border vertex collapsed into a neighbour along its edge.
+    SeamCollapse = 6,
 }
 
 impl Op {
-    pub const COUNT: usize = 5;
+    pub const COUNT: usize = 7;
 }
 
 /// An operation in progress over a [`Mesh`]: reads see the edit's changes,

@@ -39,6 +39,14 @@
 //! removable vertices all vertices are costed once more (a change two
 //! rings away can make a vertex removable without re-queuing it).
 //!
+//! Not in the thesis: a second phase for the vertices the thesis' cases
+//! cannot remove (seam and border vertices, 2–9 % of the graph on the
+//! shared maps): when the loop stops with nothing removable above the
+//! limit, it goes on with two more operations that keep A–C, the seam
+//! contraction and the collapse along an edge (module `seam`, which gives
+//! their design and proofs). A map the thesis' cases reduce to the limit
+//! gets the same graph as without them.
+//!
 //! Not in the thesis: after the loop the clearances the operations lowered
 //! are raised again as far as condition A against the unreduced volume
 //! allows (the `raise` module; the per-operation proofs lower more than
@@ -51,6 +59,7 @@ mod mesh;
 mod queue;
 mod raise;
 mod remove;
+mod seam;
 mod swap;
 mod volume;
 
@@ -119,6 +128,17 @@ pub struct ReduceStats {
     pub three_faces: usize,
     pub three_faces_existing: usize,
     pub two_faces_concave: usize,
+    /// Seam vertices contracted out of their seam, and vertices collapsed
+    /// into a neighbour along an edge (module `seam`).
+    pub seam_contractions: usize,
+    pub seam_collapses: usize,
+    /// Vertices left when the thesis' cases alone stopped and the second
+    /// phase with the seam operations began (`None`: the limit came first).
+    pub seam_phase_at: Option<usize>,
+    /// Seconds the second phase took (part of the reduction's time).
+    pub seam_phase_seconds: f64,
+    /// Deep points the second phase keeps (see `seam::DEEP_CLEARANCE`).
+    pub seam_deep_points: usize,
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
     /// Vertices whose clearance was raised back after the reduction (see
@@ -238,6 +258,8 @@ pub fn reduce_keeping(
     stats.three_faces = ops[Op::ThreeFaces as usize] as usize;
     stats.three_faces_existing = ops[Op::ThreeFacesExisting as usize] as usize;
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
+    stats.seam_contractions = ops[Op::SeamContract as usize] as usize;
+    stats.seam_collapses = ops[Op::SeamCollapse as usize] as usize;
     if stats.stop == StopReason::NothingRemovable {
         stats.refusals = histogram(&mesh);
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
@@ -247,6 +269,24 @@ pub fn reduce_keeping(
             );
             for (name, n) in &stats.refusals {
                 eprintln!("  {name:<30} {n}");
+            }
+            let mut classes = std::collections::BTreeMap::<String, usize>::new();
+            for v in 0..mesh.pos.len() as u32 {
+                if mesh.vfaces[v as usize].is_empty() {
+                    continue;
+                }
+                let e = Edit::new(&mesh);
+                let why = remove::remove_vertex_why(&mut Edit::new(&mesh), v)
+                    .err()
+                    .map_or("removable", |r| r.as_str());
+                *classes
+                    .entry(format!("{} {}", seam::describe(&e, v), why))
+                    .or_default() += 1;
+            }
+            let mut classes: Vec<_> = classes.into_iter().collect();
+            classes.sort_by_key(|c| std::cmp::Reverse(c.1));
+            for (name, n) in classes.iter().take(40) {
+                eprintln!("  {name:<50} {n}");
             }
         }
     }
@@ -288,7 +328,7 @@ fn run(
     let mut queue = CostQueue::new(mesh.pos.len());
     let initial: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
         .into_par_iter()
-        .map(|v| cost_of(&mesh, kept.as_ref(), v))
+        .map(|v| cost_of(&mesh, kept.as_ref(), None, v))
         .collect();
     for (v, c) in initial.into_iter().enumerate() {
         queue.set(v as u32, c);
@@ -309,6 +349,9 @@ fn run(
     let mut saved: Vec<Option<Box<Costed>>> = Vec::new();
     saved.resize_with(mesh.pos.len(), || None);
     let mut removals_at_sweep = usize::MAX;
+    let mut seam_start: Option<Instant> = None;
+    // The second phase's deep points (see `deep_points`).
+    let mut deep: Option<Keep> = None;
     let mut claims = Claims::new(mesh.pos.len());
     // The batches: the cheapest vertices whose removals cannot interact
     // (see `Claims`), costed in parallel against the same mesh and committed
@@ -329,13 +372,24 @@ fn run(
             // re-queued, but a change two rings away can make a refused
             // vertex removable: before giving up, cost every vertex again.
             if stats.removals == removals_at_sweep {
+                if !mesh.seam_ops {
+                    // Second phase: the thesis' cases are exhausted; the
+                    // seam operations may take the vertices left.
+                    mesh.seam_ops = true;
+                    deep = Some(deep_points(graph, &mesh));
+                    stats.seam_deep_points = deep.as_ref().map_or(0, Keep::len);
+                    stats.seam_phase_at = Some(live);
+                    seam_start = Some(Instant::now());
+                    removals_at_sweep = usize::MAX;
+                    continue;
+                }
                 stats.stop = StopReason::NothingRemovable;
                 break;
             }
             removals_at_sweep = stats.removals;
             let costs: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
                 .into_par_iter()
-                .map(|v| cost_of(&mesh, kept.as_ref(), v))
+                .map(|v| cost_of(&mesh, kept.as_ref(), deep.as_ref(), v))
                 .collect();
             for (v, c) in costs.into_iter().enumerate() {
                 if c.is_some() {
@@ -364,7 +418,7 @@ fn run(
                     .zip(&results)
                     .map(|(&(v, _), r)| match r {
                         Some(_) => None,
-                        None => costed(&mesh, kept.as_ref(), v, batch_epoch),
+                        None => costed(&mesh, kept.as_ref(), deep.as_ref(), v, batch_epoch),
                     })
                     .collect::<Vec<Option<Box<Costed>>>>()
             },
@@ -427,10 +481,17 @@ fn run(
                 .as_ref()
                 .map(|k| k.before_apply(&ch, &mesh))
                 .unwrap_or_default();
+            let deep_at_risk = deep
+                .as_ref()
+                .map(|k| k.before_apply(&ch, &mesh))
+                .unwrap_or_default();
             let first_new = mesh.faces.len() as u32;
             mesh.apply(ch);
             if let Some(k) = kept.as_mut() {
                 k.rehome(&mesh, &at_risk, first_new, &touched);
+            }
+            if let Some(k) = deep.as_mut() {
+                k.rehome(&mesh, &deep_at_risk, first_new, &touched);
             }
             let after: usize = touched
                 .iter()
@@ -463,6 +524,7 @@ fn run(
         }
     }
     progress.finish();
+    stats.seam_phase_seconds = seam_start.map_or(0.0, |t| t.elapsed().as_secs_f64());
     stats.seconds_rest =
         start.elapsed().as_secs_f64() - stats.seconds_initial - stats.seconds_batches;
     (mesh, stats, ops)
@@ -512,7 +574,9 @@ fn in_hilbert_order(graph: &Graph) -> Graph {
 /// assert_eq!(refusals(&g), vec![("isolated_face", 3)]);
 /// ```
 pub fn refusals(graph: &Graph) -> Vec<(&'static str, usize)> {
-    histogram(&Mesh::new(graph))
+    let mut mesh = Mesh::new(graph);
+    mesh.seam_ops = true;
+    histogram(&mesh)
 }
 
 fn histogram(mesh: &Mesh) -> Vec<(&'static str, usize)> {
@@ -617,13 +681,70 @@ impl Claims {
 
 /// Cost of removing `v` from the mesh as it is, `None` if impossible (or if
 /// it would leave a kept point outside the volume).
-fn cost_of(mesh: &Mesh, keep: Option<&Keep>, v: u32) -> Option<f64> {
+fn cost_of(mesh: &Mesh, keep: Option<&Keep>, deep: Option<&Keep>, v: u32) -> Option<f64> {
+    removal(mesh, keep, deep, v).map(|x| x.0)
+}
+
+/// The deep points of the second phase: every vertex of the unreduced graph
+/// whose ball reaches deeper than [`seam::DEEP_CLEARANCE`], keeping its ball
+/// shrunk by that clearance (or what the volume holds of it when the phase
+/// begins) inside the volume. The points of clearance ≥ `DEEP_CLEARANCE` (the
+/// coverage `vdgview check` measures) are about the union of those shrunk
+/// balls (the free space is the union of its medial balls), so the second
+/// phase loses next to no coverage: where coverage and ratio conflict,
+/// coverage wins.
+fn deep_points(graph: &Graph, mesh: &Mesh) -> Keep {
+    let (points, reach): (Vec<[f64; 3]>, Vec<f64>) = graph
+        .vertices
+        .iter()
+        .zip(&graph.clearance)
+        .filter(|&(_, &r)| r > seam::DEEP_CLEARANCE)
+        .map(|(&p, &r)| (p, r - seam::DEEP_CLEARANCE))
+        .unzip();
+    Keep::deep(mesh, &points, &reach)
+}
+
+/// The removal of `v`: the thesis' (module `remove`, with the seam
+/// operations as its fallback) if it keeps the kept points inside the
+/// volume, else the cheapest collapse of `v` along one of its edges that
+/// does (module `seam`): where keeping the points and reducing conflict,
+/// an operation that takes less volume near them may still be allowed.
+fn removal<'m>(
+    mesh: &'m Mesh,
+    keep: Option<&Keep>,
+    deep: Option<&Keep>,
+    v: u32,
+) -> Option<(f64, Edit<'m>)> {
     if mesh.vfaces[v as usize].is_empty() {
         return None;
     }
     let mut e = Edit::new(mesh);
     let cost = remove::remove_vertex(&mut e, v)?;
-    keep.is_none_or(|k| k.holds(&e)).then_some(cost)
+    let margin = if mesh.seam_ops {
+        seam::KEEP_MARGIN
+    } else {
+        0.0
+    };
+    let holds = |e: &Edit| {
+        keep.is_none_or(|k| k.holds_by(e, margin)) && deep.is_none_or(|d| d.holds_by(e, 0.0))
+    };
+    if holds(&e) {
+        return Some((cost, e));
+    }
+    if !mesh.seam_ops {
+        return None;
+    }
+    let mut best: Option<(f64, Edit<'m>)> = None;
+    for s in Edit::new(mesh).neighbours(v) {
+        let mut t = Edit::new(mesh);
+        if let Ok(c) = seam::collapse(&mut t, v, s)
+            && best.as_ref().is_none_or(|b| c < b.0)
+            && holds(&t)
+        {
+            best = Some((c, t));
+        }
+    }
+    best
 }
 
 /// A removal costed on an overlay of the mesh as it was after removal
@@ -635,12 +756,14 @@ struct Costed {
 }
 
 /// Removes `v` on an overlay of the mesh: its cost and changes.
-fn costed(mesh: &Mesh, keep: Option<&Keep>, v: u32, epoch: u32) -> Option<Box<Costed>> {
-    let mut e = Edit::new(mesh);
-    let cost = remove::remove_vertex(&mut e, v)?;
-    if keep.is_some_and(|k| !k.holds(&e)) {
-        return None;
-    }
+fn costed(
+    mesh: &Mesh,
+    keep: Option<&Keep>,
+    deep: Option<&Keep>,
+    v: u32,
+    epoch: u32,
+) -> Option<Box<Costed>> {
+    let (cost, e) = removal(mesh, keep, deep, v)?;
     Some(Box::new(Costed {
         epoch,
         cost,

@@ -5,6 +5,7 @@
 //! discarded).
 
 use super::mesh::{Edit, Op};
+use super::seam;
 use super::swap::{self, MARGIN, third};
 use super::volume::{
     add, closest_on_triangle, dist, loss, optimal_linear_reduction, optimal_planar_reduction,
@@ -54,10 +55,21 @@ pub(crate) enum Refusal {
     TwoFacesBound,
     /// 4.6.1 with t_p ∈ ]0,1[: the swap is refused, or the one face left is.
     TwoFacesSwap,
+    /// Seam vertex (module `seam`): the edge between its seam neighbours exists.
+    SeamEdgeExists,
+    /// Seam vertex: a fan cannot be swapped down to two faces.
+    SeamSwap,
+    /// Seam vertex: no radius reduction of the seam neighbours meets the bound.
+    SeamBound,
+    /// Collapse along a seam or border edge: the link condition fails for
+    /// every such edge.
+    CollapseLink,
+    /// Collapse: the radius at the target would have to drop to zero.
+    CollapseBound,
 }
 
 impl Refusal {
-    pub const COUNT: usize = 19;
+    pub const COUNT: usize = 24;
     pub const ALL: [Refusal; Refusal::COUNT] = [
         Refusal::Dead,
         Refusal::DegreeWait,
@@ -78,6 +90,11 @@ impl Refusal {
         Refusal::TwoFacesMissBall,
         Refusal::TwoFacesBound,
         Refusal::TwoFacesSwap,
+        Refusal::SeamEdgeExists,
+        Refusal::SeamSwap,
+        Refusal::SeamBound,
+        Refusal::CollapseLink,
+        Refusal::CollapseBound,
     ];
 
     /// Short snake-case name.
@@ -102,6 +119,11 @@ impl Refusal {
             Refusal::TwoFacesMissBall => "two_faces_miss_ball",
             Refusal::TwoFacesBound => "two_faces_bound",
             Refusal::TwoFacesSwap => "two_faces_swap",
+            Refusal::SeamEdgeExists => "seam_edge_exists",
+            Refusal::SeamSwap => "seam_swap",
+            Refusal::SeamBound => "seam_bound",
+            Refusal::CollapseLink => "collapse_link",
+            Refusal::CollapseBound => "collapse_bound",
         }
     }
 }
@@ -110,8 +132,29 @@ pub(crate) fn remove_vertex(e: &mut Edit, k: u32) -> Option<f64> {
     remove_vertex_why(e, k).ok()
 }
 
-/// [`remove_vertex`] naming the first condition that refused.
+/// [`remove_vertex`] naming the first condition that refused. `e` must
+/// hold no changes yet. When the thesis' cases (and the seam contraction)
+/// refuse, the vertex is collapsed into a neighbour along one of its
+/// edges if that is possible (module `seam`; second phase only).
 pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
+    debug_assert!(e.changes().new_faces.is_empty() && e.changes().removed.is_empty());
+    if !e.base.seam_ops {
+        return thesis_remove(e, k);
+    }
+    let mut t = Edit::new(e.base);
+    match thesis_remove(&mut t, k) {
+        Ok(c) => {
+            *e = t;
+            Ok(c)
+        }
+        Err(r @ (Refusal::Dead | Refusal::DegreeWait | Refusal::IsolatedFace)) => Err(r),
+        Err(r) => seam::collapse_cheapest(e, k).map_err(|_| r),
+    }
+}
+
+/// The thesis' removal (swaps, then 4.4/4.6), with the seam contraction for
+/// seam vertices in the second phase.
+fn thesis_remove(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
     let mut cost = 0.0;
     if e.faces_of(k).is_empty() {
         return Err(Refusal::Dead);
@@ -122,6 +165,12 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
     let mut nb = e.neighbours(k);
     if nb.len() > MAX_DEGREE {
         return Err(Refusal::DegreeWait);
+    }
+    if nb.len() > 3
+        && e.base.seam_ops
+        && let Some(s) = seam::classify(e, k)
+    {
+        return seam::remove(e, k, s);
     }
     if nb.len() > 3 {
         let mut candidates = swap::Candidates::new(e, k, &nb);

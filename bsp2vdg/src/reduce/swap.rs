@@ -329,6 +329,11 @@ impl Candidates {
         }
     }
 
+    /// Never proposes swapping the edge `k–nb`.
+    pub fn exclude(&mut self, nb: u32) {
+        self.plans.retain(|x| x.nb != nb);
+    }
+
     /// Updates the plans after `done` was applied to `e`. Only the faces
     /// of `k`, `k2`, `k3`, `k4` changed and only the clearances of `k3`,
     /// `k4` (those in `lowered`). A plan for the edge `k–n` reads the faces

@@ -696,7 +696,7 @@ impl Camera {
             let leaf = g
                 .leaf_faces_at(t)
                 .iter()
-                .map(|&f| (f, g.fc_above(f, t, 0.0)))
+                .map(|f| (f, g.fc_above(f, t, 0.0)))
                 .fold((f, c), |a, b| if b.1 > a.1 { b } else { a });
             if leaf.1 > 0.0 {
                 return (leaf.0, true, false);

@@ -15,9 +15,9 @@ pub use visible::{Advance, CoverBudget, CoverHint};
 
 use std::collections::BinaryHeap;
 
-use crate::geom::{Aabb, Ball, V3, face_clearance};
+use crate::geom::{Aabb, Ball, FaceEval, V3};
 use crate::layout::{Info, TreeNode, Vertex};
-use crate::read::Vdg;
+use crate::read::{LeafList, Vdg};
 
 /// Best-first search entry, ordered by `key` (largest first).
 struct Candidate {
@@ -123,8 +123,16 @@ impl<'a> Vdg<'a> {
     /// Clearance of `p` for face `f`, in f64.
     #[inline]
     pub(crate) fn fc(&self, f: u32, p: V3) -> f64 {
+        self.face_eval(f).eval(p)
+    }
+
+    /// Face `f`'s clearance function with its invariants worked out once:
+    /// for several evaluations of one face (an exit search), or the exit
+    /// of a line in closed form.
+    #[inline]
+    pub(crate) fn face_eval(&self, f: u32) -> FaceEval {
         let [a, b, c] = self.faces[f as usize];
-        face_clearance(self.ball(a), self.ball(b), self.ball(c), p)
+        FaceEval::new(self.ball(a), self.ball(b), self.ball(c))
     }
 
     /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
@@ -134,51 +142,57 @@ impl<'a> Vdg<'a> {
     /// evaluation that culls most candidates of a leaf.
     #[inline]
     pub(crate) fn fc_above(&self, f: u32, p: V3, floor: f64) -> f64 {
-        let [a, b, c] = self.faces[f as usize];
-        let (a, b, c) = (
-            self.vertices[a as usize],
-            self.vertices[b as usize],
-            self.vertices[c as usize],
-        );
+        match self.box_bound(f, p, floor) {
+            Some(bound) => bound,
+            None => self.fc(f, p),
+        }
+    }
+
+    /// Minus the distance of `p` to the box of face `f`'s vertex balls when
+    /// that proves the clearance at `p` is at most `floor` (then `p` lies
+    /// outside the box); `None` when the exact value is needed.
+    #[inline]
+    pub(crate) fn box_bound(&self, f: u32, p: V3, floor: f64) -> Option<f64> {
+        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize]);
         let mut d2 = 0.0;
-        for (i, qi) in [p.0, p.1, p.2].into_iter().enumerate() {
-            let lo = (a.pos[i] - a.clearance)
-                .min(b.pos[i] - b.clearance)
-                .min(c.pos[i] - c.clearance);
-            let hi = (a.pos[i] + a.clearance)
-                .max(b.pos[i] + b.clearance)
-                .max(c.pos[i] + c.clearance);
-            // f32 rounding of the bounds: widen by a relative epsilon so
-            // the box test never culls a face it should not.
-            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
-            let e = (f64::from(lo) - slack - qi).max(qi - f64::from(hi) - slack);
+        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
+            let (lo, hi) = ball_box_axis(&corners, i);
+            let e = if lo - q > q - hi { lo - q } else { q - hi };
             if e > 0.0 {
                 d2 += e * e;
             }
         }
         let bound = -d2.sqrt();
-        if bound <= floor && d2 > 0.0 {
-            return bound;
-        }
-        self.fc(f, p)
+        (bound <= floor && d2 > 0.0).then_some(bound)
     }
 
     /// Whether `p` lies in the box of face `f`'s three vertex balls (widened
-    /// for the f32 data), which holds the face's volume: `false` proves
-    /// `p` is outside the volume, without a square root.
+    /// for rounding), which holds the face's volume: `false` proves `p` is
+    /// outside the volume, without a square root and usually after one axis.
     #[inline]
+    ///
+    /// The widening is a millionth relative to the point's coordinate
+    /// (not the box's, as in [`Self::box_bound`]): cheaper, and still far
+    /// above the rounding of an evaluation, so a face it rules out has a
+    /// clearance below any margin the callers ask for.
     pub(crate) fn box_holds(&self, f: u32, p: V3) -> bool {
         let [a, b, c] = self.faces[f as usize].map(|v| self.vertices[v as usize]);
-        [p.0, p.1, p.2].into_iter().enumerate().all(|(i, q)| {
-            let lo = (a.pos[i] - a.clearance)
-                .min(b.pos[i] - b.clearance)
-                .min(c.pos[i] - c.clearance);
-            let hi = (a.pos[i] + a.clearance)
-                .max(b.pos[i] + b.clearance)
-                .max(c.pos[i] + c.clearance);
-            let slack = 1e-6 * (1.0 + f64::from(lo.abs().max(hi.abs())));
-            q >= f64::from(lo) - slack && q <= f64::from(hi) + slack
-        })
+        let r = [a.clearance, b.clearance, c.clearance].map(f64::from);
+        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
+            let c = [a.pos[i], b.pos[i], c.pos[i]].map(f64::from);
+            let (l0, l1, l2) = (c[0] - r[0], c[1] - r[1], c[2] - r[2]);
+            let (h0, h1, h2) = (c[0] + r[0], c[1] + r[1], c[2] + r[2]);
+            let lo = if l0 < l1 { l0 } else { l1 };
+            let lo = if l2 < lo { l2 } else { lo };
+            let hi = if h0 > h1 { h0 } else { h1 };
+            let hi = if h2 > hi { h2 } else { hi };
+            let slack = 1e-6 * (1.0 + q.abs());
+            // Written so that a NaN anywhere answers false.
+            if !(q >= lo - slack && q <= hi + slack) {
+                return false;
+            }
+        }
+        true
     }
 
     /// Calls `visit` for `f` and every face sharing a vertex with it
@@ -205,17 +219,17 @@ impl<'a> Vdg<'a> {
 
     /// Faces of the tree leaf whose cell contains `p` — a superset of the
     /// faces whose volume contains `p`. Empty outside the root cell.
-    pub(crate) fn leaf_faces_at(&self, p: V3) -> &'a [u32] {
+    pub(crate) fn leaf_faces_at(&self, p: V3) -> LeafList<'a> {
         let c = [p.0, p.1, p.2];
         let root = self.root_cell();
         if (0..3).any(|i| c[i] < f64::from(root.min[i]) || c[i] > f64::from(root.max[i])) {
-            return &[];
+            return self.leaf_faces.range(0, 0);
         }
         let mut n = 0usize;
         loop {
             let node = self.nodes[n];
             if node.kind == TreeNode::LEAF {
-                return &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize];
+                return self.leaf_faces.range(node.a, node.b);
             }
             n = if c[node.kind as usize] < f64::from(node.split) {
                 node.a as usize
@@ -224,6 +238,24 @@ impl<'a> Vdg<'a> {
             };
         }
     }
+}
+
+/// The extent along axis `i` of three vertex balls, in f64 (exact for the
+/// f32 data up to one rounding) and widened by a relative millionth, so a
+/// box test never culls a face it should not. Plain comparisons instead of
+/// `f64::min`, whose NaN rules cost more than the test itself: a NaN makes
+/// the bounds NaN and every containment test false.
+#[inline]
+fn ball_box_axis(corners: &[Vertex; 3], i: usize) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in corners {
+        let (c, r) = (f64::from(v.pos[i]), f64::from(v.clearance));
+        let (l, h) = (c - r, c + r);
+        lo = if l < lo { l } else { lo };
+        hi = if h > hi { h } else { hi };
+    }
+    let slack = 1e-6 * (1.0 + if -lo > hi { -lo } else { hi }.abs());
+    (lo - slack, hi + slack)
 }
 
 /// Clearance queries (thesis 3.7) and face lookup.
@@ -280,7 +312,7 @@ impl<'a> Vdg<'a> {
         // Faces with clearance ≤ floor may come back as bounds, so only
         // values above the floor are taken (those are exact).
         let mut best = (u32::MAX, f64::NEG_INFINITY);
-        for &f in self.leaf_faces_at(p) {
+        for f in self.leaf_faces_at(p).iter() {
             let floor = best.1.max(0.0);
             let c = self.fc_above(f, p, floor);
             if c > floor {
@@ -318,7 +350,7 @@ impl<'a> Vdg<'a> {
             let cell = cells[ci as usize];
             let node = self.nodes[n as usize];
             if node.kind == TreeNode::LEAF {
-                for &f in &self.leaf_faces[node.a as usize..node.a as usize + node.b as usize] {
+                for f in self.leaf_faces.range(node.a, node.b).iter() {
                     let c = self.fc_above(f, p, best.1);
                     if c > best.1 {
                         best = (f, c);
@@ -414,7 +446,9 @@ impl<'a> Vdg<'a> {
         for _ in 0..rounds {
             let mut best = cur;
             self.for_face_and_neighbours(cur.0, |f| {
-                let c = self.fc(f, q);
+                // Exact whenever it can beat the best, so the same answer as
+                // evaluating every face, with most neighbours culled by box.
+                let c = self.fc_above(f, q, best.1);
                 if c > best.1 {
                     best = (f, c);
                 }
@@ -445,7 +479,7 @@ impl<'a> Vdg<'a> {
         let q = V3::from_f32(p);
         self.leaf_faces_at(q)
             .iter()
-            .any(|&f| self.fc_above(f, q, 0.0) > 0.0)
+            .any(|f| self.fc_above(f, q, 0.0) > 0.0)
     }
 
     /// Every face whose volume contains `p` (clearance > 0), ascending.
@@ -454,7 +488,6 @@ impl<'a> Vdg<'a> {
         let mut out: Vec<u32> = self
             .leaf_faces_at(q)
             .iter()
-            .copied()
             .filter(|&f| self.fc_above(f, q, 0.0) > 0.0)
             .collect();
         out.sort_unstable();

@@ -9,7 +9,7 @@
 //! ends, so a `true` answer means the whole segment lies in Volume(VDG) —
 //! never through a wall. Any doubt (no progress, step limit) answers `false`.
 
-use crate::geom::V3;
+use crate::geom::{FaceEval, V3};
 use crate::read::Vdg;
 
 /// Clearance a point must exceed to count as inside a face volume in the
@@ -23,6 +23,8 @@ const TRACE_MARGIN: f64 = 1e-2;
 
 /// Bisection stops when the bracket is this short (world units)…
 const BISECT_TOL: f64 = 1e-3;
+/// …or after this many halvings.
+const BISECT_MAX: usize = 60;
 /// How many candidate faces of a cover step are ordered by their reach
 /// bound (a face's neighbourhood rarely has more).
 const SORTED_CANDIDATES: usize = 128;
@@ -30,8 +32,11 @@ const SORTED_CANDIDATES: usize = 128;
 /// A cover step's bracket may stay this long (world units): far below a
 /// face's extent, so hops stay few, and it costs about half the evaluations.
 const COVER_TOL: f64 = 0.125;
-/// …or after this many halvings.
-const BISECT_MAX: usize = 60;
+
+/// How far short of the closed-form exit of a face (world units) a cover
+/// first tries to certify its point: far above the rounding of an
+/// evaluation, far below anything that matters.
+const EXIT_BACKOFF: f64 = 1e-6;
 
 /// A visibility trace gives up (answers "not visible") after this many hops.
 const MAX_HOPS: usize = 4096;
@@ -41,15 +46,19 @@ struct Seg {
     s: V3,
     d: V3,
     len: f64,
+    /// `1 / len`, for the many reach bounds of a cover.
+    inv_len: f64,
 }
 
 impl Seg {
     fn new(s: V3, e: V3) -> Seg {
         let d = e - s;
+        let len = d.norm();
         Seg {
             s,
             d,
-            len: d.norm(),
+            len,
+            inv_len: 1.0 / len,
         }
     }
     #[inline]
@@ -137,14 +146,9 @@ impl<'a> Vdg<'a> {
     /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for `f` above
     /// `eps`, given that `at(lo)` is above it.
     ///
-    /// The clearance along a segment is concave, so the crossing of `eps` is
-    /// bracketed by one point above and one below. Regula falsi with the
-    /// Illinois modification (the stale end's value is halved when the same
-    /// end moves twice) converges in a handful of evaluations where bisection
-    /// needs 20–40; every third step is a bisection all the same, so a kink in
-    /// the clearance cannot stall it. The bracket's low end is always a point
-    /// evaluated above `eps`, and that is what is returned: the answer stays
-    /// certified however the search ends.
+    /// The exit comes in closed form and the point returned is certified
+    /// by an evaluation ([`exit_with`]), so the answer is right however
+    /// rounding treats the closed form.
     fn exit_param(&self, f: u32, seg: &Seg, lo: f64, eps: f64) -> f64 {
         self.exit_param_tol(f, seg, lo, eps, BISECT_TOL)
     }
@@ -154,8 +158,9 @@ impl<'a> Vdg<'a> {
     /// (the next face takes over from a certified point either way), so it
     /// stops early; points handed back to callers use the fine tolerance.
     fn exit_param_tol(&self, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
-        let g_lo = self.fc(f, seg.at(lo)) - eps;
-        self.exit_from(f, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
+        let fe = self.face_eval(f);
+        let g_lo = fe.eval(seg.at(lo)) - eps;
+        exit_with(&fe, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
     }
 
     /// An upper bound on the parameter of any point of the segment inside
@@ -169,64 +174,17 @@ impl<'a> Vdg<'a> {
         if seg.len.is_nan() || seg.len <= 0.0 {
             return f64::INFINITY;
         }
-        let mut best = f64::NEG_INFINITY;
+        // Scaled by the length, so one multiplication by its inverse at
+        // the end instead of a division per vertex.
+        let mut scaled = f64::NEG_INFINITY;
         for v in self.faces[f as usize] {
             let vx = self.vertices[v as usize];
-            let along = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) / seg.len;
-            best = best.max(along + f64::from(vx.clearance));
+            let x = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) + f64::from(vx.clearance) * seg.len;
+            scaled = if x > scaled { x } else { scaled };
         }
+        let best = scaled * seg.inv_len;
         // Slack for the f32 data and f64 rounding of the evaluations.
-        (best + 1e-6 * (1.0 + best.abs())) / seg.len
-    }
-
-    /// The exit search of [`Self::exit_param_tol`] with the value at `lo`
-    /// (`g_lo`, minus `eps`) already known and the bracket's far end at the
-    /// reach bound `ub` instead of the segment's end when that is closer.
-    #[allow(clippy::too_many_arguments)]
-    fn exit_from(&self, f: u32, seg: &Seg, lo: f64, g_lo: f64, ub: f64, eps: f64, tol: f64) -> f64 {
-        let (mut lo, mut g_lo) = (lo, g_lo);
-        let mut hi = ub.min(1.0);
-        let mut g_hi = self.fc(f, seg.at(hi)) - eps;
-        if g_hi > 0.0 {
-            // The end (or, by rounding, the bound) is inside.
-            return hi;
-        }
-        if hi <= lo {
-            return lo;
-        }
-        if g_lo <= 0.0 {
-            // The caller's point was above eps by a bound, not by value: fall
-            // back on it unchanged (bisection would also return `lo`).
-            return lo;
-        }
-        let tol = if seg.len > 0.0 { tol / seg.len } else { 1.0 };
-        let mut last_side = 0i8;
-        for step in 0..BISECT_MAX {
-            if hi - lo <= tol {
-                break;
-            }
-            let secant = lo + (hi - lo) * g_lo / (g_lo - g_hi);
-            let mid = if step % 3 == 2 || !(secant > lo && secant < hi) {
-                0.5 * (lo + hi)
-            } else {
-                secant
-            };
-            let g = self.fc(f, seg.at(mid)) - eps;
-            if g > 0.0 {
-                (lo, g_lo) = (mid, g);
-                if last_side == 1 {
-                    g_hi *= 0.5;
-                }
-                last_side = 1;
-            } else {
-                (hi, g_hi) = (mid, g);
-                if last_side == -1 {
-                    g_lo *= 0.5;
-                }
-                last_side = -1;
-            }
-        }
-        lo
+        (best + 1e-6 * (1.0 + best.abs())) * seg.inv_len
     }
 
     /// The thesis' `Trace(s, e, f)`: the farthest point of the segment `s→e`
@@ -282,7 +240,7 @@ impl<'a> Vdg<'a> {
     pub fn visible(&self, s: [f32; 3], e: [f32; 3]) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
-        match self.best_cover_step(start.iter().copied(), &seg, 0.0, INSIDE_EPS) {
+        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS) {
             Some((f, t)) => {
                 let mut budget = CoverBudget::UNBOUNDED;
                 t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
@@ -353,60 +311,101 @@ impl<'a> Vdg<'a> {
     /// `at(t)`. Candidates that cannot beat the best so far cost one
     /// evaluation: their interval holds `at(t)`, so if it misses
     /// `at(best)` it ends before `best`.
+    ///
+    /// `skip` is a face whose exit `t` already is (the current face of a
+    /// cover): searching it again would only find `t` once more.
     fn best_cover_step(
         &self,
         candidates: impl Iterator<Item = u32>,
+        skip: Option<u32>,
         seg: &Seg,
         t: f64,
         eps: f64,
     ) -> Option<(u32, f64)> {
         // Candidates by their reach bound, best first: the first exact exit
         // search usually settles the step and the bound cuts off the rest.
+        // Each candidate is one integer — the bound rounded up to f32 (still
+        // a bound) in its order-preserving bits, then the complemented face
+        // index — so the sort is a plain integer sort: descending, that is
+        // by bound, then by ascending face index, and the copies of a face
+        // sharing two vertices with the current one come side by side.
         // (More candidates than the buffer holds are taken unsorted after.)
-        let mut buf = [(0.0f64, 0u32); SORTED_CANDIDATES];
+        let mut buf = [0u64; SORTED_CANDIDATES];
         let mut n = 0;
         let mut rest = candidates.peekable();
         while n < SORTED_CANDIDATES {
             let Some(f) = rest.next() else { break };
-            buf[n] = (self.reach_bound(f, seg), f);
+            if Some(f) == skip {
+                continue;
+            }
+            let ub = self.reach_bound(f, seg);
+            buf[n] = (u64::from(f32_order_bits(round_up_f32(ub))) << 32) | u64::from(!f);
             n += 1;
         }
-        buf[..n].sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        buf[..n].sort_unstable();
         let here = seg.at(t);
         let mut best: Option<(u32, f64)> = None;
-        // Faces sharing an edge come twice; sorted, the copies sit side by
-        // side and the second is skipped.
         let mut previous = None;
-        let sorted = buf[..n].iter().copied().filter(move |&(_, f)| {
-            let repeat = previous == Some(f);
-            previous = Some(f);
-            !repeat
-        });
-        let unsorted = rest.map(|f| (self.reach_bound(f, seg), f));
-        for (ub, f) in sorted.chain(unsorted) {
-            // The best one never helps again.
-            if best.is_some_and(|b| b.0 == f) {
+        for &key in buf[..n].iter().rev() {
+            if previous.replace(key) == Some(key) {
                 continue;
             }
             let reach = best.map_or(t, |b| b.1);
             if reach >= 1.0 {
+                return best;
+            }
+            let ub = f64::from(f32_from_order_bits((key >> 32) as u32));
+            if ub <= reach {
+                // Sorted: no later candidate can reach farther.
                 break;
             }
-            if ub <= reach {
-                continue;
+            self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, &mut best);
+        }
+        for f in rest {
+            let reach = best.map_or(t, |b| b.1);
+            if reach >= 1.0 {
+                break;
             }
-            // The clearance at `reach` (exact when above eps): the face must
-            // hold both that point and `here` to extend the cover.
-            let at_reach = self.fc_above(f, seg.at(reach), eps);
-            if at_reach <= eps || (reach > t && self.fc_above(f, here, eps) <= eps) {
-                continue;
-            }
-            let exit = self.exit_from(f, seg, reach, at_reach - eps, ub, eps, COVER_TOL);
-            if best.is_none_or(|b| exit > b.1) {
-                best = Some((f, exit));
+            let ub = self.reach_bound(f, seg);
+            if ub > reach && Some(f) != skip {
+                self.try_cover_candidate(f, ub, seg, t, here, eps, &mut best);
             }
         }
         best
+    }
+
+    /// One candidate of [`Self::best_cover_step`] with reach bound `ub`:
+    /// makes it the best when it holds `here` (= `at(t)`) and the current
+    /// reach and goes farther.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn try_cover_candidate(
+        &self,
+        f: u32,
+        ub: f64,
+        seg: &Seg,
+        t: f64,
+        here: V3,
+        eps: f64,
+        best: &mut Option<(u32, f64)>,
+    ) {
+        // The best one never helps again.
+        if best.is_some_and(|b| b.0 == f) {
+            return;
+        }
+        let reach = best.map_or(t, |b| b.1);
+        // The clearance at `reach`: the face must hold both that point and
+        // `here` to extend the cover.
+        let at_reach = seg.at(reach);
+        let fe = self.face_eval(f);
+        let g_reach = fe.eval(at_reach) - eps;
+        if g_reach <= 0.0 || (reach > t && fe.eval(here) <= eps) {
+            return;
+        }
+        let exit = exit_with(&fe, seg, reach, g_reach, ub, eps, COVER_TOL);
+        if best.is_none_or(|b| exit > b.1) {
+            *best = Some((f, exit));
+        }
     }
 
     /// Extends a cover `[0, t]` ending in face `cur` as far along the segment
@@ -453,7 +452,7 @@ impl<'a> Vdg<'a> {
                 .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
                 step = self
-                    .best_cover_step(self.neighbourhood(cur), seg, t, eps)
+                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
             let dead_end = old.and_then(|o| o.dead_end.filter(|_| o.dead_end_near(here)));
@@ -468,9 +467,17 @@ impl<'a> Vdg<'a> {
             if step.is_none() && budget.leaf_searches > 0 && dead_end.is_none() {
                 budget.leaf_searches -= 1;
                 let leaf = self.leaf_faces_at(here);
-                let holding = leaf.iter().copied().filter(|&f| self.box_holds(f, here));
+                // The neighbourhood step just searched every face sharing a
+                // vertex with `cur` from this very point and none went far
+                // enough, so only the others can; of those, only faces whose
+                // box holds `here`.
+                let corners = self.faces[cur as usize];
+                let holding = leaf.iter().filter(|&f| {
+                    !self.faces[f as usize].iter().any(|v| corners.contains(v))
+                        && self.box_holds(f, here)
+                });
                 step = self
-                    .best_cover_step(holding, seg, t, eps)
+                    .best_cover_step(holding, Some(cur), seg, t, eps)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -498,12 +505,16 @@ impl<'a> Vdg<'a> {
     /// The reach of face `f` along the segment from `at(t)` (= `here`), if
     /// its volume holds `here`.
     fn hinted_step(&self, f: u32, seg: &Seg, t: f64, here: V3, eps: f64) -> Option<(u32, f64)> {
-        let at = self.fc_above(f, here, eps);
+        if !self.box_holds(f, here) {
+            return None;
+        }
+        let fe = self.face_eval(f);
+        let at = fe.eval(here);
         if at <= eps {
             return None;
         }
         let ub = self.reach_bound(f, seg);
-        Some((f, self.exit_from(f, seg, t, at - eps, ub, eps, COVER_TOL)))
+        Some((f, exit_with(&fe, seg, t, at - eps, ub, eps, COVER_TOL)))
     }
 
     /// The face and every face sharing a vertex with it (thesis:
@@ -735,7 +746,7 @@ impl<'a> Vdg<'a> {
         let mut t = 0.0;
         for _ in 0..MAX_HOPS {
             match self
-                .best_cover_step(self.neighbourhood(face), &seg, t, INSIDE_EPS)
+                .best_cover_step(self.neighbourhood(face), None, &seg, t, INSIDE_EPS)
                 .filter(|&(_, r)| r > t || r >= 1.0)
             {
                 Some((_, r)) if r >= 1.0 => return true,
@@ -745,6 +756,144 @@ impl<'a> Vdg<'a> {
         }
         false
     }
+}
+
+/// `x` rounded to an f32 no smaller than it (NaN stays NaN).
+#[inline]
+fn round_up_f32(x: f64) -> f32 {
+    let r = x as f32;
+    if f64::from(r) < x { r.next_up() } else { r }
+}
+
+/// The bits of an f32 as an unsigned integer in the order of the numbers
+/// (negative numbers complemented, positive ones with the sign bit set).
+#[inline]
+fn f32_order_bits(x: f32) -> u32 {
+    let b = x.to_bits();
+    if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
+    }
+}
+
+/// The inverse of [`f32_order_bits`].
+#[inline]
+fn f32_from_order_bits(b: u32) -> f32 {
+    f32::from_bits(if b & 0x8000_0000 != 0 {
+        b & 0x7fff_ffff
+    } else {
+        !b
+    })
+}
+
+/// The exit search of [`Vdg::exit_param_tol`] for the face of `fe`, with
+/// the value at `lo` (`g_lo`, minus `eps`) already known and the bracket's
+/// far end at the reach bound `ub` instead of the segment's end when that is
+/// closer.
+///
+/// The exit comes in closed form ([`FaceEval::line_exit`]); the point kept
+/// is a little before it (half the tolerance, or half the way from `lo`) and
+/// certified by one evaluation. Only when rounding spoils the closed form
+/// (a line grazing the volume) does the search fall back on regula falsi.
+fn exit_with(fe: &FaceEval, seg: &Seg, lo: f64, g_lo: f64, ub: f64, eps: f64, tol: f64) -> f64 {
+    let hi = ub.min(1.0);
+    let tol = if seg.len > 0.0 { tol / seg.len } else { 1.0 };
+    let exit = fe.line_exit(seg.s, seg.d, eps);
+    if exit >= hi {
+        let g_hi = fe.eval(seg.at(hi)) - eps;
+        if g_hi > 0.0 {
+            return hi;
+        }
+        return regula_falsi(fe, seg, lo, g_lo, hi, g_hi, eps, tol);
+    }
+    if exit > lo && g_lo > 0.0 {
+        // A millionth of a unit short of the exit is far above the
+        // rounding of the evaluation wherever the line really crosses the
+        // boundary; a grazing line gets a second, wider try.
+        let near = if seg.len > 0.0 {
+            EXIT_BACKOFF / seg.len
+        } else {
+            0.0
+        };
+        let mut hi_g = None;
+        for back in [near, 0.5 * tol] {
+            let t = exit - back.min(0.5 * (exit - lo));
+            let g = fe.eval(seg.at(t)) - eps;
+            if g > 0.0 {
+                return t;
+            }
+            hi_g = Some((t, g));
+        }
+        let (t, g) = hi_g.expect("two tries");
+        return regula_falsi(fe, seg, lo, g_lo, t, g, eps, tol);
+    }
+    // No exit past `lo` by the closed form (rounding, or a NaN): the
+    // evaluated search decides.
+    let g_hi = fe.eval(seg.at(hi)) - eps;
+    if g_hi > 0.0 {
+        return hi;
+    }
+    regula_falsi(fe, seg, lo, g_lo, hi, g_hi, eps, tol)
+}
+
+/// Largest `t ∈ [lo, hi]` found with clearance above `eps`, given the
+/// values `g_lo` (> 0, or `lo` comes back unchanged) and `g_hi` (≤ 0) minus
+/// `eps` at the ends; stops when the bracket is shorter than `tol` (in
+/// segment parameter).
+///
+/// The clearance along a segment is concave, so the crossing of `eps` is
+/// bracketed by one point above and one below. Regula falsi with the
+/// Illinois modification (the stale end's value is halved when the same
+/// end moves twice) converges in a handful of evaluations where bisection
+/// needs 20–40; every third step is a bisection all the same, so a kink in
+/// the clearance cannot stall it. The bracket's low end is always a point
+/// evaluated above `eps`, and that is what is returned: the answer stays
+/// certified however the search ends.
+#[allow(clippy::too_many_arguments)]
+fn regula_falsi(
+    fe: &FaceEval,
+    seg: &Seg,
+    lo: f64,
+    g_lo: f64,
+    hi: f64,
+    g_hi: f64,
+    eps: f64,
+    tol: f64,
+) -> f64 {
+    let (mut lo, mut g_lo, mut hi, mut g_hi) = (lo, g_lo, hi, g_hi);
+    if hi <= lo || g_lo <= 0.0 {
+        // The caller's point was above eps by a bound, not by value: fall
+        // back on it unchanged (bisection would also return `lo`).
+        return lo;
+    }
+    let mut last_side = 0i8;
+    for step in 0..BISECT_MAX {
+        if hi - lo <= tol {
+            break;
+        }
+        let secant = lo + (hi - lo) * g_lo / (g_lo - g_hi);
+        let mid = if step % 3 == 2 || !(secant > lo && secant < hi) {
+            0.5 * (lo + hi)
+        } else {
+            secant
+        };
+        let g = fe.eval(seg.at(mid)) - eps;
+        if g > 0.0 {
+            (lo, g_lo) = (mid, g);
+            if last_side == 1 {
+                g_hi *= 0.5;
+            }
+            last_side = 1;
+        } else {
+            (hi, g_hi) = (mid, g);
+            if last_side == -1 {
+                g_lo *= 0.5;
+            }
+            last_side = -1;
+        }
+    }
+    lo
 }
 
 /// The result of [`Vdg::advance`].

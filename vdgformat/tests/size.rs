@@ -1,0 +1,70 @@
+//! The file size bound of issue 14 (≤ 100 bytes per face on every map) on a
+//! generated open map, where the BBox tree's leaf lists swell most: big faces
+//! with clearances of hundreds of units reach into many tree cells.
+//!
+//! `testdata/graphs/open_field.vdg` is the graph `bsp2vdg` compiled from the
+//! generated map `open_field` (mapgen's extra world: 3072² units under a sky,
+//! six buildings) at the default options, stored with a one-leaf tree
+//! (`-bb 65536`) to keep the fixture small; `testdata/README.md` says how to
+//! make it again. Compiling the map takes a minute in the test profile, so the
+//! default suite rebuilds only the file from the compiled graph: the writer is
+//! what the bound is about. The end-to-end check (fresh compile) is
+//! `cargo test --release -p bsp2vdg --test reduce -- --ignored open_field`.
+
+mod common;
+
+use std::path::Path;
+
+use common::Rng;
+use vdgformat::{DEFAULT_LEAF_SIZE, VdgBuilder, VdgFile};
+
+/// Issue 14's bound, for the whole file: header, section table, metadata and
+/// padding count too.
+const MAX_BYTES_PER_FACE: f64 = 100.0;
+
+#[test]
+fn open_map_file_stays_within_100_bytes_per_face() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/graphs/open_field.vdg");
+    let fixture = VdgFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let g = fixture.graph();
+    assert!(
+        g.face_count() > 3000,
+        "the fixture is the reduced open_field graph"
+    );
+    let mut b = VdgBuilder::new();
+    for v in g.vertices() {
+        b.add_vertex(v.pos, v.clearance);
+    }
+    for &f in g.faces() {
+        b.add_face(f);
+    }
+    for (k, v) in g.metadata() {
+        b.set_metadata(k, v);
+    }
+    b.set_metadata("option.bb", "256");
+    b.set_leaf_size(DEFAULT_LEAF_SIZE);
+    let bytes = b.to_bytes().expect("valid graph");
+    let per_face = bytes.len() as f64 / g.face_count() as f64;
+    println!(
+        "open_field: {} faces, {} bytes, {per_face:.1} bytes per face",
+        g.face_count(),
+        bytes.len()
+    );
+    assert!(
+        per_face <= MAX_BYTES_PER_FACE,
+        "{per_face:.1} bytes per face on the open map (bound {MAX_BYTES_PER_FACE})"
+    );
+    // The compact file answers like the fixture (one tree leaf: every face tried).
+    let file = VdgFile::from_bytes(&bytes).expect("valid file");
+    let compact = file.graph();
+    let (lo, hi) = (g.info().volume_min, g.info().volume_max);
+    let mut rng = Rng::new(14);
+    for _ in 0..500 {
+        let p = rng.point(lo.map(f64::from), hi.map(f64::from));
+        assert_eq!(
+            compact.faces_containing(p),
+            g.faces_containing(p),
+            "at {p:?}"
+        );
+    }
+}
