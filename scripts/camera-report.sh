@@ -97,7 +97,7 @@ for p in sorted(glob.glob(os.path.join(out, "json", "*.json"))):
         rows.append((mapname, src, dt, cam, routes["count"], c))
 def pct(x): return f"{100*x:.2f}"
 with open(os.path.join(out, "report.md"), "w") as f:
-    f.write("| map | routes | dt | camera | frames | solid | near-plane | visible % | hull visible % | longest occlusion s | jumps | stalls | RMS jerk | mean abs(d-112) | cuts/min | median µs | target outside % |\n")
+    f.write("| map | routes | dt | camera | frames | solid | near-plane | visible % | hull visible % | longest occlusion s | jumps | stalls | RMS jerk | mean abs(d-d_μ) | cuts/min | median µs | target outside % |\n")
     f.write("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     for m, s, dt, cam, n, c in rows:
         f.write(f"| {m} | {s} ({n}) | {dt} | {cam} | {c['frames']} | {c['solid_frames']} | {c['nearplane_frames']} | {pct(c['visible_fraction'])} | {pct(c['hull_visible_mean'])} | {c['longest_occlusion_s']:.2f} | {c['jumps']} | {c['stalls']} | {c['rms_jerk']:.0f} | {c['mean_abs_dist_error']:.1f} | {c['cuts_per_min']:.2f} | {c['median_us']:.1f} | {pct(c['target_outside_fraction'])} |\n")

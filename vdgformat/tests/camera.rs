@@ -487,3 +487,49 @@ fn a_camera_left_behind_catches_up_round_the_bends() {
     assert_eq!(cuts, 0, "the camera lost the target and was cut to it");
     assert!(longest <= 60, "target hidden {longest} frames in a row");
 }
+
+#[test]
+fn a_camera_at_rest_sets_off_with_a_target_that_walks_away() {
+    // The thesis' step rule settles at √f/(1 − √f) u/s while f_total < 1:
+    // its camera sat for a second behind a player walking off at 265 u/s.
+    let file = l_corridor();
+    let g = file.graph();
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        let mut cam = Camera::new(CameraParams::default()).unwrap();
+        let start = cam.reset(&g, &l_walk(0.0)).eye;
+        let frames = (0.5 / dt) as usize;
+        let mut last = start;
+        for i in 1..=frames {
+            last = cam.update(&g, &l_walk(i as f64 * f64::from(dt)), dt).eye;
+        }
+        let moved = ((last[0] - start[0]).powi(2) + (last[1] - start[1]).powi(2)).sqrt();
+        // The target walked 132 units; the thesis' rule moved the camera
+        // less than one.
+        assert!(moved > 40.0, "dt {dt}: camera moved {moved} units in 0.5 s");
+    }
+}
+
+#[test]
+fn a_camera_behind_a_player_standing_still_comes_to_rest_behind_him() {
+    // The walk ends at (64, 480) at 3.14 s; the player then stands still.
+    // f_inertia's floor of 32 u/s held a slow camera on its course (it
+    // drifted past the player), and a command wound up to top speed made
+    // it hunt back and forth across the ideal distance.
+    let file = l_corridor();
+    let g = file.graph();
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        let frames = (7.0 / dt) as usize;
+        let poses = run(&g, CameraParams::default(), frames, dt);
+        let settled = &poses[(5.0 / dt) as usize..];
+        for p in settled {
+            assert!(
+                p.eye[1] < 480.0 - 24.0,
+                "dt {dt}: camera at {:?} not behind the player at (64, 480)",
+                p.eye
+            );
+        }
+        let ys = settled.iter().map(|p| p.eye[1]);
+        let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(y), b.max(y)));
+        assert!(hi - lo < 8.0, "dt {dt}: camera wanders over y {lo}..{hi}");
+    }
+}

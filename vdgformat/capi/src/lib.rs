@@ -88,8 +88,9 @@ pub struct vdg_director {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct vdg_target {
-    /// The target's position, e.g. the player's origin (the camera adds the
-    /// parameter `target_height`).
+    /// The point to keep in view: best the player's eye (origin + view
+    /// offset, in Half-Life 28 standing and 12 crouched); given the origin,
+    /// the parameter `target_height` adds a constant height.
     pub origin: [f32; 3],
     /// Where the target looks, Quake `viewangles` `[pitch, yaw, roll]` in
     /// degrees (pitch positive looking down; roll is ignored).

@@ -50,8 +50,10 @@ use crate::read::Vdg;
 /// What the camera follows, in world units (Quake: z up).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Target {
-    /// The point to follow (in Half-Life the player's origin, the centre of
-    /// the standing hull; see [`CameraParams::target_height`]).
+    /// The point to keep in view: best the player's eye (in Half-Life the
+    /// origin + view offset, 28 standing and 12 crouched), the point a
+    /// spectator looks at and the chase cam pivots on. Given the origin,
+    /// [`CameraParams::target_height`] adds a constant height instead.
     pub position: [f32; 3],
     /// Where the target looks / moves (need not be unit length; a zero
     /// vector keeps the previous heading).
@@ -288,6 +290,9 @@ struct Scene {
     /// it when the target is outside.
     t_vis: V3,
     inside: bool,
+    /// The target's speed over the last update (units/s, capped at the
+    /// camera's top speed; 0 on the first frame).
+    target_speed: f64,
     /// The ideal direction from the target to the camera (unit).
     a_n: V3,
     dt: f64,
@@ -648,6 +653,12 @@ impl Camera {
         let (pos, vel, speed, hidden) = state.map_or((t, V3(0.0, 0.0, 0.0), 0.0, 0.0), |s| {
             (s.pos, s.vel, s.speed, s.hidden)
         });
+        // The target's speed over the last update (a teleport cuts before
+        // it counts; the cap keeps a hitch from freeing the camera).
+        let target_speed = match state {
+            Some(s) if dt > 0.0 => ((t - s.target_prev).norm() / dt).min(f64::from(p.max_speed)),
+            _ => 0.0,
+        };
         // f_inertia compares with where inertia carries the camera over the
         // horizon (the thesis: one frame); the denominator is that travel,
         // floored so a resting camera's cost stays finite.
@@ -657,8 +668,11 @@ impl Camera {
             dt.max(1e-6)
         };
         let c_t = pos + vel * horizon;
-        let inertia_scale =
-            speed.max(f64::from(p.inertia_min_speed)) * horizon * f64::from(p.inertia_sigma);
+        let inertia_scale = speed
+            .max(f64::from(p.inertia_min_speed))
+            .max(target_speed * f64::from(p.inertia_target_speed))
+            * horizon
+            * f64::from(p.inertia_sigma);
         let v_sigma = f64::from(p.visibility_sigma);
         let novis = (v_sigma / (v_sigma + hidden)).powi(2);
         Scene {
@@ -666,6 +680,7 @@ impl Camera {
             face,
             t_vis,
             inside,
+            target_speed,
             a_n,
             dt,
             c_t,
@@ -829,10 +844,24 @@ impl Camera {
         // Step rule (thesis 5.3), frac = 1 − e^(−Δt/τ).
         let frac = 1.0 - (-scene.dt / f64::from(self.params.speed_tau)).exp();
         let f_cur = f64::from(current.total);
-        let v = ((1.0 - frac) * s.speed + frac * (1.0 + s.speed) * f_cur.sqrt())
-            .min(f64::from(self.params.max_speed));
+        // The thesis' command (1 + V)·√f_total has the fixed point
+        // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
+        // costs pass 1. Ours commands at least the target's own speed.
+        let command = ((1.0 + s.speed) * f_cur.sqrt())
+            .max(scene.target_speed * f64::from(self.params.target_speed_floor));
+        let v = ((1.0 - frac) * s.speed + frac * command).min(f64::from(self.params.max_speed));
         let to_best = best_pos - s.pos;
         let dist_best = to_best.norm();
+        // Arrive rather than overshoot: no faster than the camera can brake
+        // to a stop at the best candidate (plus the target's own speed, which
+        // moves that point on). Without it the command winds up to top speed
+        // (f_clear grows with the speed it rates) and a camera behind a
+        // player standing still hunted back and forth across the ideal.
+        let v = if self.params.max_decel > 0.0 {
+            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.target_speed)
+        } else {
+            v
+        };
         let dir = if dist_best > 1e-9 {
             to_best * (1.0 / dist_best)
         } else {

@@ -28,6 +28,11 @@ pub trait ReplayCamera {
     fn name(&self) -> &str;
     fn reset(&mut self, target: &TargetState);
     fn update(&mut self, target: &TargetState, dt: f32) -> Frame;
+    /// The distance from the target's eye the camera aims for (the replay's distance
+    /// error is measured against it).
+    fn ideal_distance(&self) -> f64 {
+        CHASE_DISTANCE
+    }
 }
 
 /// Half-Life's chase distance (`cl_chasedist`).

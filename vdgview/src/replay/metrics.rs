@@ -10,7 +10,8 @@
 //!   route's start), view turn rate; jumps (faster than twice the target's top speed
 //!   without a declared cut), stalls (speed falls by more than 80 % in one frame while
 //!   the target moves);
-//! - distance error to d_μ = 112, cuts, compute time per update;
+//! - distance from the target's eye minus the camera's ideal distance d_μ (112 for the
+//!   chase cam and spring arm), cuts, compute time per update;
 //! - target outside Volume(VDG): the graph's fault, listed for the graph-quality work.
 
 use super::cameras::Frame;
@@ -20,8 +21,6 @@ use bsp::walls::Walls;
 
 /// Distance below which the near plane cuts into a wall.
 pub const NEAR_PLANE: f64 = 6.4;
-/// The camera's ideal distance (d_μ).
-pub const D_MU: f64 = 112.0;
 
 /// Everything measured in one frame.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -53,7 +52,9 @@ fn norm(a: [f64; 3]) -> f64 {
 }
 
 /// Measures one camera on one route. `frames[i]` was shown for `targets[i]` and took
-/// `micros[i]` to compute; `outside[i]` says whether the target was outside the volume.
+/// `micros[i]` to compute; `outside[i]` says whether the target was outside the volume;
+/// `d_mu` is the camera's own ideal distance.
+#[allow(clippy::too_many_arguments)]
 pub fn measure(
     oracle: &Oracle,
     walls: &Walls,
@@ -62,6 +63,7 @@ pub fn measure(
     micros: &[f32],
     outside: &[bool],
     dt: f64,
+    d_mu: f64,
 ) -> Vec<FrameMeasure> {
     let top_speed = targets
         .iter()
@@ -103,7 +105,7 @@ pub fn measure(
         } else {
             0.0
         };
-        let target_dist = norm(sub(f.eye, t.origin));
+        let target_dist = norm(sub(f.eye, t.eye()));
         out.push(FrameMeasure {
             t: t.t,
             target: t.origin,
@@ -119,7 +121,7 @@ pub fn measure(
             turn_rate: turn_rate as f32,
             jump: v.is_some() && speed > 2.0 * top_speed as f64,
             stall: v.is_some() && prev_speed > 20.0 && speed < 0.2 * prev_speed && t.speed() > 50.0,
-            dist_error: (target_dist - D_MU) as f32,
+            dist_error: (target_dist - d_mu) as f32,
             micros: micros[i],
             target_outside: outside[i],
         });

@@ -260,6 +260,7 @@ pub fn replay(
     let mut results = Vec::new();
     for cam in cameras.iter_mut() {
         let name = cam.name().to_string();
+        let d_mu = cam.ideal_distance();
         let mut played: Vec<(Vec<Frame>, Vec<f32>)> = Vec::new();
         for (k, states) in sampled.iter().enumerate() {
             let mut frames = Vec::with_capacity(states.len());
@@ -280,7 +281,7 @@ pub fn replay(
             .par_iter()
             .zip(sampled.par_iter().zip(outside.par_iter()))
             .map(|((frames, micros), (states, out))| {
-                metrics::measure(oracle, walls, states, frames, micros, out, dt)
+                metrics::measure(oracle, walls, states, frames, micros, out, dt, d_mu)
             })
             .collect();
         let summary = metrics::summarise(&measured, dt);
@@ -357,7 +358,7 @@ impl Report {
             "jumps",
             "stalls",
             "rms jerk",
-            "|d-112|",
+            "|d-dmu|",
             "cuts/min",
             "median us"
         );

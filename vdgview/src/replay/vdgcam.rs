@@ -1,7 +1,9 @@
 //! The VDG camera (`vdgformat::camera`) behind the replay's [`ReplayCamera`] trait:
 //! `vdg` is [`CameraParams::default`] (our improvements on), `vdg-thesis` is
 //! [`CameraParams::thesis`] (the thesis' algorithm as written); `--params cam.toml`
-//! replaces the parameters of `vdg`. The target is the player's origin, its heading the view angles.
+//! replaces the parameters of `vdg`. The target is the player's eye (origin + view offset,
+//! 28 standing, 12 crouched): what the spectator wants in view, what the chase cam pivots
+//! on and what the replay's visibility measures. Its heading is the view angles.
 
 use super::cameras::{Frame, ReplayCamera};
 use super::route::TargetState;
@@ -40,10 +42,14 @@ impl<'a> VdgCamera<'a> {
 }
 
 fn target(t: &TargetState) -> Target {
-    Target::from_angles(t.origin, t.angles, t.velocity)
+    Target::from_angles(t.eye(), t.angles, t.velocity)
 }
 
 impl ReplayCamera for VdgCamera<'_> {
+    fn ideal_distance(&self) -> f64 {
+        f64::from(self.camera.params().distance_mu)
+    }
+
     fn name(&self) -> &str {
         &self.name
     }
