@@ -38,7 +38,7 @@ for spec in "32x32 $RUNS32" "256x256 $RUNS256"; do
         cpu+=("$(field cpu_seconds "$report")")
       done
       n=$(printf '%s\n' "${new[@]}" | median)
-      # Processor time of the new build (Linux): the wall time less the
+      # Processor time of the new build (POSIX): the wall time less the
       # waits for a core, which dominate on a loaded machine.
       c=$(printf '%s\n' "${cpu[@]}" | median)
       ms() { awk -v s="${1:-nan}" 'BEGIN {printf "%.3f", s*1000}'; }

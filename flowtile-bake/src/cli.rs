@@ -791,14 +791,24 @@ fn grid_problem(grid: &str, set: &str, n: usize, border: BorderArg) -> Result<Pr
     })
 }
 
-/// Processor time this thread has run so far, from Linux's
-/// `/proc/thread-self/schedstat` (nanoseconds on the CPU); `None` elsewhere.
-/// On a shared machine the wall-clock `seconds` of `tile` include the time
-/// spent waiting for a core; this does not, so benchmarks report both.
+/// Processor time this thread has run so far (POSIX's per-thread CPU clock,
+/// nanosecond resolution); `None` where there is none. On a shared machine the
+/// wall-clock `seconds` of `tile` include the time spent waiting for a core;
+/// this does not, so benchmarks report both.
+#[cfg(unix)]
 fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns as f64 * 1e-9)
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: clock_gettime only writes one timespec through a valid pointer.
+    let r = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    (r == 0).then_some(ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9)
+}
+
+#[cfg(not(unix))]
+fn thread_cpu_seconds() -> Option<f64> {
+    None
 }
 
 fn tile(problem: Problem, seed: Option<u64>, output: Option<&Path>, json: bool) -> Result<()> {

@@ -1419,7 +1419,15 @@ impl Tiling {
                 self.seam_move(x, values[1]);
             }
             self.ladder_move(x, y, values[2]);
-            if arcs.iter().zip(&values).all(|(&a, &v)| self.net.fix(a, v)) {
+            // Fixing the left and bottom edges may route flux through the
+            // right edge (the short way round); a ladder puts it back before
+            // the right edge is fixed, which otherwise takes a long search.
+            // Whether the tuple fits does not depend on the order.
+            let fits = self.net.fix(arcs[0], values[0]) && self.net.fix(arcs[1], values[1]) && {
+                self.ladder_move(x, y, values[2]);
+                self.net.fix(arcs[2], values[2]) && self.net.fix(arcs[3], values[3])
+            };
+            if fits {
                 self.net.commit();
                 return Ok(self.commit_slot(x, y, values, rng, chooser));
             }

@@ -205,6 +205,9 @@ fn run() -> Result<(), String> {
     let (mut vis_tests, mut reach, mut settled) = (0u64, 0u64, 0u64);
     camera.reset(&g, &target_at(&route, 0.0));
     let mut allocs_before = 0;
+    // FNV-1a over every pose's bits: equal hashes say two builds moved the
+    // camera identically (a check that an optimisation changed no answer).
+    let mut pose_hash = 0xcbf2_9ce4_8422_2325u64;
     for i in 0..args.frames {
         if i == warmup {
             allocs_before = ALLOCATIONS.load(Ordering::Relaxed);
@@ -213,6 +216,16 @@ fn run() -> Result<(), String> {
         let start = Instant::now();
         let pose = timed_update(&mut camera, &g, &t, args.dt);
         update_done();
+        for x in pose
+            .eye
+            .iter()
+            .chain(&pose.look_at)
+            .chain(&[pose.yaw, pose.pitch])
+        {
+            for b in x.to_bits().to_le_bytes() {
+                pose_hash = (pose_hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            }
+        }
         let us = start.elapsed().as_secs_f64() * 1e6;
         // CAMERA_BENCH_TRACE=US prints every update slower than US µs.
         if std::env::var("CAMERA_BENCH_TRACE")
@@ -253,7 +266,7 @@ fn run() -> Result<(), String> {
     };
     if args.json {
         println!(
-            "{{\"file\":{:?},\"variant\":\"{variant}\",\"vertices\":{},\"faces\":{},\"frames\":{measured},\"warmup_frames\":{warmup},\"dt\":{},\"median_us\":{:.3},\"p99_us\":{:.3},\"max_us\":{:.3},\"mean_us\":{:.3},\"allocations_after_warmup\":{allocations},\"visible_fraction\":{:.4},\"cuts\":{cuts},\"target_outside_frames\":{outside},\"visibility_tests_per_update\":{:.2},\"reachable_per_update\":{:.2}}}",
+            "{{\"file\":{:?},\"variant\":\"{variant}\",\"vertices\":{},\"faces\":{},\"frames\":{measured},\"warmup_frames\":{warmup},\"dt\":{},\"median_us\":{:.3},\"p99_us\":{:.3},\"max_us\":{:.3},\"mean_us\":{:.3},\"allocations_after_warmup\":{allocations},\"visible_fraction\":{:.4},\"cuts\":{cuts},\"target_outside_frames\":{outside},\"visibility_tests_per_update\":{:.2},\"reachable_per_update\":{:.2},\"pose_hash\":\"{pose_hash:016x}\"}}",
             args.file,
             g.vertex_count(),
             g.face_count(),
@@ -290,6 +303,7 @@ fn run() -> Result<(), String> {
             reach as f64 / measured as f64,
             settled as f64 / measured as f64
         );
+        println!("  pose hash {pose_hash:016x}");
     }
     Ok(())
 }

@@ -89,7 +89,18 @@ fn main() -> anyhow::Result<()> {
                 ))
                 .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
                 .label(format!("{name}: coverage (clearance >= 32)"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], col.stroke_width(1)));
+                // Dashed in the legend as in the plot: two dashes.
+                .legend(move |(x, y)| {
+                    EmptyElement::at((x, y))
+                        + PathElement::new([(0, 0), (8, 0)], col.stroke_width(2))
+                        + PathElement::new([(12, 0), (20, 0)], col.stroke_width(2))
+                });
+            chart
+                .draw_series(
+                    pts.iter()
+                        .map(|p| Circle::new((p.0, p.2), 3, col.stroke_width(1))),
+                )
+                .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
         }
         chart
             .configure_series_labels()

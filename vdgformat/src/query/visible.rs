@@ -46,15 +46,19 @@ struct Seg {
     s: V3,
     d: V3,
     len: f64,
+    /// `1 / len`, for the many reach bounds of a cover.
+    inv_len: f64,
 }
 
 impl Seg {
     fn new(s: V3, e: V3) -> Seg {
         let d = e - s;
+        let len = d.norm();
         Seg {
             s,
             d,
-            len: d.norm(),
+            len,
+            inv_len: 1.0 / len,
         }
     }
     #[inline]
@@ -170,14 +174,17 @@ impl<'a> Vdg<'a> {
         if seg.len.is_nan() || seg.len <= 0.0 {
             return f64::INFINITY;
         }
-        let mut best = f64::NEG_INFINITY;
+        // Scaled by the length, so one multiplication by its inverse at
+        // the end instead of a division per vertex.
+        let mut scaled = f64::NEG_INFINITY;
         for v in self.faces[f as usize] {
             let vx = self.vertices[v as usize];
-            let along = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) / seg.len;
-            best = best.max(along + f64::from(vx.clearance));
+            let x = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) + f64::from(vx.clearance) * seg.len;
+            scaled = if x > scaled { x } else { scaled };
         }
+        let best = scaled * seg.inv_len;
         // Slack for the f32 data and f64 rounding of the evaluations.
-        (best + 1e-6 * (1.0 + best.abs())) / seg.len
+        (best + 1e-6 * (1.0 + best.abs())) * seg.inv_len
     }
 
     /// The thesis' `Trace(s, e, f)`: the farthest point of the segment `s→e`
