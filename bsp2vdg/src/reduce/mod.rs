@@ -69,7 +69,7 @@ use rayon::prelude::*;
 
 use crate::progress::Progress;
 use crate::voronoi::Graph;
-use keep::Keep;
+use keep::{KEEP_MARGIN, Keep};
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
 use remove::Refusal;
@@ -218,7 +218,8 @@ pub fn reduce_with_ticks(
 
 /// [`reduce_with_ticks`] keeping the points of `keep` that the graph's volume
 /// contains inside the reduced volume (e.g. where a standing player is, see
-/// [`crate::standing`]): a removal that would leave one outside is refused, so
+/// [`crate::standing`]), each with a ball of `KEEP_MARGIN` (8 units) around it
+/// where the unreduced volume holds one: a removal that would take one out is refused, so
 /// the reduction may stop above the limit.
 pub fn reduce_keeping(
     graph: &Graph,
@@ -314,7 +315,7 @@ fn run(
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
-    let mut kept = (!keep.is_empty()).then(|| Keep::new(&mesh, keep));
+    let mut kept = (!keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
     let keeping = kept.as_ref().map_or(0, Keep::len);
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
@@ -720,14 +721,7 @@ fn removal<'m>(
     }
     let mut e = Edit::new(mesh);
     let cost = remove::remove_vertex(&mut e, v)?;
-    let margin = if mesh.seam_ops {
-        seam::KEEP_MARGIN
-    } else {
-        0.0
-    };
-    let holds = |e: &Edit| {
-        keep.is_none_or(|k| k.holds_by(e, margin)) && deep.is_none_or(|d| d.holds_by(e, 0.0))
-    };
+    let holds = |e: &Edit| keep.is_none_or(|k| k.holds(e)) && deep.is_none_or(|d| d.holds(e));
     if holds(&e) {
         return Some((cost, e));
     }
@@ -851,20 +845,28 @@ mod tests {
 
     #[test]
     fn kept_points_stay_inside_the_volume() {
-        let g = sheet(14, 5);
+        // Ten times the sheet: the kept points' balls (`KEEP_MARGIN`, 8 units)
+        // are small against its clearances, as on real maps.
+        let mut g = sheet(14, 5);
+        for p in &mut g.vertices {
+            *p = p.map(|c| c * 10.0);
+        }
+        for r in &mut g.clearance {
+            *r *= 10.0;
+        }
         let mut rng = SplitMix64::new(9);
         // Points near the top of the volume, where lowered clearances lose them.
-        let keep: Vec<[f64; 3]> = (0..400)
+        let keep: Vec<[f64; 3]> = (0..100)
             .map(|_| {
                 [
-                    rng.range(0.0, 130.0),
-                    rng.range(0.0, 130.0),
-                    rng.range(4.0, 9.0),
+                    rng.range(0.0, 1300.0),
+                    rng.range(0.0, 1300.0),
+                    rng.range(40.0, 90.0),
                 ]
             })
             .filter(|&p| inside(&g, p))
             .collect();
-        assert!(keep.len() > 100);
+        assert!(keep.len() > 25);
         let options = ReduceOptions { limit: 0.0 };
         let (plain, _) = reduce(&g, &options, &NoProgress);
         let lost = keep.iter().filter(|&&p| !inside(&plain, p)).count();

@@ -68,13 +68,11 @@
 //! coverage and ratio conflict, coverage wins.
 //!
 //! **Keeping standing places.** With kept points (`reduce_keeping`) a
-//! removal that would leave one outside the volume is refused. In the
-//! second phase a removal must leave each kept point it puts at risk at
-//! least `KEEP_MARGIN` (8, half the kept grid's spacing) deep in the volume
-//! (or as deep as before, if less), so that the standing places between the
-//! kept points stay inside too; if the vertex's usual removal fails that,
-//! its cheapest collapse that passes is taken instead. Where keeping the
-//! points and reaching the limit conflict, the points win.
+//! removal that would take one's ball of `KEEP_MARGIN` (module `keep`) out
+//! of the volume is refused, in both phases; in the second, if the vertex's
+//! usual removal fails that, its cheapest collapse that passes is taken
+//! instead. Where keeping the points and reaching the limit conflict, the
+//! points win.
 //!
 //! **Keeping coverage.** The second phase also keeps *deep points*: every
 //! vertex `v` of the unreduced graph with clearance `r > DEEP_CLEARANCE`
@@ -415,12 +413,6 @@ fn mild(e: &Edit, v: u32, r: f64) -> bool {
     r >= (1.0 - MAX_LOWERING) * e.radius(v)
 }
 
-/// In the second phase a removal must leave every kept point it puts at risk
-/// at least this deep inside the volume (or as deep as it was, if less; see
-/// `Keep::holds_by`): half the spacing of the kept grid, so that the standing
-/// places between the kept points stay inside too.
-pub(crate) const KEEP_MARGIN: f64 = 8.0;
-
 /// In the second phase every vertex of the unreduced graph with a clearance
 /// `r` above this keeps its ball shrunk to `r − DEEP_CLEARANCE` inside the
 /// volume (or what the volume held of it when the phase began): the points
@@ -530,8 +522,8 @@ mod tests {
                 continue;
             }
             collapses += 1;
-            assert!(!deep.holds_by(&e, 0.0), "collapse into {s} kept the ball");
-            assert!(far.holds_by(&e, 0.0), "collapse into {s} took the far ball");
+            assert!(!deep.holds(&e), "collapse into {s} kept the ball");
+            assert!(far.holds(&e), "collapse into {s} took the far ball");
         }
         assert!(collapses > 0);
         // Not kept: a point outside the volume, and a ball that would be too small.
