@@ -228,3 +228,22 @@ pub struct NodeBounds {
     pub tri_max: [f32; 3],
     pub reserved: u32,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::section;
+
+    #[test]
+    fn every_listed_section_has_a_size_and_every_sized_one_is_listed() {
+        // The reader takes a section's slot from `KNOWN` and its element size
+        // from `elem_size`; a section in one and not the other would be
+        // skipped as unknown.
+        for id in 0..64 {
+            assert_eq!(
+                section::KNOWN.contains(&id),
+                section::elem_size(id).is_some(),
+                "section id {id}"
+            );
+        }
+    }
+}

@@ -503,16 +503,14 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
                 offset: e.offset,
             });
         }
-        let Some(size) = section::elem_size(e.id).filter(|_| known(e.id)) else {
+        let slot = section::KNOWN.iter().position(|&id| id == e.id);
+        let (Some(slot), Some(size)) = (slot.filter(|_| known(e.id)), section::elem_size(e.id))
+        else {
             continue; // unknown sections are skipped (checked for bounds/overlap)
         };
         if e.elem_size != size || e.count.checked_mul(u64::from(size)) != Some(e.byte_len) {
             return Err(SectionSizeMismatch { id: e.id });
         }
-        let slot = section::KNOWN
-            .iter()
-            .position(|&id| id == e.id)
-            .expect("known ids are listed");
         if found[slot] {
             return Err(DuplicateSection { id: e.id });
         }

@@ -178,15 +178,7 @@ fn thesis_remove(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
             let Some(s) = candidates.best(e) else {
                 return Err(candidates.why_none(e));
             };
-            let [_, _, k3, k4] = s.k;
-            let lowered: smallvec::SmallVec<[u32; 2]> = [(k3, s.r3), (k4, s.r4)]
-                .into_iter()
-                .filter(|&(v, r)| r < e.radius(v))
-                .map(|x| x.0)
-                .collect();
-            swap::apply(e, &s);
-            cost += s.cost;
-            candidates.after(e, &s, &lowered);
+            cost += candidates.apply(e, &s);
             // The swap took away the edge k–k2 and no other (k3, k4 were
             // neighbours already).
             nb.retain(|v| *v != s.k[1]);

@@ -229,20 +229,13 @@ pub(crate) fn remove(e: &mut Edit, k: u32, mut seam: Seam) -> Result<f64, Refusa
         let Some(s) = candidates.best(e) else {
             return Err(Refusal::SeamSwap);
         };
-        let [_, k2, k3, k4] = s.k;
+        let k2 = s.k[1];
         if s.merge {
             // (k, k3, k4) existed: only possible with k3–k4 = s1–s2,
             // which the check above excludes; refuse rather than merge.
             return Err(Refusal::SeamSwap);
         }
-        let lowered: SmallVec<[u32; 2]> = [(k3, s.r3), (k4, s.r4)]
-            .into_iter()
-            .filter(|&(v, r)| r < e.radius(v))
-            .map(|x| x.0)
-            .collect();
-        swap::apply(e, &s);
-        cost += s.cost;
-        candidates.after(e, &s, &lowered);
+        cost += candidates.apply(e, &s);
         let Some(i) = seam.interior.iter().position(|x| x.0 == k2) else {
             return Err(Refusal::SeamSwap);
         };

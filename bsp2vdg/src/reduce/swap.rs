@@ -344,6 +344,20 @@ impl Candidates {
     /// `n ∈ {k2,k3,k4}`, `{d1,d2} = {k3,k4}` (the new edge) or a lowered
     /// `d1`/`d2` need a new plan; a changed face list of `d1`/`d2` or a
     /// lowered vertex next to them only a new lowering cost.
+    /// Applies `s` to `e` and updates the plans for it; returns its cost.
+    /// The one way both reduction phases make a swap.
+    pub fn apply(&mut self, e: &mut Edit, s: &Swap) -> f64 {
+        let [_, _, k3, k4] = s.k;
+        let lowered: smallvec::SmallVec<[u32; 2]> = [(k3, s.r3), (k4, s.r4)]
+            .into_iter()
+            .filter(|&(v, r)| r < e.radius(v))
+            .map(|x| x.0)
+            .collect();
+        apply(e, s);
+        self.after(e, s, &lowered);
+        s.cost
+    }
+
     pub fn after(&mut self, e: &Edit, done: &Swap, lowered: &[u32]) {
         let [_, k2, k3, k4] = done.k;
         let topology = |v: u32| v == k2 || v == k3 || v == k4;
