@@ -437,8 +437,8 @@ impl<'a> Vdg<'a> {
             Some((b, _)) => b.face_eval(self, f),
             None => self.face_eval(f),
         };
-        let g_reach = fe.eval(at_reach) - eps;
-        if g_reach <= 0.0 || (reach > t && fe.eval(here) <= eps) {
+        let g_reach = fe.eval_above(at_reach, eps) - eps;
+        if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
             return;
         }
         let exit = exit_with(&fe, seg, reach, g_reach, ub, eps, COVER_TOL);
@@ -490,7 +490,7 @@ impl<'a> Vdg<'a> {
             let here = seg.at(t);
             let mut step = old
                 .and_then(|o| o.after(cur))
-                .and_then(|f| self.hinted_step(f, seg, t, here, eps))
+                .and_then(|f| self.hinted_step(f, seg, t, here, eps, boxes))
                 .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
                 if old.is_some() {
@@ -554,12 +554,21 @@ impl<'a> Vdg<'a> {
 
     /// The reach of face `f` along the segment from `at(t)` (= `here`), if
     /// its volume holds `here`.
-    fn hinted_step(&self, f: u32, seg: &Seg, t: f64, here: V3, eps: f64) -> Option<(u32, f64)> {
-        if !self.box_holds(f, here) {
-            return None;
-        }
-        let fe = self.face_eval(f);
-        let at = fe.eval(here);
+    fn hinted_step(
+        &self,
+        f: u32,
+        seg: &Seg,
+        t: f64,
+        here: V3,
+        eps: f64,
+        boxes: Option<&FaceBoxes>,
+    ) -> Option<(u32, f64)> {
+        let fe = match boxes {
+            Some(b) if b.holds(f, &BoxProbe::at(here)) => b.face_eval(self, f),
+            None if self.box_holds(f, here) => self.face_eval(f),
+            _ => return None,
+        };
+        let at = fe.eval_above(here, eps);
         if at <= eps {
             return None;
         }
