@@ -63,11 +63,12 @@ pub fn guard_with(
     let lowering: Vec<f64> = graph
         .faces
         .par_iter()
-        .map(|f| {
+        .map_init(Recent::new, |recent, f| {
             let (seen, bound) = face_excess(
                 f.map(|v| graph.vertices[v as usize]),
                 f.map(|v| graph.clearance[v as usize]),
                 space,
+                recent,
             );
             match mode {
                 GuardMode::Repair if seen <= 0.0 => 0.0,
@@ -125,7 +126,12 @@ pub fn guard_with(
 /// The largest excess `r(q) − d(q)` seen on the face's grid (corners excluded, so
 /// `-inf` when nothing was sampled), and an upper bound of it over the whole face
 /// (at least 0).
-fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> (f64, f64) {
+fn face_excess(
+    p: [[f64; 3]; 3],
+    c: [f64; 3],
+    space: &dyn FreeSpace,
+    recent: &mut Recent,
+) -> (f64, f64) {
     let edge = |i: usize, j: usize| {
         let d = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
         (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
@@ -151,7 +157,9 @@ fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> (f64, f6
             let q = [0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]);
             let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
             // Only walls closer than r matter; farther ones bound d from below.
-            let d = space.wall_distance_within(q, r + 1.0).unwrap_or(r + 1.0);
+            let d = recent
+                .wall_distance_within(space, q, r + 1.0)
+                .unwrap_or(r + 1.0);
             min_distance = min_distance.min(d);
             max_excess = max_excess.max(r - d);
             seen = seen.max(r - d);
@@ -161,4 +169,118 @@ fn face_excess(p: [[f64; 3]; 3], c: [f64; 3], space: &dyn FreeSpace) -> (f64, f6
     // smallest grid value less the cell size.
     let d_low = (min_distance - h).max(1.0);
     (seen, max_excess + h * h / (2.0 * d_low))
+}
+
+/// The last wall-distance queries of one worker, by their exact bits. Faces next
+/// to each other in the list (the triangles of one Voronoi polygon) share edges,
+/// and a grid point on a shared edge is the same point with the same radius, bit
+/// for bit, when both faces cut the edge alike: the answer is the same query's
+/// answer, so the guard's result does not depend on what the cache holds.
+struct Recent {
+    slots: Vec<Option<([u64; 4], Option<f64>)>>,
+}
+
+/// Slots of [`Recent`] (a power of two).
+const RECENT: usize = 1024;
+
+impl Recent {
+    fn new() -> Recent {
+        Recent {
+            slots: vec![None; RECENT],
+        }
+    }
+
+    /// [`FreeSpace::wall_distance_within`], answered from the slots when the
+    /// same query was asked last there.
+    fn wall_distance_within(
+        &mut self,
+        space: &dyn FreeSpace,
+        q: [f64; 3],
+        radius: f64,
+    ) -> Option<f64> {
+        let key = [q[0], q[1], q[2], radius].map(f64::to_bits);
+        let mix = key.iter().fold(0u64, |h, &k| {
+            (h ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29)
+        });
+        let slot = &mut self.slots[(mix >> 32) as usize & (RECENT - 1)];
+        if let Some((k, d)) = *slot
+            && k == key
+        {
+            return d;
+        }
+        let d = space.wall_distance_within(q, radius);
+        *slot = Some((key, d));
+        d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// A floor at z = 0, counting the distance queries it answers.
+    struct Floor(AtomicUsize);
+
+    impl FreeSpace for Floor {
+        fn is_free(&self, p: [f64; 3]) -> bool {
+            p[2] > 0.0
+        }
+        fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
+            a[2] > 0.0 && b[2] > 0.0
+        }
+        fn wall_distance(&self, p: [f64; 3]) -> f64 {
+            self.0.fetch_add(1, Ordering::Relaxed);
+            p[2].abs()
+        }
+    }
+
+    #[test]
+    fn recent_answers_repeated_queries_alike_and_asks_the_space_once() {
+        let floor = Floor(AtomicUsize::new(0));
+        let mut recent = Recent::new();
+        let queries: Vec<([f64; 3], f64)> = (0..2000)
+            .map(|i| {
+                (
+                    [f64::from(i % 37), 1.0, f64::from(i % 50) * 0.5],
+                    10.0 + f64::from(i % 3),
+                )
+            })
+            .collect();
+        for &(q, r) in &queries {
+            assert_eq!(
+                recent.wall_distance_within(&floor, q, r),
+                floor.wall_distance_within(q, r)
+            );
+        }
+        // The same query twice in a row: the second comes from the slots.
+        let before = floor.0.load(Ordering::Relaxed);
+        let q = [3.5, 2.0, 7.25];
+        let first = recent.wall_distance_within(&floor, q, 20.0);
+        let again = recent.wall_distance_within(&floor, q, 20.0);
+        assert_eq!((first, again), (Some(7.25), Some(7.25)));
+        assert_eq!(floor.0.load(Ordering::Relaxed), before + 1);
+        // Another radius is another query.
+        assert_eq!(recent.wall_distance_within(&floor, q, 5.0), None);
+        assert_eq!(floor.0.load(Ordering::Relaxed), before + 2);
+    }
+
+    #[test]
+    fn guard_lowers_a_face_whose_volume_pokes_through_the_floor() {
+        // Corners 10 units above the floor with clearance 10: exact there, but
+        // a face tilted down in the middle would not be; here a flat face at
+        // z = 10 with clearances 12 pokes 2 units through.
+        let g = Graph {
+            vertices: vec![[0.0, 0.0, 10.0], [40.0, 0.0, 10.0], [0.0, 40.0, 10.0]],
+            clearance: vec![12.0; 3],
+            faces: vec![[0, 1, 2]],
+        };
+        let (out, stats) = guard_interpolation(g, &Floor(AtomicUsize::new(0)), 0.0);
+        assert_eq!(stats.lowered, 3);
+        assert!(
+            out.clearance.iter().all(|&c| c <= 10.0),
+            "{:?}",
+            out.clearance
+        );
+    }
 }
