@@ -522,6 +522,27 @@ impl FaceEval {
         best
     }
 
+    /// [`Self::eval`] when the clearance at `p` may exceed `floor`;
+    /// otherwise some value below `floor`. Outside the triangle's prism
+    /// the exact value needs one or two edge evaluations, but the plane's
+    /// unconstrained optimum (three dot products) bounds it from above:
+    /// a point well outside the volume is told so without them. The bound
+    /// must clear `floor` by a relative 1e-9, far above the rounding of
+    /// either value, so the answer to "above `floor`?" is the exact one.
+    #[inline]
+    pub(crate) fn eval_above(&self, p: V3, floor: f64) -> f64 {
+        if let Some(pl) = &self.plane {
+            let a = self.balls[0];
+            let ap = p - a.c;
+            let h = ap.dot(pl.n).abs();
+            let bound = a.r + pl.grad.dot(ap) - h * pl.w;
+            if bound < floor - 1e-9 * (1.0 + floor.abs() + bound.abs()) {
+                return bound;
+            }
+        }
+        self.eval(p)
+    }
+
     /// The largest `t` with clearance above `eps` at `s + d·t` (`−∞` when
     /// the line misses the shrunk volume): the exit of a segment from the
     /// face volume, in closed form.

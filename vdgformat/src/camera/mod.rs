@@ -44,7 +44,7 @@ pub use director::{CameraId, Director, DirectorEvent};
 pub use params::{CameraError, CameraParams};
 
 use crate::geom::V3;
-use crate::query::{CoverBudget, CoverHint, DistanceField, PathFinder};
+use crate::query::{CoverBudget, CoverHint, DistanceField, FaceBoxes, PathFinder};
 use crate::read::Vdg;
 
 /// What the camera follows, in world units (Quake: z up).
@@ -365,6 +365,10 @@ pub struct Camera {
     hints: [CoverHint; 9],
     /// The same for the sight lines of recently tested vertices.
     vertex_hints: VertexHints,
+    /// The way each candidate's clamp took last frame.
+    clamp_hints: [CoverHint; 8],
+    /// The graph's face boxes, for cheap tree-leaf searches.
+    boxes: FaceBoxes,
 }
 
 /// Which remembered sight line a test continues.
@@ -467,6 +471,8 @@ impl Camera {
             clamp_leaf_searches: 0,
             hints: [CoverHint::default(); 9],
             vertex_hints: VertexHints::default(),
+            clamp_hints: [CoverHint::default(); 8],
+            boxes: FaceBoxes::default(),
         })
     }
 
@@ -566,11 +572,13 @@ impl Camera {
         // Hints name faces of the old graph.
         self.hints = [CoverHint::default(); 9];
         self.vertex_hints = VertexHints::default();
+        self.clamp_hints = [CoverHint::default(); 8];
         // Sized whatever `vertex_tests` says now: `set_params` may turn the
         // memo on later without a new graph.
         s.memo.clear();
         s.memo.resize(g.vertex_count(), VisMemo::default());
         self.field.reserve(g);
+        self.boxes.rebuild(g);
         // A target the camera cannot reach (cut off by gaps narrower than
         // `field_min_clearance`) would have the field settle its whole
         // component every update to prove it; past this budget distances
@@ -763,6 +771,8 @@ impl Camera {
                         leaf_searches: u32::MAX,
                     },
                     CLAMP_TOL,
+                    None,
+                    Some(&self.boxes),
                 );
                 let p = V3::from_f32(a.point);
                 let cost = self.dist_cost(scene, p) + self.angle_cost(scene, p);
@@ -961,10 +971,12 @@ impl Camera {
             margin,
             &mut budget.clone(),
             CLAMP_TOL,
+            None,
+            Some(&self.boxes),
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
         if !a.reached && self.params.slide {
-            (p, f) = slide(g, p, f, s.pos + step, margin, hops);
+            (p, f) = slide(g, &self.boxes, p, f, s.pos + step, margin, hops);
         }
         if !a.reached {
             let left = allowed - (p - s.pos).norm();
@@ -977,6 +989,8 @@ impl Camera {
                     margin,
                     &mut budget.clone(),
                     CLAMP_TOL,
+                    None,
+                    Some(&self.boxes),
                 );
                 let q = V3::from_f32(b.point);
                 if (q - s.pos).norm() > (p - s.pos).norm() {
@@ -1040,7 +1054,7 @@ impl Camera {
         };
         for (kind, k) in wanted {
             let Some(k) = k else { continue };
-            let (pos, face, clear) = self.clamp(g, s, k, margin);
+            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
             let costs = rate(self, pos, face, clear, n);
             let total = f64::from(costs.total);
             self.record(n, kind, k, pos, costs);
@@ -1058,7 +1072,7 @@ impl Camera {
         }
         if !stop && wsum > 0.0 {
             let k = wpos * (1.0 / wsum);
-            let (pos, face, clear) = self.clamp(g, s, k, margin);
+            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
             let costs = rate(self, pos, face, clear, n);
             self.record(n, CandidateKind::Comb, k, pos, costs);
             if f64::from(costs.total) < best.1 {
@@ -1084,7 +1098,9 @@ impl Camera {
     /// Pulls a candidate back into the solution space: the thesis' Trace in
     /// Volume(f_i), or our advance across faces with the near-plane margin.
     /// Returns the point, a face holding it and its clearance there.
-    fn clamp(&mut self, g: &Vdg<'_>, s: &State, k: V3, margin: f32) -> (V3, u32, f64) {
+    /// `slot` is the candidate's place in the frame's list: its clamp
+    /// follows the way the same candidate's took last frame.
+    fn clamp(&mut self, g: &Vdg<'_>, s: &State, k: V3, margin: f32, slot: usize) -> (V3, u32, f64) {
         let (p, f) = if self.params.max_substeps == 0 {
             (
                 V3::from_f32(g.trace(s.face, s.pos.to_f32(), k.to_f32())),
@@ -1104,6 +1120,8 @@ impl Camera {
                 margin,
                 &mut budget,
                 CLAMP_TOL,
+                Some(&mut self.clamp_hints[slot]),
+                Some(&self.boxes),
             );
             self.clamp_leaf_searches = budget.leaf_searches;
             (V3::from_f32(a.point), a.face)
@@ -1399,7 +1417,14 @@ impl Camera {
             Some(Slot::Vertex(v)) => Some(self.vertex_hints.get(v)),
             None => None,
         };
-        let seen = g.visible_hinted(face, k.to_f32(), scene.t_vis.to_f32(), &mut budget, hint);
+        let seen = g.visible_hinted_boxed(
+            face,
+            k.to_f32(),
+            scene.t_vis.to_f32(),
+            &mut budget,
+            hint,
+            Some(&self.boxes),
+        );
         self.sight_budget.hops -= hops - budget.hops;
         self.sight_budget.leaf_searches = budget.leaf_searches;
         seen
@@ -1493,7 +1518,16 @@ impl Camera {
 /// not point out of the volume, as far as it goes. A camera grazing a wall
 /// keeps its speed along it instead of stopping dead (a kink in its path
 /// every time its smoothed direction touches the boundary).
-fn slide(g: &Vdg<'_>, p: V3, f: u32, goal: V3, margin: f32, hops: u32) -> (V3, u32) {
+#[allow(clippy::too_many_arguments)]
+fn slide(
+    g: &Vdg<'_>,
+    boxes: &FaceBoxes,
+    p: V3,
+    f: u32,
+    goal: V3,
+    margin: f32,
+    hops: u32,
+) -> (V3, u32) {
     let rest = goal - p;
     let Some(n) = inward_normal(g, f, p) else {
         return (p, f);
@@ -1516,6 +1550,8 @@ fn slide(g: &Vdg<'_>, p: V3, f: u32, goal: V3, margin: f32, hops: u32) -> (V3, u
             leaf_searches: 0,
         },
         CLAMP_TOL,
+        None,
+        Some(boxes),
     );
     (V3::from_f32(b.point), b.face)
 }

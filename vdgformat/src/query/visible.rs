@@ -9,6 +9,8 @@
 //! ends, so a `true` answer means the whole segment lies in Volume(VDG) —
 //! never through a wall. Any doubt (no progress, step limit) answers `false`.
 
+use super::boxes::round_up_f32;
+use super::{BoxProbe, FaceBoxes};
 use crate::geom::{FaceEval, V3};
 use crate::read::Vdg;
 
@@ -89,6 +91,13 @@ impl CoverBudget {
 
 /// Faces a hint remembers (a camera's sight lines cross a few).
 const HINT_LEN: usize = 32;
+
+/// What a step of a hinted cover that its hint does not guide costs of the
+/// hop budget. A guided step evaluates one face; the search of the current
+/// face's neighbourhood evaluates about ten, so counting it as one hop let
+/// a camera update whose sight lines had all lost their way (the target
+/// just moved behind a wall) do three times the work of a guided one.
+const UNGUIDED_STEP_HOPS: u32 = 3;
 
 /// Where a sight line blocked last time counts as blocked again without a
 /// tree-leaf search while the new blocking point is this close (units).
@@ -240,7 +249,7 @@ impl<'a> Vdg<'a> {
     pub fn visible(&self, s: [f32; 3], e: [f32; 3]) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
-        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS) {
+        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS, None) {
             Some((f, t)) => {
                 let mut budget = CoverBudget::UNBOUNDED;
                 t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
@@ -283,7 +292,9 @@ impl<'a> Vdg<'a> {
 
     /// [`Self::visible_within`] guided by (and updating) the hint of a
     /// similar earlier test: the same answers' certainty, found faster when
-    /// the segment moved little.
+    /// the segment moved little. A step the hint does not guide (a search
+    /// of the neighbourhood, about ten face evaluations) costs three hops
+    /// of `budget`, a guided one one.
     pub fn visible_hinted(
         &self,
         face: u32,
@@ -291,6 +302,21 @@ impl<'a> Vdg<'a> {
         e: [f32; 3],
         budget: &mut CoverBudget,
         hint: Option<&mut CoverHint>,
+    ) -> bool {
+        self.visible_hinted_boxed(face, s, e, budget, hint, None)
+    }
+
+    /// [`Self::visible_hinted`] with the graph's face boxes worked out
+    /// beforehand (a camera's), which makes tree-leaf searches cheap. The
+    /// same answers.
+    pub(crate) fn visible_hinted_boxed(
+        &self,
+        face: u32,
+        s: [f32; 3],
+        e: [f32; 3],
+        budget: &mut CoverBudget,
+        hint: Option<&mut CoverHint>,
+        boxes: Option<&FaceBoxes>,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         if self.fc(face, seg.s) <= INSIDE_EPS {
@@ -303,7 +329,9 @@ impl<'a> Vdg<'a> {
             }
             return true;
         }
-        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint).1 >= 1.0
+        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, boxes)
+            .1
+            >= 1.0
     }
 
     /// Among `candidates` whose volume contains `at(t)`, the one reaching
@@ -313,7 +341,9 @@ impl<'a> Vdg<'a> {
     /// `at(best)` it ends before `best`.
     ///
     /// `skip` is a face whose exit `t` already is (the current face of a
-    /// cover): searching it again would only find `t` once more.
+    /// cover): searching it again would only find `t` once more. `boxes`,
+    /// when given, rule out most candidates that cannot hold `at(t)`
+    /// before their clearance function is worked out.
     fn best_cover_step(
         &self,
         candidates: impl Iterator<Item = u32>,
@@ -321,6 +351,7 @@ impl<'a> Vdg<'a> {
         seg: &Seg,
         t: f64,
         eps: f64,
+        boxes: Option<&FaceBoxes>,
     ) -> Option<(u32, f64)> {
         // Candidates by their reach bound, best first: the first exact exit
         // search usually settles the step and the bound cuts off the rest.
@@ -344,6 +375,8 @@ impl<'a> Vdg<'a> {
         }
         buf[..n].sort_unstable();
         let here = seg.at(t);
+        let probe = BoxProbe::at(here);
+        let boxes = boxes.map(|b| (b, &probe));
         let mut best: Option<(u32, f64)> = None;
         let mut previous = None;
         for &key in buf[..n].iter().rev() {
@@ -359,7 +392,7 @@ impl<'a> Vdg<'a> {
                 // Sorted: no later candidate can reach farther.
                 break;
             }
-            self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, &mut best);
+            self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, boxes, &mut best);
         }
         for f in rest {
             let reach = best.map_or(t, |b| b.1);
@@ -368,7 +401,7 @@ impl<'a> Vdg<'a> {
             }
             let ub = self.reach_bound(f, seg);
             if ub > reach && Some(f) != skip {
-                self.try_cover_candidate(f, ub, seg, t, here, eps, &mut best);
+                self.try_cover_candidate(f, ub, seg, t, here, eps, boxes, &mut best);
             }
         }
         best
@@ -376,7 +409,8 @@ impl<'a> Vdg<'a> {
 
     /// One candidate of [`Self::best_cover_step`] with reach bound `ub`:
     /// makes it the best when it holds `here` (= `at(t)`) and the current
-    /// reach and goes farther.
+    /// reach and goes farther. With `boxes` (and the probe of `here`), a
+    /// face whose box misses `here` is dropped without an evaluation.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn try_cover_candidate(
@@ -387,19 +421,24 @@ impl<'a> Vdg<'a> {
         t: f64,
         here: V3,
         eps: f64,
+        boxes: Option<(&FaceBoxes, &BoxProbe)>,
         best: &mut Option<(u32, f64)>,
     ) {
         // The best one never helps again.
         if best.is_some_and(|b| b.0 == f) {
             return;
         }
+
         let reach = best.map_or(t, |b| b.1);
         // The clearance at `reach`: the face must hold both that point and
         // `here` to extend the cover.
         let at_reach = seg.at(reach);
-        let fe = self.face_eval(f);
-        let g_reach = fe.eval(at_reach) - eps;
-        if g_reach <= 0.0 || (reach > t && fe.eval(here) <= eps) {
+        let fe = match boxes {
+            Some((b, _)) => b.face_eval(self, f),
+            None => self.face_eval(f),
+        };
+        let g_reach = fe.eval_above(at_reach, eps) - eps;
+        if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
             return;
         }
         let exit = exit_with(&fe, seg, reach, g_reach, ub, eps, COVER_TOL);
@@ -417,7 +456,7 @@ impl<'a> Vdg<'a> {
     /// searches and hops count `budget` down; the cover stops when it is
     /// spent.
     fn cover(&self, cur: u32, seg: &Seg, t: f64, eps: f64, budget: &mut CoverBudget) -> (u32, f64) {
-        self.cover_hinted(cur, seg, t, eps, budget, None)
+        self.cover_hinted(cur, seg, t, eps, budget, None, None)
     }
 
     /// [`Self::cover`] that first tries the way a similar earlier cover
@@ -426,7 +465,9 @@ impl<'a> Vdg<'a> {
     /// neighbourhood; any face that continues the line is as good a proof
     /// as the farthest-reaching one. A leaf search is skipped where the
     /// hinted cover already found no way on (a camera's sight line blocked
-    /// at the same place frame after frame).
+    /// at the same place frame after frame). `boxes`, when given, are the
+    /// graph's face boxes, for cheap leaf searches.
+    #[allow(clippy::too_many_arguments)]
     fn cover_hinted(
         &self,
         mut cur: u32,
@@ -435,6 +476,7 @@ impl<'a> Vdg<'a> {
         eps: f64,
         budget: &mut CoverBudget,
         mut hint: Option<&mut CoverHint>,
+        boxes: Option<&FaceBoxes>,
     ) -> (u32, f64) {
         // A hop must gain at least this much (a thousandth of a unit), so
         // the hop limit bounds the work; smaller gains end the cover.
@@ -448,11 +490,14 @@ impl<'a> Vdg<'a> {
             let here = seg.at(t);
             let mut step = old
                 .and_then(|o| o.after(cur))
-                .and_then(|f| self.hinted_step(f, seg, t, here, eps))
+                .and_then(|f| self.hinted_step(f, seg, t, here, eps, boxes))
                 .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
+                if old.is_some() {
+                    budget.hops = budget.hops.saturating_sub(UNGUIDED_STEP_HOPS - 1);
+                }
                 step = self
-                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps)
+                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps, boxes)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
             let dead_end = old.and_then(|o| o.dead_end.filter(|_| o.dead_end_near(here)));
@@ -471,13 +516,18 @@ impl<'a> Vdg<'a> {
                 // vertex with `cur` from this very point and none went far
                 // enough, so only the others can; of those, only faces whose
                 // box holds `here`.
+                // The box test first: it rules out most of a leaf.
                 let corners = self.faces[cur as usize];
+                let probe = BoxProbe::at(here);
                 let holding = leaf.iter().filter(|&f| {
-                    !self.faces[f as usize].iter().any(|v| corners.contains(v))
-                        && self.box_holds(f, here)
+                    let in_box = match boxes {
+                        Some(b) => b.holds(f, &probe),
+                        None => self.box_holds(f, here),
+                    };
+                    in_box && !self.faces[f as usize].iter().any(|v| corners.contains(v))
                 });
                 step = self
-                    .best_cover_step(holding, Some(cur), seg, t, eps)
+                    .best_cover_step(holding, Some(cur), seg, t, eps, boxes)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -504,12 +554,21 @@ impl<'a> Vdg<'a> {
 
     /// The reach of face `f` along the segment from `at(t)` (= `here`), if
     /// its volume holds `here`.
-    fn hinted_step(&self, f: u32, seg: &Seg, t: f64, here: V3, eps: f64) -> Option<(u32, f64)> {
-        if !self.box_holds(f, here) {
-            return None;
-        }
-        let fe = self.face_eval(f);
-        let at = fe.eval(here);
+    fn hinted_step(
+        &self,
+        f: u32,
+        seg: &Seg,
+        t: f64,
+        here: V3,
+        eps: f64,
+        boxes: Option<&FaceBoxes>,
+    ) -> Option<(u32, f64)> {
+        let fe = match boxes {
+            Some(b) if b.holds(f, &BoxProbe::at(here)) => b.face_eval(self, f),
+            None if self.box_holds(f, here) => self.face_eval(f),
+            _ => return None,
+        };
+        let at = fe.eval_above(here, eps);
         if at <= eps {
             return None;
         }
@@ -567,13 +626,15 @@ impl<'a> Vdg<'a> {
             hops: max_hops,
             leaf_searches: u32::MAX,
         };
-        self.advance_tol(face, from, to, margin, &mut budget, BISECT_TOL)
+        self.advance_tol(face, from, to, margin, &mut budget, BISECT_TOL, None, None)
     }
 
     /// [`Self::advance`] stopping within `tol` units of the boundary (the
     /// point is certified either way; a camera does not need to touch the
     /// boundary to a thousandth of a unit), crossing face volumes within
-    /// `budget` (counted down).
+    /// `budget` (counted down), guided by (and updating) `hint` as
+    /// [`Self::visible_hinted`] is.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn advance_tol(
         &self,
         face: u32,
@@ -582,6 +643,8 @@ impl<'a> Vdg<'a> {
         margin: f32,
         budget: &mut CoverBudget,
         tol: f64,
+        hint: Option<&mut CoverHint>,
+        boxes: Option<&FaceBoxes>,
     ) -> Advance {
         let eps = f64::from(margin).max(0.0) + TRACE_MARGIN;
         let seg = Seg::new(V3::from_f32(from), V3::from_f32(to));
@@ -601,7 +664,7 @@ impl<'a> Vdg<'a> {
         if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
-            let (f, r) = self.cover(face, &seg, t, eps, budget);
+            let (f, r) = self.cover_hinted(face, &seg, t, eps, budget, hint, boxes);
             if f != face {
                 t0 = t;
             }
@@ -746,7 +809,7 @@ impl<'a> Vdg<'a> {
         let mut t = 0.0;
         for _ in 0..MAX_HOPS {
             match self
-                .best_cover_step(self.neighbourhood(face), None, &seg, t, INSIDE_EPS)
+                .best_cover_step(self.neighbourhood(face), None, &seg, t, INSIDE_EPS, None)
                 .filter(|&(_, r)| r > t || r >= 1.0)
             {
                 Some((_, r)) if r >= 1.0 => return true,
@@ -756,13 +819,6 @@ impl<'a> Vdg<'a> {
         }
         false
     }
-}
-
-/// `x` rounded to an f32 no smaller than it (NaN stays NaN).
-#[inline]
-fn round_up_f32(x: f64) -> f32 {
-    let r = x as f32;
-    if f64::from(r) < x { r.next_up() } else { r }
 }
 
 /// The bits of an f32 as an unsigned integer in the order of the numbers

@@ -1,0 +1,211 @@
+//! What a caller that covers many sight lines per frame (a camera) keeps
+//! about the faces of one graph: every face volume's box, and the clearance
+//! functions of the faces it evaluated last.
+//!
+//! A tree-leaf search of a sight-line cover tests every face of the leaf
+//! (about a thousand on open maps) for whether its volume's box holds one
+//! point. Derived from the file, that box costs three vertex loads and a
+//! dozen f64 operations per face and axis; stored as six f32 it is six
+//! comparisons (24 bytes per face).
+//!
+//! A camera's sight lines of one frame all end at the target and start
+//! near the camera, and the next frame's lie close to them: they cross the
+//! same faces again and again. Setting up a face's clearance function
+//! ([`FaceEval`], a square root and a division) costs about as much as two
+//! evaluations; a small direct-mapped memo of the last ones saves most of
+//! it. Face indices follow the vertices' spatial order, so neighbouring
+//! faces fall into different slots.
+
+use std::cell::Cell;
+
+use crate::geom::{FaceEval, V3};
+use crate::read::Vdg;
+
+/// Slots of the memo of face clearance functions (a power of two).
+const EVAL_SLOTS: usize = 512;
+
+/// Per face, the box of its three vertex balls rounded outwards to f32
+/// (`[lo_x, lo_y, lo_z, hi_x, hi_y, hi_z]`), and a memo of recently set-up
+/// clearance functions. Interior mutability keeps the memo usable through
+/// the shared references the queries pass around; it is not `Sync`, and
+/// needs not be (one per camera).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct FaceBoxes {
+    boxes: Vec<[f32; 6]>,
+    evals: Vec<Cell<Option<(u32, FaceEval)>>>,
+}
+
+/// A point as the box test sees it: widened by the same relative slack as
+/// [`Vdg::box_holds`] and rounded outwards to f32, so a face the stored
+/// boxes rule out is one `box_holds` rules out too.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxProbe {
+    lo: [f32; 3],
+    hi: [f32; 3],
+}
+
+impl BoxProbe {
+    pub(crate) fn at(p: V3) -> BoxProbe {
+        let q = [p.0, p.1, p.2];
+        let slack = q.map(|x| 1e-6 * (1.0 + x.abs()));
+        BoxProbe {
+            lo: [0, 1, 2].map(|i| round_down_f32(q[i] - slack[i])),
+            hi: [0, 1, 2].map(|i| round_up_f32(q[i] + slack[i])),
+        }
+    }
+}
+
+impl FaceBoxes {
+    /// Fills the boxes for graph `g`, reusing the memory of earlier ones.
+    pub(crate) fn rebuild(&mut self, g: &Vdg<'_>) {
+        // The memo names faces of the old graph.
+        self.evals.clear();
+        self.evals.resize(EVAL_SLOTS, Cell::new(None));
+        self.boxes.clear();
+        self.boxes.reserve(g.faces.len());
+        for f in g.faces {
+            let balls = f.map(|v| g.vertices[v as usize]);
+            let mut b = [0.0f32; 6];
+            for i in 0..3 {
+                let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+                for v in &balls {
+                    let (c, r) = (f64::from(v.pos[i]), f64::from(v.clearance));
+                    lo = lo.min(c - r);
+                    hi = hi.max(c + r);
+                }
+                b[i] = round_down_f32(lo);
+                b[i + 3] = round_up_f32(hi);
+            }
+            self.boxes.push(b);
+        }
+    }
+
+    /// Face `f`'s clearance function, from the memo when it holds it.
+    #[inline]
+    pub(crate) fn face_eval(&self, g: &Vdg<'_>, f: u32) -> FaceEval {
+        let Some(slot) = self.evals.get(f as usize & (EVAL_SLOTS - 1)) else {
+            return g.face_eval(f);
+        };
+        match slot.get() {
+            Some((h, fe)) if h == f => fe,
+            _ => {
+                let fe = g.face_eval(f);
+                slot.set(Some((f, fe)));
+                fe
+            }
+        }
+    }
+
+    /// Whether face `f`'s box may hold the probe's point: `false` proves the
+    /// point is outside the face's volume. NaN anywhere answers `false`.
+    #[inline]
+    pub(crate) fn holds(&self, f: u32, p: &BoxProbe) -> bool {
+        let b = &self.boxes[f as usize];
+        b[0] <= p.hi[0]
+            && b[3] >= p.lo[0]
+            && b[1] <= p.hi[1]
+            && b[4] >= p.lo[1]
+            && b[2] <= p.hi[2]
+            && b[5] >= p.lo[2]
+    }
+}
+
+/// `x` rounded to an f32 no smaller than it (NaN stays NaN).
+#[inline]
+pub(crate) fn round_up_f32(x: f64) -> f32 {
+    let r = x as f32;
+    if f64::from(r) < x { r.next_up() } else { r }
+}
+
+/// `x` rounded to an f32 no larger than it (NaN stays NaN).
+#[inline]
+fn round_down_f32(x: f64) -> f32 {
+    let r = x as f32;
+    if f64::from(r) > x { r.next_down() } else { r }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stored_boxes_never_rule_out_a_face_the_exact_box_holds() {
+        let mut b = crate::VdgBuilder::new();
+        let v = [
+            b.add_vertex([0.1, -3.7, 1e3], 10.3),
+            b.add_vertex([100.9, 0.0, 1e3], 0.7),
+            b.add_vertex([0.0, 100.0, 999.3], 25.1),
+        ];
+        b.add_face(v);
+        let file = crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+        let g = file.graph();
+        let mut boxes = FaceBoxes::default();
+        boxes.rebuild(&g);
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..20_000 {
+            let p = V3(
+                -40.0 + 180.0 * next(),
+                -40.0 + 180.0 * next(),
+                960.0 + 80.0 * next(),
+            );
+            let exact = g.box_holds(0, p);
+            let stored = boxes.holds(0, &BoxProbe::at(p));
+            assert!(stored || !exact, "the stored box rules out {p:?}");
+            if exact { inside += 1 } else { outside += 1 }
+        }
+        assert!(inside > 1000 && outside > 1000);
+        // Right at the box's edge, and NaN.
+        let edge = V3(f64::from(-25.1f32), 50.0, 1000.0);
+        assert!(boxes.holds(0, &BoxProbe::at(edge)) || !g.box_holds(0, edge));
+        assert!(!boxes.holds(0, &BoxProbe::at(V3(f64::NAN, 0.0, 1e3))));
+    }
+
+    #[test]
+    fn the_memo_gives_each_face_its_own_clearance_function() {
+        // A sheet of 2 * 20 * 20 = 800 faces: more than the memo's slots, so
+        // faces share slots and must not get each other's functions.
+        let mut b = crate::VdgBuilder::new();
+        let n = 21;
+        let ids: Vec<u32> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f32, (i / n) as f32);
+                b.add_vertex(
+                    [x * 16.0, y * 16.0, (x * y).sin()],
+                    6.0 + (x + 2.0 * y) % 5.0,
+                )
+            })
+            .collect();
+        for y in 0..n - 1 {
+            for x in 0..n - 1 {
+                let i = y * n + x;
+                b.add_face([ids[i], ids[i + 1], ids[i + n]]);
+                b.add_face([ids[i + 1], ids[i + n + 1], ids[i + n]]);
+            }
+        }
+        let file = crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+        let g = file.graph();
+        assert!(g.face_count() > EVAL_SLOTS);
+        let mut memo = FaceBoxes::default();
+        memo.rebuild(&g);
+        let p = V3(100.0, 90.0, 3.0);
+        // Twice over, in an order that makes faces evict one another.
+        for round in 0..2 {
+            for k in 0..g.face_count() as u32 {
+                let f = (k * 7 + round) % g.face_count() as u32;
+                let cached = memo.face_eval(&g, f).eval(p);
+                assert_eq!(
+                    cached.to_bits(),
+                    g.face_eval(f).eval(p).to_bits(),
+                    "face {f}"
+                );
+            }
+        }
+    }
+}
