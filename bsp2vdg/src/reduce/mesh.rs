@@ -44,7 +44,8 @@ impl Mesh {
     /// other faces do not, and would confuse the edge tests: they are dropped.
     pub fn new(graph: &Graph) -> Mesh {
         let n = graph.vertices.len();
-        let mut seen = std::collections::HashSet::with_capacity(graph.faces.len());
+        let mut seen = rustc_hash::FxHashSet::default();
+        seen.reserve(graph.faces.len());
         let mut faces = Vec::with_capacity(graph.faces.len());
         for &f in &graph.faces {
             if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] || f.iter().any(|&v| v as usize >= n) {

@@ -729,9 +729,10 @@ fn removal<'m>(
         return None;
     }
     let mut best: Option<(f64, Edit<'m>)> = None;
-    for s in Edit::new(mesh).neighbours(v) {
+    let nb = Edit::new(mesh).neighbours(v);
+    for &s in &nb {
         let mut t = Edit::new(mesh);
-        if let Ok(c) = seam::collapse(&mut t, v, s)
+        if let Ok(c) = seam::collapse(&mut t, v, s, &nb)
             && best.as_ref().is_none_or(|b| c < b.0)
             && holds(&t)
         {

@@ -334,8 +334,9 @@ pub(crate) fn describe(e: &Edit, k: u32) -> String {
 
 /// A half-edge collapse of `k` into its neighbour `s` (see the module
 /// docs, "Collapse along an edge"): the lost volume, or why not. `e` must
-/// not hold other changes of `k`'s faces yet.
-pub(crate) fn collapse(e: &mut Edit, k: u32, s: u32) -> Result<f64, Refusal> {
+/// not hold other changes of `k`'s faces yet; `nb` are `k`'s neighbours
+/// (`e.neighbours(k)`, the same for every `s` the callers try).
+pub(crate) fn collapse(e: &mut Edit, k: u32, s: u32, nb: &[u32]) -> Result<f64, Refusal> {
     let faces: SmallVec<[u32; 16]> = SmallVec::from_slice(e.faces_of(k));
     let mut moved: SmallVec<[[u32; 3]; 16]> = SmallVec::new();
     let mut around: SmallVec<[u32; 4]> = SmallVec::new();
@@ -354,8 +355,8 @@ pub(crate) fn collapse(e: &mut Edit, k: u32, s: u32) -> Result<f64, Refusal> {
     // face with them, and no face moves onto an existing one (that would
     // flatten a closed shell). The edges s–v of the faces k–s–v that go
     // must stay edges of some face (else a component splits).
-    for &n in &e.neighbours(k) {
-        if n != s && e.has_edge(s, n) && !around.contains(&n) {
+    for &n in nb {
+        if n != s && !around.contains(&n) && e.has_edge(s, n) {
             return Err(Refusal::CollapseLink);
         }
     }
@@ -373,11 +374,15 @@ pub(crate) fn collapse(e: &mut Edit, k: u32, s: u32) -> Result<f64, Refusal> {
     // Condition A: a moved face (s, a, b) lies in the volume of the old face
     // (k, a, b) when the radius at s is at most that face's clearance at s
     // (the corners a, b are its own; concavity, see module `swap`).
+    // The bound only falls: once it refuses, the faces left cannot help.
     let ps = e.pos(s);
     let mut bound = e.radius(s);
     for &f in &faces {
         if !e.face(f).contains(&s) {
             bound = bound.min(e.clearance_at(f, ps) - MARGIN);
+            if bound <= 0.0 || !mild(e, s, bound) {
+                return Err(Refusal::CollapseBound);
+            }
         }
     }
     if bound <= 0.0 || !mild(e, s, bound) {
@@ -439,9 +444,10 @@ fn other_two(t: &[u32; 3], s: u32) -> [u32; 2] {
 pub(crate) fn collapse_cheapest(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
     let mut best: Option<(f64, Edit)> = None;
     let mut why = Refusal::CollapseLink;
-    for &s in &e.neighbours(k) {
+    let nb = e.neighbours(k);
+    for &s in &nb {
         let mut t = Edit::new(e.base);
-        match collapse(&mut t, k, s) {
+        match collapse(&mut t, k, s, &nb) {
             Ok(c) if best.as_ref().is_none_or(|b| c < b.0) => best = Some((c, t)),
             Ok(_) => {}
             Err(r) => why = r,
@@ -511,7 +517,7 @@ mod tests {
         let mut collapses = 0;
         for s in Edit::new(&mesh).neighbours(0) {
             let mut e = Edit::new(&mesh);
-            if collapse(&mut e, 0, s).is_err() {
+            if collapse(&mut e, 0, s, &Edit::new(&mesh).neighbours(0)).is_err() {
                 continue;
             }
             collapses += 1;
@@ -540,7 +546,7 @@ mod tests {
         let mesh = Mesh::new(&g);
         for s in 1..4 {
             assert_eq!(
-                collapse(&mut Edit::new(&mesh), 0, s),
+                collapse(&mut Edit::new(&mesh), 0, s, &Edit::new(&mesh).neighbours(0)),
                 Err(Refusal::CollapseLink)
             );
         }

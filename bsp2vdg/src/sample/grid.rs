@@ -4,14 +4,15 @@
 //! a known radius. A hash grid answers them in O(1) per query and, unlike a balanced
 //! tree, can be filled incrementally in a fixed order, which keeps merging deterministic.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Points bucketed by a cubic cell of a fixed size.
 #[derive(Debug, Clone)]
 pub struct PointGrid {
     cell: f64,
     points: Vec<[f64; 3]>,
-    buckets: HashMap<[i64; 3], Vec<u32>>,
+    /// Only looked up by key, never iterated: the hash cannot change a result.
+    buckets: FxHashMap<[i64; 3], Vec<u32>>,
 }
 
 impl PointGrid {
@@ -21,7 +22,7 @@ impl PointGrid {
         PointGrid {
             cell,
             points: Vec::new(),
-            buckets: HashMap::new(),
+            buckets: FxHashMap::default(),
         }
     }
 
