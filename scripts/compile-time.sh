@@ -44,7 +44,7 @@ done
 python3 - "$TMP" "$RUNS" $BINS <<'PY'
 import json, statistics, sys
 tmp, runs, bins = sys.argv[1], int(sys.argv[2]), [b.split("=")[0] for b in sys.argv[3:]]
-stages = ["sample", "delaunay", "voronoi", "guard", "reduce", "check", "total"]
+stages = ["sample", "delaunay", "voronoi", "guard", "reduce", "wall_raise", "check", "total"]
 print("build\trun\tsamples\t" + "\t".join(stages) + "\tcpu_s\tpeak_MiB")
 for name in bins:
     rows = []

@@ -32,7 +32,9 @@ for m in "${maps[@]}"; do
   python3 - "$name" "$out/$name.json" "$out/$name.check.json" <<'PY'
 import json, sys
 name, c, k = sys.argv[1], json.load(open(sys.argv[2])), json.load(open(sys.argv[3]))
-print(f"{name[:32]:<32} {c['samples']:>7} {c['tetrahedra']:>8} {c['inner_vertices']:>8} {c['inner_faces']:>8} {c['vertices']:>9} {c['vdg_faces']:>7} {c['bytes']:>7} {c['seconds']['total']:>7.1f} {k['leak']:>9.6f} {k['coverage']:>8.4f} {k['walkable_coverage']:>9.4f} {k['walkable_coverage_head']:>9.4f} {k['visible_fp']:>9.6f} {k['visible_fn']:>9.4f} {k['visible_fn_inside']:>9.4f} {k['visible_fn_query']:>9.4f}")
+# Walkable coverage is null on a map with no standing places: printed n/a.
+share = lambda x: "n/a" if x is None else f"{x:.4f}"
+print(f"{name[:32]:<32} {c['samples']:>7} {c['tetrahedra']:>8} {c['inner_vertices']:>8} {c['inner_faces']:>8} {c['vertices']:>9} {c['vdg_faces']:>7} {c['bytes']:>7} {c['seconds']['total']:>7.1f} {k['leak']:>9.6f} {k['coverage']:>8.4f} {share(k['walkable_coverage']):>9} {share(k['walkable_coverage_head']):>9} {k['visible_fp']:>9.6f} {k['visible_fn']:>9.4f} {k['visible_fn_inside']:>9.4f} {k['visible_fn_query']:>9.4f}")
 PY
   # Maps with a CS bot nav mesh beside them: the walkable sampler cross-checked against it.
   if [ -f "${m%.bsp}.nav" ]; then

@@ -57,7 +57,8 @@ row = [sys.argv[3], sys.argv[4], d["samples"], before, d.get("reduce_faces_befor
        *("%.2f" % s.get(k, 0.0) for k in ("sample", "delaunay", "voronoi", "guard", "reduce", "check", "total")),
        "%.0f" % mem, d.get("reduce_stop_reason") or "-",
        "%.3f" % c["coverage"] if "coverage" in c else "-",
-       *("%.4f" % c[k] if k in c else "-" for k in ("walkable_coverage", "walkable_coverage_head", "visible_fn_inside", "visible_fn_query")),
+       *("%.4f" % c[k] if c.get(k) is not None else ("n/a" if k in c else "-")
+         for k in ("walkable_coverage", "walkable_coverage_head", "visible_fn_inside", "visible_fn_query")),
        "%.4f" % c["leak"] if "leak" in c else "-"]
 print("\t".join(str(x) for x in row), flush=True)
 if d.get("reduce_refusals"):

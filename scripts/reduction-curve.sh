@@ -33,7 +33,7 @@ import json, sys
 name, rl, c, k = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3])), json.load(open(sys.argv[4]))
 before = c.get("reduce_vertices_before") or c["vertices"]
 after = c.get("reduced_vertices") or before
-print(name, rl, "%.5f" % (after / max(before, 1)), "%.5f" % k["walkable_coverage"], "%.5f" % k["coverage"],
+print(name, rl, "%.5f" % (after / max(before, 1)), "n/a" if k["walkable_coverage"] is None else "%.5f" % k["walkable_coverage"], "%.5f" % k["coverage"],
       c.get("reduce_stop_reason") or "-", sep="\t")
 PY
         tail -n1 "$table"

@@ -109,13 +109,17 @@ impl CheckReport {
     pub fn visible_fn_query(&self) -> f64 {
         ratio(self.false_negatives_query, self.free_segments_inside)
     }
-    /// Share of the standing player origins inside the volume.
-    pub fn walkable_coverage(&self) -> f64 {
-        ratio(self.walkable_covered, self.walkable_points)
+    /// Share of the standing player origins inside the volume; `None` on a map with
+    /// no place where a player stands (no clip hull 1, or no floor): there is nothing
+    /// to cover, and 0.0 would read as "nothing covered" (JSON `null`, "n/a").
+    pub fn walkable_coverage(&self) -> Option<f64> {
+        (self.walkable_points > 0).then(|| ratio(self.walkable_covered, self.walkable_points))
     }
-    /// Share of the standing players' heads (where free) inside the volume.
-    pub fn walkable_coverage_head(&self) -> f64 {
-        ratio(self.walkable_head_covered, self.walkable_head_points)
+    /// Share of the standing players' heads (where free) inside the volume; `None`
+    /// when no head was drawn (see [`CheckReport::walkable_coverage`]).
+    pub fn walkable_coverage_head(&self) -> Option<f64> {
+        (self.walkable_head_points > 0)
+            .then(|| ratio(self.walkable_head_covered, self.walkable_head_points))
     }
     /// Whether the graph passes: nothing leaks, nothing is seen through walls.
     pub fn passed(&self) -> bool {
@@ -519,5 +523,19 @@ mod tests {
         assert!(!g.visible(as_f32(a), as_f32(e)));
         // Inside one volume the segment does stay inside.
         assert!(stays_inside(&g, a, [9.0, 0.0, 0.0]));
+    }
+
+    #[test]
+    fn walkable_coverage_is_none_without_standing_places() {
+        let mut r = CheckReport::default();
+        assert_eq!(r.walkable_coverage(), None);
+        assert_eq!(r.walkable_coverage_head(), None);
+        assert!(r.to_json()["walkable_coverage"].is_null());
+        assert!(r.to_json()["walkable_coverage_head"].is_null());
+        (r.walkable_points, r.walkable_covered) = (4, 3);
+        (r.walkable_head_points, r.walkable_head_covered) = (2, 2);
+        assert_eq!(r.walkable_coverage(), Some(0.75));
+        assert_eq!(r.walkable_coverage_head(), Some(1.0));
+        assert_eq!(r.to_json()["walkable_coverage"], 0.75);
     }
 }

@@ -306,12 +306,13 @@ fn run_check(
             r.visible_fn_inside(),
             r.visible_fn_query()
         );
+        let share = |x: Option<f64>| x.map_or("n/a".to_string(), |x| format!("{x:.4}"));
         println!(
-            "  walkable   {:.4}  ({} of {} standing player origins inside), head {:.4} ({} of {})",
-            r.walkable_coverage(),
+            "  walkable   {}  ({} of {} standing player origins inside), head {} ({} of {})",
+            share(r.walkable_coverage()),
             r.walkable_covered,
             r.walkable_points,
-            r.walkable_coverage_head(),
+            share(r.walkable_coverage_head()),
             r.walkable_head_covered,
             r.walkable_head_points
         );

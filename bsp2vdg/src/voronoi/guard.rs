@@ -171,6 +171,196 @@ fn face_excess(
     (seen, max_excess + h * h / (2.0 * d_low))
 }
 
+/// Grid spacing (units) of the certificate of [`raise_to_walls`]: finer than the
+/// guard's, since the curvature margin `h²/(2d)` is paid near walls, where the raise
+/// is wanted.
+const RAISE_CELL: f64 = 6.0;
+/// Most grid divisions per face edge in [`raise_to_walls`] (reduced faces are long).
+const RAISE_MAX_DIVISIONS: usize = 64;
+
+/// What [`raise_to_walls`] did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RaiseStats {
+    /// Vertices raised and the mean raise over them (units).
+    pub raised: usize,
+    pub mean_raise: f64,
+}
+
+/// A face's certificate grid: per node its barycentric weights and its slack
+/// `d − r − margin` (the room left before the node's ball, grown by the curvature
+/// margin of its cell, would reach a wall).
+struct SlackGrid {
+    weights: Vec<[f32; 3]>,
+    slack: Vec<f64>,
+}
+
+/// Raises vertex clearances towards the exact wall distance at each vertex, as far as
+/// a certificate against the walls allows: the guard's argument with a sign. On a
+/// face's barycentric grid (spacing `h` ≤ [`RAISE_CELL`], corners included with their
+/// exact wall distance), if every node keeps `d − r ≥ h²/(2 d_low)` (the curvature
+/// margin of the guard), no ball of the face leaves free space. Raising vertex `v` by
+/// `δ` raises `r` by `δ·λ_v` at a node, so `v` may rise by the least `slack/λ_v` over
+/// the nodes of its faces; the vertices are raised one by one (largest room first,
+/// ties by id), each taking its raise out of its faces' slacks, so the certificate
+/// holds after every step. The wall distances are measured once, in parallel; the
+/// result is the same for any thread count.
+///
+/// Why (issue 14): the reduction keeps its volume inside the unreduced one
+/// (condition A), whose clearances the guard lowered and whose faces lie on the
+/// sampled medial sheets; a reduced face spans them with one plane, and its volume
+/// misses a skin along the walls — where sight lines pass, so `Visible` missed 7 %
+/// of the free ones between points of the volume on de_dust2. The walls, not the
+/// unreduced volume, bound what a face may hold.
+pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
+    let target: Vec<f64> = graph
+        .vertices
+        .par_iter()
+        .map(|&p| space.wall_distance(p))
+        .collect();
+    let room: Vec<f64> = target
+        .iter()
+        .zip(&graph.clearance)
+        .map(|(t, c)| (t - c).max(0.0))
+        .collect();
+    let mut grids: Vec<SlackGrid> = graph
+        .faces
+        .par_iter()
+        .map(|f| {
+            let most = f.iter().map(|&v| room[v as usize]).fold(0.0f64, f64::max);
+            if most <= 0.0 {
+                return SlackGrid {
+                    weights: Vec::new(),
+                    slack: Vec::new(),
+                };
+            }
+            slack_grid(
+                f.map(|v| graph.vertices[v as usize]),
+                f.map(|v| graph.clearance[v as usize]),
+                f.map(|v| target[v as usize]),
+                most,
+                space,
+            )
+        })
+        .collect();
+    let mut faces_of: Vec<Vec<(u32, u8)>> = vec![Vec::new(); graph.vertices.len()];
+    for (i, f) in graph.faces.iter().enumerate() {
+        for (k, &v) in f.iter().enumerate() {
+            faces_of[v as usize].push((i as u32, k as u8));
+        }
+    }
+    let mut order: Vec<u32> = (0..graph.vertices.len() as u32)
+        .filter(|&v| room[v as usize] > 0.0)
+        .collect();
+    order.sort_by(|&a, &b| {
+        room[b as usize]
+            .total_cmp(&room[a as usize])
+            .then(a.cmp(&b))
+    });
+    let (mut raised, mut sum) = (0usize, 0.0f64);
+    for v in order {
+        let mut allow = room[v as usize];
+        for &(f, k) in &faces_of[v as usize] {
+            let g = &grids[f as usize];
+            if g.slack.is_empty() {
+                allow = 0.0;
+                break;
+            }
+            for (w, &s) in g.weights.iter().zip(&g.slack) {
+                let l = w[k as usize] as f64;
+                if l > 0.0 {
+                    allow = allow.min((s / l).max(0.0));
+                } else if s < 0.0 {
+                    // The face is not certified as it stands: nothing may grow it.
+                    allow = 0.0;
+                }
+            }
+            if allow <= 0.0 {
+                break;
+            }
+        }
+        if allow <= 1e-6 {
+            continue;
+        }
+        for &(f, k) in &faces_of[v as usize] {
+            let g = &mut grids[f as usize];
+            for (w, s) in g.weights.iter().zip(g.slack.iter_mut()) {
+                *s -= allow * w[k as usize] as f64;
+            }
+        }
+        graph.clearance[v as usize] += allow;
+        raised += 1;
+        sum += allow;
+    }
+    RaiseStats {
+        raised,
+        mean_raise: sum / raised.max(1) as f64,
+    }
+}
+
+/// The certificate grid of a face (see [`raise_to_walls`]). Wall distances are looked
+/// up only within `r + room + 1`, since no raise goes beyond `room`: a capped
+/// distance is less than the true one, so the slack stays a lower bound. The weights
+/// are stored as `f32` rounded down, which only understates a raise's effect by
+/// less than `f32` precision of a weight ≤ 1 — covered by the slack's own margin.
+fn slack_grid(
+    p: [[f64; 3]; 3],
+    c: [f64; 3],
+    t: [f64; 3],
+    room: f64,
+    space: &dyn FreeSpace,
+) -> SlackGrid {
+    let edge = |i: usize, j: usize| {
+        let d = [p[i][0] - p[j][0], p[i][1] - p[j][1], p[i][2] - p[j][2]];
+        (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    };
+    let longest = edge(0, 1).max(edge(1, 2)).max(edge(2, 0));
+    let n = ((longest / RAISE_CELL).ceil() as usize).clamp(1, RAISE_MAX_DIVISIONS);
+    let h = longest / n as f64;
+    // Nodes in rows i = 0..=n, row i holding j = 0..=n − i; `row[i]` is its first index.
+    let row: Vec<usize> = (0..=n + 1)
+        .map(|i| i * (n + 1) - i * i.saturating_sub(1) / 2)
+        .collect();
+    let mut weights = Vec::with_capacity(row[n + 1]);
+    let mut excess = Vec::with_capacity(row[n + 1]);
+    let mut distance = Vec::with_capacity(row[n + 1]);
+    for i in 0..=n {
+        for j in 0..=(n - i) {
+            let k = n - i - j;
+            let b = [i, j, k].map(|x| x as f64 / n as f64);
+            let (r, d) = match [i, j, k].iter().position(|&x| x == n) {
+                Some(a) => (c[a], t[a]),
+                None => {
+                    let q = [0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]);
+                    let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+                    let far = r + room + 1.0;
+                    (r, space.wall_distance_within(q, far).unwrap_or(far))
+                }
+            };
+            weights.push(b.map(|x| x as f32));
+            excess.push(d - r);
+            distance.push(d);
+        }
+    }
+    // A node's margin is the largest over the cells it is a corner of: their
+    // nodes are among its six grid neighbours, whose least wall distance less `h`
+    // bounds the distance inside them from below.
+    let at = |i: isize, j: isize| -> Option<f64> {
+        (i >= 0 && j >= 0 && (i + j) as usize <= n).then(|| distance[row[i as usize] + j as usize])
+    };
+    let mut slack = Vec::with_capacity(excess.len());
+    for i in 0..=n as isize {
+        for j in 0..=(n as isize - i) {
+            let near = [(0, 0), (1, 0), (-1, 0), (0, 1), (0, -1), (1, -1), (-1, 1)]
+                .iter()
+                .filter_map(|&(di, dj)| at(i + di, j + dj))
+                .fold(f64::INFINITY, f64::min);
+            let margin = h * h / (2.0 * (near - h).max(1.0));
+            slack.push(excess[row[i as usize] + j as usize] - margin);
+        }
+    }
+    SlackGrid { weights, slack }
+}
+
 /// The last wall-distance queries of one worker, by their exact bits. Faces next
 /// to each other in the list (the triangles of one Voronoi polygon) share edges,
 /// and a grid point on a shared edge is the same point with the same radius, bit

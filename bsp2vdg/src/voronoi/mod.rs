@@ -22,7 +22,9 @@
 //! analytic worlds as well as run against a map's BSP.
 
 mod guard;
-pub use guard::{GuardMode, GuardStats, guard_interpolation, guard_with};
+pub use guard::{
+    GuardMode, GuardStats, RaiseStats, guard_interpolation, guard_with, raise_to_walls,
+};
 mod polygon;
 
 use crate::delaunay::Triangulation;
