@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Coverage against the reduction ratio (issue 14): compiles each map at several -rl
-# values, measures walkable coverage and coverage (>= 32) with `vdgview check`, writes
-# the table and draws it (vdgview example reduction_curve). With the keep rule the
+# values, measures walkable coverage, coverage (>= 32) and Visible's false negatives
+# with both ends inside the volume with `vdgview check`, writes the table and draws it
+# (vdgview example reduction_curve; the sight lines as 100 % - FN). With the keep rule the
 # reduction may stop above -rl ("nothing_removable"): the ratio column is what it reached.
 #   scripts/reduction-curve.sh [-samples N] [-rl "0.2 0.1 0.05 0.025 0.0125"] OUT.png MAP.bsp...
 set -euo pipefail
@@ -22,7 +23,7 @@ cargo build --release -q -p vdgview --example reduction_curve
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 table="${png%.png}.tsv"
-printf 'map\trl\tratio\twalkable\tcoverage\tstop\n' > "$table"
+printf 'map\trl\tratio\twalkable\tcoverage\tstop\tfn_inside\n' > "$table"
 for m in "$@"; do
     name=$(basename "$m" .bsp)
     for rl in $RLS; do
@@ -34,7 +35,7 @@ name, rl, c, k = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3])), json.lo
 before = c.get("reduce_vertices_before") or c["vertices"]
 after = c.get("reduced_vertices") or before
 print(name, rl, "%.5f" % (after / max(before, 1)), "n/a" if k["walkable_coverage"] is None else "%.5f" % k["walkable_coverage"], "%.5f" % k["coverage"],
-      c.get("reduce_stop_reason") or "-", sep="\t")
+      c.get("reduce_stop_reason") or "-", "%.5f" % k["visible_fn_inside"], sep="\t")
 PY
         tail -n1 "$table"
     done

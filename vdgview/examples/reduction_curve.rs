@@ -1,12 +1,15 @@
 //! Coverage against the reduction ratio (issue 14): draws what
 //! `scripts/reduction-curve.sh` measured — per map, walkable coverage (standing
-//! player origins inside the volume) and coverage (free points with clearance ≥ 32)
-//! against the share of vertices left, one line per map and measure — as a PNG.
+//! player origins inside the volume), coverage (free points with clearance ≥ 32)
+//! and, when measured, the free sight lines with both ends inside the volume that
+//! Visible sees (100 % − its false negatives there) against the share of vertices
+//! left, one line per map and measure — as a PNG.
 //!
 //! `cargo run --release -p vdgview --example reduction_curve -- CURVE.tsv OUT.png`
 //!
-//! CURVE.tsv rows: `map  rl  ratio  walkable  coverage  stop` (ratio = vertices
-//! left / before; header lines start with `map` or `#`).
+//! CURVE.tsv rows: `map  rl  ratio  walkable  coverage  stop  [fn_inside]` (ratio =
+//! vertices left / before; walkable `n/a` on maps without standing places; header
+//! lines start with `map` or `#`).
 
 use anyhow::{Context, bail};
 use plotters::prelude::*;
@@ -20,8 +23,9 @@ fn main() -> anyhow::Result<()> {
         bail!("usage: reduction_curve CURVE.tsv OUT.png");
     }
     let text = std::fs::read_to_string(&args[0]).with_context(|| format!("reading {}", args[0]))?;
-    // Per map: (ratio %, walkable %, coverage %), sorted by ratio.
-    let mut maps: BTreeMap<String, Vec<(f64, f64, f64)>> = BTreeMap::new();
+    // Per map: (ratio %, walkable %, coverage %, sight lines seen %), sorted by
+    // ratio; NaN where not measured.
+    let mut maps: BTreeMap<String, Vec<(f64, f64, f64, f64)>> = BTreeMap::new();
     for (n, line) in text.lines().enumerate() {
         if line.starts_with('#') || line.starts_with("map") || line.trim().is_empty() {
             continue;
@@ -38,10 +42,20 @@ fn main() -> anyhow::Result<()> {
             f[i].parse::<f64>()
                 .with_context(|| format!("{}:{}: column {} is not a number", args[0], n + 1, i + 1))
         };
+        let walkable = if f[3] == "n/a" {
+            f64::NAN
+        } else {
+            100.0 * num(3)?
+        };
+        let seen = match f.get(6) {
+            Some(_) => 100.0 - 100.0 * num(6)?,
+            None => f64::NAN,
+        };
         maps.entry(f[0].to_string()).or_default().push((
             100.0 * num(2)?,
-            100.0 * num(3)?,
+            walkable,
             100.0 * num(4)?,
+            seen,
         ));
     }
     if maps.is_empty() {
@@ -52,10 +66,18 @@ fn main() -> anyhow::Result<()> {
     }
     let all = maps.values().flatten();
     let x_max = all.clone().map(|p| p.0).fold(0.0, f64::max) * 1.1;
-    let y_min = all.map(|p| p.1.min(p.2)).fold(100.0, f64::min).min(99.0) - 0.5;
+    // `f64::min` skips NaN (a measure not taken).
+    let y_min = all
+        .map(|p| p.1.min(p.2).min(p.3))
+        .fold(100.0, f64::min)
+        .min(99.0)
+        - 0.5;
     png(Path::new(&args[1]), 1000, 600, |root| {
         let mut chart = ChartBuilder::on(root)
-            .caption("Coverage against reduction ratio", ("sans-serif", 24))
+            .caption(
+                "Coverage and sight lines against reduction ratio",
+                ("sans-serif", 24),
+            )
             .margin(16)
             .x_label_area_size(48)
             .y_label_area_size(64)
@@ -64,21 +86,25 @@ fn main() -> anyhow::Result<()> {
         chart
             .configure_mesh()
             .x_desc("vertices left (% of the unreduced graph)")
-            .y_desc("points inside the volume (%)")
+            .y_desc("points inside the volume / sight lines seen (%)")
             .draw()
             .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
         for (i, (name, pts)) in maps.iter().enumerate() {
             let col = PALETTE[i % PALETTE.len()];
             chart
                 .draw_series(LineSeries::new(
-                    pts.iter().map(|p| (p.0, p.1)),
+                    pts.iter().filter(|p| p.1.is_finite()).map(|p| (p.0, p.1)),
                     col.stroke_width(3),
                 ))
                 .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
                 .label(format!("{name}: walkable (standing origins)"))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], col.stroke_width(3)));
             chart
-                .draw_series(pts.iter().map(|p| Circle::new((p.0, p.1), 4, col.filled())))
+                .draw_series(
+                    pts.iter()
+                        .filter(|p| p.1.is_finite())
+                        .map(|p| Circle::new((p.0, p.1), 4, col.filled())),
+                )
                 .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
             chart
                 .draw_series(DashedLineSeries::new(
@@ -101,6 +127,37 @@ fn main() -> anyhow::Result<()> {
                         .map(|p| Circle::new((p.0, p.2), 3, col.stroke_width(1))),
                 )
                 .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            let seen: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| p.3.is_finite())
+                .map(|p| (p.0, p.3))
+                .collect();
+            if !seen.is_empty() {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        seen.iter().copied(),
+                        2,
+                        4,
+                        col.stroke_width(2),
+                    ))
+                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+                    .label(format!(
+                        "{name}: free sight lines seen (100 % - Visible FN, ends inside)"
+                    ))
+                    .legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new([(0, 0), (2, 0)], col.stroke_width(2))
+                            + PathElement::new([(6, 0), (8, 0)], col.stroke_width(2))
+                            + PathElement::new([(12, 0), (14, 0)], col.stroke_width(2))
+                            + PathElement::new([(18, 0), (20, 0)], col.stroke_width(2))
+                    });
+                chart
+                    .draw_series(
+                        seen.iter()
+                            .map(|&p| TriangleMarker::new(p, 4, col.filled())),
+                    )
+                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            }
         }
         chart
             .configure_series_labels()
