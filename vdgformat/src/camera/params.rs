@@ -178,10 +178,13 @@ pub struct CameraParams {
     /// one continues a sight line, at the price of a dozen hops; a hidden
     /// target makes every test fail into one. The pose's own test has an
     /// allowance of its own of the same size, and so have the candidates'
-    /// clamps. 3: on de_dust2 the p99 of an update's instructions is 612k
-    /// against 698k with 4 (504k with 2), and the replay of 21 maps sees the
-    /// target as often (98.44 / 98.75 % at 1/60 / 1/30 s against 98.30 /
-    /// 98.78 %; 2 costs 0.2–0.4 points). The thesis: no bound (4294967295).
+    /// clamps. 2: on de_dust2 the p99 of an update's instructions is 504k
+    /// against 612k with 3 and 698k with 4, which keeps the p99 under
+    /// 100 µs (88–91 µs against 100–104 µs with 3, same runs); the replay
+    /// of 21 maps sees the target 98.12 / 98.41 % of the frames at 1/60 /
+    /// 1/30 s against 98.44 / 98.75 % with 3 and 98.30 / 98.78 % with 4 —
+    /// engines with time to spare can buy the third of a point back. The
+    /// thesis: no bound (4294967295).
     pub leaf_searches: u32,
     /// While the target is hidden, one more candidate k_path: the point
     /// this far (units of path) along the shortest way through the graph
@@ -245,7 +248,7 @@ impl Default for CameraParams {
             exact_reachable: false,
             vertex_tests: 8,
             sight_hops: 64,
-            leaf_searches: 3,
+            leaf_searches: 2,
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
