@@ -127,6 +127,7 @@ fn round_down_f32(x: f64) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::query::{CoverBudget, CoverHint};
 
     #[test]
     fn stored_boxes_never_rule_out_a_face_the_exact_box_holds() {
@@ -165,6 +166,89 @@ mod tests {
         let edge = V3(f64::from(-25.1f32), 50.0, 1000.0);
         assert!(boxes.holds(0, &BoxProbe::at(edge)) || !g.box_holds(0, edge));
         assert!(!boxes.holds(0, &BoxProbe::at(V3(f64::NAN, 0.0, 1e3))));
+    }
+
+    /// A wavy sheet of `2 (n − 1)²` faces with varied clearances, and a
+    /// second one 18 units above it, whose volume overlaps the first (so that leaf searches find faces of the other
+    /// sheet that share no vertex with the current one).
+    fn two_sheets(n: usize) -> Vec<u8> {
+        let mut b = crate::VdgBuilder::new();
+        for layer in 0..2 {
+            let z0 = 18.0 * layer as f32;
+            let ids: Vec<u32> = (0..n * n)
+                .map(|i| {
+                    let (x, y) = ((i % n) as f32, (i / n) as f32);
+                    let z = z0 + 6.0 * (0.7 * x).sin() * (0.5 * y).cos();
+                    b.add_vertex(
+                        [x * 16.0, y * 16.0, z],
+                        9.0 + 7.0 * ((x * 1.3 + y * 0.7).sin()).abs(),
+                    )
+                })
+                .collect();
+            for y in 0..n - 1 {
+                for x in 0..n - 1 {
+                    let i = y * n + x;
+                    b.add_face([ids[i], ids[i + 1], ids[i + n]]);
+                    b.add_face([ids[i + 1], ids[i + n + 1], ids[i + n]]);
+                }
+            }
+        }
+        b.to_bytes().unwrap()
+    }
+
+    #[test]
+    fn sight_lines_and_advances_answer_the_same_with_the_camera_s_boxes_and_memo() {
+        let bytes = two_sheets(16);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut cache = FaceBoxes::default();
+        cache.rebuild(&g);
+        let mut rng = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut seen, mut blocked) = (0, 0);
+        for _ in 0..3000 {
+            let f = (next() * g.face_count() as f64) as u32 % g.face_count() as u32;
+            let [a, b2, c] = g.faces[f as usize].map(|v| g.pos(v));
+            let (u, w) = (next() * 0.5, next() * 0.5);
+            let s = (a + (b2 - a) * u + (c - a) * w + V3(0.0, 0.0, 4.0 * next() - 2.0)).to_f32();
+            let e = [
+                (240.0 * next()) as f32,
+                (240.0 * next()) as f32,
+                (-10.0 + 60.0 * next()) as f32,
+            ];
+            let start = CoverBudget {
+                hops: 64,
+                leaf_searches: 4,
+            };
+            let (mut b1, mut b2) = (start, start);
+            let (mut h1, mut h2) = (CoverHint::default(), CoverHint::default());
+            let plain = g.visible_hinted_boxed(f, s, e, &mut b1, Some(&mut h1), None);
+            let boxed = g.visible_hinted_boxed(f, s, e, &mut b2, Some(&mut h2), Some(&cache));
+            assert_eq!(plain, boxed, "{s:?} -> {e:?}");
+            assert_eq!(b1, b2, "budgets spent differently for {s:?} -> {e:?}");
+            if plain {
+                seen += 1
+            } else {
+                blocked += 1
+            }
+            let (mut b1, mut b2) = (start, start);
+            let a1 = g.advance_tol(f, s, e, 2.0, &mut b1, 0.125, None, None);
+            let a2 = g.advance_tol(f, s, e, 2.0, &mut b2, 0.125, None, Some(&cache));
+            assert_eq!(
+                (a1.point, a1.face, a1.reached),
+                (a2.point, a2.face, a2.reached)
+            );
+        }
+        // Both answers occur often enough for the comparison to mean something.
+        assert!(
+            seen > 300 && blocked > 300,
+            "seen {seen}, blocked {blocked}"
+        );
     }
 
     #[test]
