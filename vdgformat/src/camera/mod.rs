@@ -44,7 +44,7 @@ pub use director::{CameraId, Director, DirectorEvent};
 pub use params::{CameraError, CameraParams};
 
 use crate::geom::V3;
-use crate::query::{CoverBudget, CoverHint, DistanceField, FaceBoxes, PathFinder};
+use crate::query::{CoverBudget, CoverHint, DistanceField, FaceCache, PathFinder};
 use crate::read::Vdg;
 
 /// What the camera follows, in world units (Quake: z up).
@@ -367,8 +367,9 @@ pub struct Camera {
     vertex_hints: VertexHints,
     /// The way each candidate's clamp took last frame.
     clamp_hints: [CoverHint; 8],
-    /// The graph's face boxes, for cheap tree-leaf searches.
-    boxes: FaceBoxes,
+    /// What the camera keeps about the graph's faces (boxes, recent
+    /// clearance functions), for cheaper sight lines and clamps.
+    faces: FaceCache,
 }
 
 /// Which remembered sight line a test continues.
@@ -472,7 +473,7 @@ impl Camera {
             hints: [CoverHint::default(); 9],
             vertex_hints: VertexHints::default(),
             clamp_hints: [CoverHint::default(); 8],
-            boxes: FaceBoxes::default(),
+            faces: FaceCache::default(),
         })
     }
 
@@ -578,7 +579,7 @@ impl Camera {
         s.memo.clear();
         s.memo.resize(g.vertex_count(), VisMemo::default());
         self.field.reserve(g);
-        self.boxes.rebuild(g);
+        self.faces.rebuild(g);
         // A target the camera cannot reach (cut off by gaps narrower than
         // `field_min_clearance`) would have the field settle its whole
         // component every update to prove it; past this budget distances
@@ -772,7 +773,7 @@ impl Camera {
                     },
                     CLAMP_TOL,
                     None,
-                    Some(&self.boxes),
+                    Some(&self.faces),
                 );
                 let p = V3::from_f32(a.point);
                 let cost = self.dist_cost(scene, p) + self.angle_cost(scene, p);
@@ -972,11 +973,11 @@ impl Camera {
             &mut budget.clone(),
             CLAMP_TOL,
             None,
-            Some(&self.boxes),
+            Some(&self.faces),
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
         if !a.reached && self.params.slide {
-            (p, f) = slide(g, &self.boxes, p, f, s.pos + step, margin, hops);
+            (p, f) = slide(g, &self.faces, p, f, s.pos + step, margin, hops);
         }
         if !a.reached {
             let left = allowed - (p - s.pos).norm();
@@ -990,7 +991,7 @@ impl Camera {
                     &mut budget.clone(),
                     CLAMP_TOL,
                     None,
-                    Some(&self.boxes),
+                    Some(&self.faces),
                 );
                 let q = V3::from_f32(b.point);
                 if (q - s.pos).norm() > (p - s.pos).norm() {
@@ -1121,7 +1122,7 @@ impl Camera {
                 &mut budget,
                 CLAMP_TOL,
                 Some(&mut self.clamp_hints[slot]),
-                Some(&self.boxes),
+                Some(&self.faces),
             );
             self.clamp_leaf_searches = budget.leaf_searches;
             (V3::from_f32(a.point), a.face)
@@ -1417,13 +1418,13 @@ impl Camera {
             Some(Slot::Vertex(v)) => Some(self.vertex_hints.get(v)),
             None => None,
         };
-        let seen = g.visible_hinted_boxed(
+        let seen = g.visible_hinted_cached(
             face,
             k.to_f32(),
             scene.t_vis.to_f32(),
             &mut budget,
             hint,
-            Some(&self.boxes),
+            Some(&self.faces),
         );
         self.sight_budget.hops -= hops - budget.hops;
         self.sight_budget.leaf_searches = budget.leaf_searches;
@@ -1521,7 +1522,7 @@ impl Camera {
 #[allow(clippy::too_many_arguments)]
 fn slide(
     g: &Vdg<'_>,
-    boxes: &FaceBoxes,
+    faces: &FaceCache,
     p: V3,
     f: u32,
     goal: V3,
@@ -1551,7 +1552,7 @@ fn slide(
         },
         CLAMP_TOL,
         None,
-        Some(boxes),
+        Some(faces),
     );
     (V3::from_f32(b.point), b.face)
 }

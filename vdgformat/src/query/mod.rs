@@ -5,12 +5,12 @@
 //! of their own beyond Rust's slice bounds checks (which then never fire).
 //! Geometry is evaluated in f64 on the stored f32 values.
 
-mod boxes;
+mod face_cache;
 mod field;
 mod path;
 mod visible;
 
-pub(crate) use boxes::{BoxProbe, FaceBoxes};
+pub(crate) use face_cache::{BoxProbe, FaceCache};
 
 pub use field::DistanceField;
 pub use path::{PathFinder, VdgPath};

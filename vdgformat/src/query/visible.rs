@@ -9,8 +9,8 @@
 //! ends, so a `true` answer means the whole segment lies in Volume(VDG) —
 //! never through a wall. Any doubt (no progress, step limit) answers `false`.
 
-use super::boxes::round_up_f32;
-use super::{BoxProbe, FaceBoxes};
+use super::face_cache::round_up_f32;
+use super::{BoxProbe, FaceCache};
 use crate::geom::{FaceEval, V3};
 use crate::read::Vdg;
 
@@ -303,20 +303,20 @@ impl<'a> Vdg<'a> {
         budget: &mut CoverBudget,
         hint: Option<&mut CoverHint>,
     ) -> bool {
-        self.visible_hinted_boxed(face, s, e, budget, hint, None)
+        self.visible_hinted_cached(face, s, e, budget, hint, None)
     }
 
-    /// [`Self::visible_hinted`] with the graph's face boxes worked out
-    /// beforehand (a camera's), which makes tree-leaf searches cheap. The
-    /// same answers.
-    pub(crate) fn visible_hinted_boxed(
+    /// [`Self::visible_hinted`] with a caller's [`FaceCache`] of the graph
+    /// (a camera's): cheaper tree-leaf searches and face set-ups, the same
+    /// answers.
+    pub(crate) fn visible_hinted_cached(
         &self,
         face: u32,
         s: [f32; 3],
         e: [f32; 3],
         budget: &mut CoverBudget,
         hint: Option<&mut CoverHint>,
-        boxes: Option<&FaceBoxes>,
+        cache: Option<&FaceCache>,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         if self.fc(face, seg.s) <= INSIDE_EPS {
@@ -329,7 +329,7 @@ impl<'a> Vdg<'a> {
             }
             return true;
         }
-        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, boxes)
+        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, cache)
             .1
             >= 1.0
     }
@@ -341,9 +341,9 @@ impl<'a> Vdg<'a> {
     /// `at(best)` it ends before `best`.
     ///
     /// `skip` is a face whose exit `t` already is (the current face of a
-    /// cover): searching it again would only find `t` once more. `boxes`,
-    /// when given, rule out most candidates that cannot hold `at(t)`
-    /// before their clearance function is worked out.
+    /// cover): searching it again would only find `t` once more. `cache`,
+    /// when given, saves setting up the clearance functions of faces
+    /// evaluated recently.
     fn best_cover_step(
         &self,
         candidates: impl Iterator<Item = u32>,
@@ -351,7 +351,7 @@ impl<'a> Vdg<'a> {
         seg: &Seg,
         t: f64,
         eps: f64,
-        boxes: Option<&FaceBoxes>,
+        cache: Option<&FaceCache>,
     ) -> Option<(u32, f64)> {
         // Candidates by their reach bound, best first: the first exact exit
         // search usually settles the step and the bound cuts off the rest.
@@ -375,8 +375,6 @@ impl<'a> Vdg<'a> {
         }
         buf[..n].sort_unstable();
         let here = seg.at(t);
-        let probe = BoxProbe::at(here);
-        let boxes = boxes.map(|b| (b, &probe));
         let mut best: Option<(u32, f64)> = None;
         let mut previous = None;
         for &key in buf[..n].iter().rev() {
@@ -392,7 +390,7 @@ impl<'a> Vdg<'a> {
                 // Sorted: no later candidate can reach farther.
                 break;
             }
-            self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, boxes, &mut best);
+            self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, cache, &mut best);
         }
         for f in rest {
             let reach = best.map_or(t, |b| b.1);
@@ -401,7 +399,7 @@ impl<'a> Vdg<'a> {
             }
             let ub = self.reach_bound(f, seg);
             if ub > reach && Some(f) != skip {
-                self.try_cover_candidate(f, ub, seg, t, here, eps, boxes, &mut best);
+                self.try_cover_candidate(f, ub, seg, t, here, eps, cache, &mut best);
             }
         }
         best
@@ -409,8 +407,7 @@ impl<'a> Vdg<'a> {
 
     /// One candidate of [`Self::best_cover_step`] with reach bound `ub`:
     /// makes it the best when it holds `here` (= `at(t)`) and the current
-    /// reach and goes farther. With `boxes` (and the probe of `here`), a
-    /// face whose box misses `here` is dropped without an evaluation.
+    /// reach and goes farther.
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn try_cover_candidate(
@@ -421,7 +418,7 @@ impl<'a> Vdg<'a> {
         t: f64,
         here: V3,
         eps: f64,
-        boxes: Option<(&FaceBoxes, &BoxProbe)>,
+        cache: Option<&FaceCache>,
         best: &mut Option<(u32, f64)>,
     ) {
         // The best one never helps again.
@@ -433,8 +430,8 @@ impl<'a> Vdg<'a> {
         // The clearance at `reach`: the face must hold both that point and
         // `here` to extend the cover.
         let at_reach = seg.at(reach);
-        let fe = match boxes {
-            Some((b, _)) => b.face_eval(self, f),
+        let fe = match cache {
+            Some(c) => c.face_eval(self, f),
             None => self.face_eval(f),
         };
         let g_reach = fe.eval_above(at_reach, eps) - eps;
@@ -465,8 +462,8 @@ impl<'a> Vdg<'a> {
     /// neighbourhood; any face that continues the line is as good a proof
     /// as the farthest-reaching one. A leaf search is skipped where the
     /// hinted cover already found no way on (a camera's sight line blocked
-    /// at the same place frame after frame). `boxes`, when given, are the
-    /// graph's face boxes, for cheap leaf searches.
+    /// at the same place frame after frame). `cache`, when given, makes
+    /// leaf searches and face set-ups cheap.
     #[allow(clippy::too_many_arguments)]
     fn cover_hinted(
         &self,
@@ -476,7 +473,7 @@ impl<'a> Vdg<'a> {
         eps: f64,
         budget: &mut CoverBudget,
         mut hint: Option<&mut CoverHint>,
-        boxes: Option<&FaceBoxes>,
+        cache: Option<&FaceCache>,
     ) -> (u32, f64) {
         // A hop must gain at least this much (a thousandth of a unit), so
         // the hop limit bounds the work; smaller gains end the cover.
@@ -490,14 +487,14 @@ impl<'a> Vdg<'a> {
             let here = seg.at(t);
             let mut step = old
                 .and_then(|o| o.after(cur))
-                .and_then(|f| self.hinted_step(f, seg, t, here, eps, boxes))
+                .and_then(|f| self.hinted_step(f, seg, t, here, eps, cache))
                 .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             if step.is_none() {
                 if old.is_some() {
                     budget.hops = budget.hops.saturating_sub(UNGUIDED_STEP_HOPS - 1);
                 }
                 step = self
-                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps, boxes)
+                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps, cache)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
             let dead_end = old.and_then(|o| o.dead_end.filter(|_| o.dead_end_near(here)));
@@ -520,14 +517,14 @@ impl<'a> Vdg<'a> {
                 let corners = self.faces[cur as usize];
                 let probe = BoxProbe::at(here);
                 let holding = leaf.iter().filter(|&f| {
-                    let in_box = match boxes {
-                        Some(b) => b.holds(f, &probe),
+                    let in_box = match cache {
+                        Some(c) => c.holds(f, &probe),
                         None => self.box_holds(f, here),
                     };
                     in_box && !self.faces[f as usize].iter().any(|v| corners.contains(v))
                 });
                 step = self
-                    .best_cover_step(holding, Some(cur), seg, t, eps, boxes)
+                    .best_cover_step(holding, Some(cur), seg, t, eps, cache)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -561,10 +558,10 @@ impl<'a> Vdg<'a> {
         t: f64,
         here: V3,
         eps: f64,
-        boxes: Option<&FaceBoxes>,
+        cache: Option<&FaceCache>,
     ) -> Option<(u32, f64)> {
-        let fe = match boxes {
-            Some(b) if b.holds(f, &BoxProbe::at(here)) => b.face_eval(self, f),
+        let fe = match cache {
+            Some(c) if c.holds(f, &BoxProbe::at(here)) => c.face_eval(self, f),
             None if self.box_holds(f, here) => self.face_eval(f),
             _ => return None,
         };
@@ -644,7 +641,7 @@ impl<'a> Vdg<'a> {
         budget: &mut CoverBudget,
         tol: f64,
         hint: Option<&mut CoverHint>,
-        boxes: Option<&FaceBoxes>,
+        cache: Option<&FaceCache>,
     ) -> Advance {
         let eps = f64::from(margin).max(0.0) + TRACE_MARGIN;
         let seg = Seg::new(V3::from_f32(from), V3::from_f32(to));
@@ -664,7 +661,7 @@ impl<'a> Vdg<'a> {
         if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
-            let (f, r) = self.cover_hinted(face, &seg, t, eps, budget, hint, boxes);
+            let (f, r) = self.cover_hinted(face, &seg, t, eps, budget, hint, cache);
             if f != face {
                 t0 = t;
             }

@@ -30,7 +30,7 @@ const EVAL_SLOTS: usize = 512;
 /// the shared references the queries pass around; it is not `Sync`, and
 /// needs not be (one per camera).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct FaceBoxes {
+pub(crate) struct FaceCache {
     boxes: Vec<[f32; 6]>,
     evals: Vec<Cell<Option<(u32, FaceEval)>>>,
 }
@@ -55,7 +55,7 @@ impl BoxProbe {
     }
 }
 
-impl FaceBoxes {
+impl FaceCache {
     /// Fills the boxes for graph `g`, reusing the memory of earlier ones.
     pub(crate) fn rebuild(&mut self, g: &Vdg<'_>) {
         // The memo names faces of the old graph.
@@ -128,6 +128,7 @@ fn round_down_f32(x: f64) -> f32 {
 mod tests {
     use super::*;
     use crate::query::{CoverBudget, CoverHint};
+    use toolbox::SplitMix64;
 
     #[test]
     fn stored_boxes_never_rule_out_a_face_the_exact_box_holds() {
@@ -140,37 +141,32 @@ mod tests {
         b.add_face(v);
         let file = crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
         let g = file.graph();
-        let mut boxes = FaceBoxes::default();
-        boxes.rebuild(&g);
-        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
+        let mut rng = SplitMix64::new(5);
         let (mut inside, mut outside) = (0, 0);
         for _ in 0..20_000 {
             let p = V3(
-                -40.0 + 180.0 * next(),
-                -40.0 + 180.0 * next(),
-                960.0 + 80.0 * next(),
+                rng.range(-40.0, 140.0),
+                rng.range(-40.0, 140.0),
+                rng.range(960.0, 1040.0),
             );
             let exact = g.box_holds(0, p);
-            let stored = boxes.holds(0, &BoxProbe::at(p));
+            let stored = cache.holds(0, &BoxProbe::at(p));
             assert!(stored || !exact, "the stored box rules out {p:?}");
             if exact { inside += 1 } else { outside += 1 }
         }
         assert!(inside > 1000 && outside > 1000);
         // Right at the box's edge, and NaN.
         let edge = V3(f64::from(-25.1f32), 50.0, 1000.0);
-        assert!(boxes.holds(0, &BoxProbe::at(edge)) || !g.box_holds(0, edge));
-        assert!(!boxes.holds(0, &BoxProbe::at(V3(f64::NAN, 0.0, 1e3))));
+        assert!(cache.holds(0, &BoxProbe::at(edge)) || !g.box_holds(0, edge));
+        assert!(!cache.holds(0, &BoxProbe::at(V3(f64::NAN, 0.0, 1e3))));
     }
 
     /// A wavy sheet of `2 (n − 1)²` faces with varied clearances, and a
-    /// second one 18 units above it, whose volume overlaps the first (so that leaf searches find faces of the other
-    /// sheet that share no vertex with the current one).
+    /// second one 18 units above it whose volume overlaps the first, so
+    /// that leaf searches find faces of the other sheet (sharing no vertex
+    /// with the current one).
     fn two_sheets(n: usize) -> Vec<u8> {
         let mut b = crate::VdgBuilder::new();
         for layer in 0..2 {
@@ -197,29 +193,23 @@ mod tests {
     }
 
     #[test]
-    fn sight_lines_and_advances_answer_the_same_with_the_camera_s_boxes_and_memo() {
+    fn sight_lines_and_advances_answer_the_same_with_the_camera_s_face_cache() {
         let bytes = two_sheets(16);
         let file = crate::VdgFile::from_bytes(&bytes).unwrap();
         let g = file.graph();
-        let mut cache = FaceBoxes::default();
+        let mut cache = FaceCache::default();
         cache.rebuild(&g);
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = SplitMix64::new(9);
         let (mut seen, mut blocked) = (0, 0);
         for _ in 0..3000 {
-            let f = (next() * g.face_count() as f64) as u32 % g.face_count() as u32;
-            let [a, b2, c] = g.faces[f as usize].map(|v| g.pos(v));
-            let (u, w) = (next() * 0.5, next() * 0.5);
-            let s = (a + (b2 - a) * u + (c - a) * w + V3(0.0, 0.0, 4.0 * next() - 2.0)).to_f32();
+            let f = rng.below(g.face_count()) as u32;
+            let [a, b, c] = g.faces[f as usize].map(|v| g.pos(v));
+            let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
+            let s = (a + (b - a) * u + (c - a) * w + V3(0.0, 0.0, rng.range(-2.0, 2.0))).to_f32();
             let e = [
-                (240.0 * next()) as f32,
-                (240.0 * next()) as f32,
-                (-10.0 + 60.0 * next()) as f32,
+                rng.range(0.0, 240.0) as f32,
+                rng.range(0.0, 240.0) as f32,
+                rng.range(-10.0, 50.0) as f32,
             ];
             let start = CoverBudget {
                 hops: 64,
@@ -227,9 +217,9 @@ mod tests {
             };
             let (mut b1, mut b2) = (start, start);
             let (mut h1, mut h2) = (CoverHint::default(), CoverHint::default());
-            let plain = g.visible_hinted_boxed(f, s, e, &mut b1, Some(&mut h1), None);
-            let boxed = g.visible_hinted_boxed(f, s, e, &mut b2, Some(&mut h2), Some(&cache));
-            assert_eq!(plain, boxed, "{s:?} -> {e:?}");
+            let plain = g.visible_hinted_cached(f, s, e, &mut b1, Some(&mut h1), None);
+            let cached = g.visible_hinted_cached(f, s, e, &mut b2, Some(&mut h2), Some(&cache));
+            assert_eq!(plain, cached, "{s:?} -> {e:?}");
             assert_eq!(b1, b2, "budgets spent differently for {s:?} -> {e:?}");
             if plain {
                 seen += 1
@@ -253,37 +243,20 @@ mod tests {
 
     #[test]
     fn the_memo_gives_each_face_its_own_clearance_function() {
-        // A sheet of 2 * 20 * 20 = 800 faces: more than the memo's slots, so
-        // faces share slots and must not get each other's functions.
-        let mut b = crate::VdgBuilder::new();
-        let n = 21;
-        let ids: Vec<u32> = (0..n * n)
-            .map(|i| {
-                let (x, y) = ((i % n) as f32, (i / n) as f32);
-                b.add_vertex(
-                    [x * 16.0, y * 16.0, (x * y).sin()],
-                    6.0 + (x + 2.0 * y) % 5.0,
-                )
-            })
-            .collect();
-        for y in 0..n - 1 {
-            for x in 0..n - 1 {
-                let i = y * n + x;
-                b.add_face([ids[i], ids[i + 1], ids[i + n]]);
-                b.add_face([ids[i + 1], ids[i + n + 1], ids[i + n]]);
-            }
-        }
-        let file = crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+        // 2 · 2 · 15² = 900 faces: more than the memo's slots, so faces
+        // share slots and must not get each other's functions.
+        let bytes = two_sheets(16);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
         let g = file.graph();
         assert!(g.face_count() > EVAL_SLOTS);
-        let mut memo = FaceBoxes::default();
-        memo.rebuild(&g);
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
         let p = V3(100.0, 90.0, 3.0);
         // Twice over, in an order that makes faces evict one another.
         for round in 0..2 {
             for k in 0..g.face_count() as u32 {
                 let f = (k * 7 + round) % g.face_count() as u32;
-                let cached = memo.face_eval(&g, f).eval(p);
+                let cached = cache.face_eval(&g, f).eval(p);
                 assert_eq!(
                     cached.to_bits(),
                     g.face_eval(f).eval(p).to_bits(),
