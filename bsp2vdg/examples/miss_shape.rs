@@ -10,6 +10,7 @@
 //! ```
 
 use bsp2vdg::bsp::Bsp;
+use bsp2vdg::check::{CheckOptions, SightSegments};
 use bsp2vdg::oracle::{Oracle, OracleOptions};
 use bsp2vdg::util::SplitMix64;
 use bsp2vdg::walls::Walls;
@@ -64,30 +65,18 @@ fn main() -> anyhow::Result<()> {
     let w = bsp.world();
     let (lo, hi) = (w.mins.map(f64::from), w.maxs.map(f64::from));
     let f32p = |p: [f64; 3]| p.map(|c| c as f32);
-    let parts: Vec<Stats> = (0..n.div_ceil(4096))
+    let segments = SightSegments::new(&bsp, &oracle, n, CheckOptions::default().seed);
+    let parts: Vec<Stats> = (0..segments.chunks())
         .into_par_iter()
         .map(|c| {
-            let mut rng = SplitMix64::new(0x77 ^ c as u64);
             let mut s = Stats::default();
-            let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
-                let p = match near {
-                    Some(a) => [0, 1, 2].map(|i| a[i] + rng.range(-512.0, 512.0)),
-                    None => [0, 1, 2].map(|i| rng.range(lo[i], hi[i])),
-                };
-                let p = f32p(p).map(f64::from);
-                if oracle.is_free(p) {
-                    return p;
-                }
-            };
-            for k in 0..4096.min(n - c * 4096) {
-                let a = free_point(&mut rng, None);
-                let b = free_point(&mut rng, (k % 2 == 0).then_some(a));
+            segments.for_each_in_chunk(c, |a, b| {
                 if !(oracle.segment_free(a, b) && vdg.contains(f32p(a)) && vdg.contains(f32p(b))) {
-                    continue;
+                    return;
                 }
                 s.inside_ends += 1;
                 if vdg.visible(f32p(a), f32p(b)) {
-                    continue;
+                    return;
                 }
                 let len = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
                 let steps = (len / 0.5).ceil().max(1.0) as usize;
@@ -115,7 +104,7 @@ fn main() -> anyhow::Result<()> {
                         deepest = Some((p, c));
                     }
                 }
-                let Some((p, c)) = deepest else { continue };
+                let Some((p, c)) = deepest else { return };
                 s.leaving += 1;
                 s.stretches += runs;
                 let wd = walls.distance(p);
@@ -150,7 +139,7 @@ fn main() -> anyhow::Result<()> {
                         s.unreduced[bin(cu)] += 1;
                     }
                 }
-            }
+            });
             s
         })
         .collect();

@@ -1,5 +1,6 @@
 //! Where `Visible` misses sight lines whose ends lie inside the volume: per map,
-//! random free segments (as `vdgview check` draws them) whose ends the volume
+//! random free segments (as `vdgview check` draws them: SEGMENTS = its samples / 10
+//! gives its very lines) whose ends the volume
 //! contains, BSP-visible, that `Visible` rejects, split into those that leave
 //! Volume(VDG) on the way (a gap of the graph, not of the query) and those that
 //! stay inside it (sampled every half unit: the query's own misses).
@@ -9,8 +10,8 @@
 //! ```
 
 use bsp2vdg::bsp::Bsp;
+use bsp2vdg::check::{CheckOptions, SightSegments};
 use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
 use rayon::prelude::*;
 
 fn main() -> anyhow::Result<()> {
@@ -24,33 +25,19 @@ fn main() -> anyhow::Result<()> {
     let vdg = file.graph();
     let n: usize = args.get(2).map_or(Ok(100_000), |s| s.parse())?;
     let oracle = Oracle::new(&bsp, &OracleOptions::default());
-    let w = bsp.world();
-    let (lo, hi) = (w.mins.map(f64::from), w.maxs.map(f64::from));
     let f32p = |p: [f64; 3]| p.map(|c| c as f32);
-    let parts: Vec<[usize; 5]> = (0..n.div_ceil(4096))
+    let segments = SightSegments::new(&bsp, &oracle, n, CheckOptions::default().seed);
+    let parts: Vec<[usize; 5]> = (0..segments.chunks())
         .into_par_iter()
         .map(|c| {
-            let mut rng = SplitMix64::new(0x77 ^ c as u64);
             let mut s = [0usize; 5];
-            let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
-                let p = match near {
-                    Some(a) => [0, 1, 2].map(|i| a[i] + rng.range(-512.0, 512.0)),
-                    None => [0, 1, 2].map(|i| rng.range(lo[i], hi[i])),
-                };
-                let p = f32p(p).map(f64::from);
-                if oracle.is_free(p) {
-                    return p;
-                }
-            };
-            for k in 0..4096.min(n - c * 4096) {
-                let a = free_point(&mut rng, None);
-                let b = free_point(&mut rng, (k % 2 == 0).then_some(a));
+            segments.for_each_in_chunk(c, |a, b| {
                 if !(oracle.segment_free(a, b) && vdg.contains(f32p(a)) && vdg.contains(f32p(b))) {
-                    continue;
+                    return;
                 }
                 s[0] += 1;
                 if vdg.visible(f32p(a), f32p(b)) {
-                    continue;
+                    return;
                 }
                 s[1] += 1;
                 let len = (0..3).map(|i| (b[i] - a[i]).powi(2)).sum::<f64>().sqrt();
@@ -67,7 +54,7 @@ fn main() -> anyhow::Result<()> {
                         eprintln!("inside miss: {a:?} -> {b:?} len {len:.1}");
                     }
                 }
-            }
+            });
             s
         })
         .collect();

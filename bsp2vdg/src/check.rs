@@ -316,29 +316,12 @@ fn measure_visibility(
     options: &CheckOptions,
     r: &mut CheckReport,
 ) {
-    let (lo, hi) = free_bounds(bsp);
-    let n = (options.samples / 10).max(1);
-    let chunks = n.div_ceil(CHUNK);
-    let parts: Vec<[usize; 8]> = (0..chunks)
+    let segments = SightSegments::new(bsp, oracle, (options.samples / 10).max(1), options.seed);
+    let parts: Vec<[usize; 8]> = (0..segments.chunks())
         .into_par_iter()
         .map(|c| {
-            let mut rng = SplitMix64::new(options.seed ^ (0x5e9 << 36) ^ c as u64);
-            let count = CHUNK.min(n - c * CHUNK);
             let mut s = [0usize; 8];
-            let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
-                let p = match near {
-                    // Half the segments are short (up to 512 units), where sight matters.
-                    Some(a) => [0, 1, 2].map(|i| a[i] + rng.range(-512.0, 512.0)),
-                    None => [0, 1, 2].map(|i| rng.range(lo[i], hi[i])),
-                };
-                let p = widen(as_f32(p));
-                if oracle.is_free(p) {
-                    return p;
-                }
-            };
-            for k in 0..count {
-                let a = free_point(&mut rng, None);
-                let b = free_point(&mut rng, (k % 2 == 0).then_some(a));
+            segments.for_each_in_chunk(c, |a, b| {
                 let truth = oracle.segment_free(a, b);
                 let seen = vdg.visible(as_f32(a), as_f32(b));
                 s[0] += 1;
@@ -351,7 +334,7 @@ fn measure_visibility(
                     s[6] += !seen as usize;
                     s[7] += (!seen && stays_inside(vdg, a, b)) as usize;
                 }
-            }
+            });
             s
         })
         .collect();
@@ -369,6 +352,61 @@ fn measure_visibility(
     r.free_segments_inside = s[5];
     r.false_negatives_inside = s[6];
     r.false_negatives_query = s[7];
+}
+
+/// Random free sight lines, drawn as [`check`] draws them for `Visible`
+/// (with `n` = samples / 10 and the same seed), for tools that look closer at
+/// the same lines. They come in chunks of 4096 with seeds of their own, so
+/// chunks can run in parallel and still draw the same lines. A line's first
+/// end is uniform over the map's bounds; its second end too for odd lines,
+/// and within 512 units of the first for even ones (short lines, where sight
+/// matters). Both ends are free in the oracle and exact in f32, the graph's
+/// precision.
+pub struct SightSegments<'a> {
+    oracle: &'a Oracle,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    n: usize,
+    seed: u64,
+}
+
+impl<'a> SightSegments<'a> {
+    /// `n` lines of `bsp` (judged free by `oracle`) from seed `seed`.
+    pub fn new(bsp: &Bsp, oracle: &'a Oracle, n: usize, seed: u64) -> Self {
+        let (lo, hi) = free_bounds(bsp);
+        SightSegments {
+            oracle,
+            lo,
+            hi,
+            n,
+            seed: seed ^ (0x5e9 << 36),
+        }
+    }
+
+    /// How many chunks the lines come in.
+    pub fn chunks(&self) -> usize {
+        self.n.div_ceil(CHUNK)
+    }
+
+    /// Calls `visit(a, b)` for each line of chunk `c` in turn.
+    pub fn for_each_in_chunk(&self, c: usize, mut visit: impl FnMut([f64; 3], [f64; 3])) {
+        let mut rng = SplitMix64::new(self.seed ^ c as u64);
+        let free_point = |rng: &mut SplitMix64, near: Option<[f64; 3]>| loop {
+            let p = match near {
+                Some(a) => [0, 1, 2].map(|i| a[i] + rng.range(-512.0, 512.0)),
+                None => [0, 1, 2].map(|i| rng.range(self.lo[i], self.hi[i])),
+            };
+            let p = widen(as_f32(p));
+            if self.oracle.is_free(p) {
+                return p;
+            }
+        };
+        for k in 0..CHUNK.min(self.n.saturating_sub(c * CHUNK)) {
+            let a = free_point(&mut rng, None);
+            let b = free_point(&mut rng, (k % 2 == 0).then_some(a));
+            visit(a, b);
+        }
+    }
 }
 
 pub use crate::standing::{
