@@ -315,7 +315,8 @@ fn run(
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
-    let mut kept = (!keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
+    let guards = coverage_guards();
+    let mut kept = (guards && !keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
     let keeping = kept.as_ref().map_or(0, Keep::len);
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
@@ -377,7 +378,7 @@ fn run(
                     // Second phase: the thesis' cases are exhausted; the
                     // seam operations may take the vertices left.
                     mesh.seam_ops = true;
-                    deep = Some(deep_points(graph, &mesh));
+                    deep = guards.then(|| deep_points(graph, &mesh));
                     stats.seam_deep_points = deep.as_ref().map_or(0, Keep::len);
                     stats.seam_phase_at = Some(live);
                     seam_start = Some(Instant::now());
@@ -684,6 +685,17 @@ impl Claims {
 /// it would leave a kept point outside the volume).
 fn cost_of(mesh: &Mesh, keep: Option<&Keep>, deep: Option<&Keep>, v: u32) -> Option<f64> {
     removal(mesh, keep, deep, v).map(|x| x.0)
+}
+
+/// Whether the coverage guards (the kept standing places and the second
+/// phase's deep points) are on: always, unless the environment variable
+/// `BSP2VDG_REDUCE_NO_GUARDS` is set — a measurement switch that shows
+/// whether the reduction stops above `-rl` because of the guards or because
+/// the vertices left have no operation that keeps conditions A–C. Never for
+/// production graphs: without the guards the reduction shaves the volume
+/// off the floors (walkable coverage).
+fn coverage_guards() -> bool {
+    std::env::var_os("BSP2VDG_REDUCE_NO_GUARDS").is_none()
 }
 
 /// The deep points of the second phase: every vertex of the unreduced graph
