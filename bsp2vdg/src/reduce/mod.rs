@@ -42,10 +42,12 @@
 //! Not in the thesis: a second phase for the vertices the thesis' cases
 //! cannot remove (seam and border vertices, 2–9 % of the graph on the
 //! shared maps): when the loop stops with nothing removable above the
-//! limit, it goes on with two more operations that keep A–C, the seam
+//! limit, it goes on with three more operations that keep A–C, the seam
 //! contraction and the collapse along an edge (module `seam`, which gives
-//! their design and proofs). A map the thesis' cases reduce to the limit
-//! gets the same graph as without them.
+//! their design and proofs) and the fan removal for border vertices and
+//! the corners where a seam ends at its sheets' borders (module `border`).
+//! A map the thesis' cases reduce to the limit gets the same graph as
+//! without them.
 //!
 //! Not in the thesis: after the loop the clearances the operations lowered
 //! are raised again as far as condition A against the unreduced volume
@@ -54,6 +56,7 @@
 
 #[cfg(debug_assertions)]
 mod check;
+mod border;
 mod keep;
 mod mesh;
 mod queue;
@@ -132,6 +135,8 @@ pub struct ReduceStats {
     /// into a neighbour along an edge (module `seam`).
     pub seam_contractions: usize,
     pub seam_collapses: usize,
+    /// Border and seam-end vertices removed fan by fan (module `border`).
+    pub fan_removals: usize,
     /// Vertices left when the thesis' cases alone stopped and the second
     /// phase with the seam operations began (`None`: the limit came first).
     pub seam_phase_at: Option<usize>,
@@ -261,6 +266,7 @@ pub fn reduce_keeping(
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
     stats.seam_contractions = ops[Op::SeamContract as usize] as usize;
     stats.seam_collapses = ops[Op::SeamCollapse as usize] as usize;
+    stats.fan_removals = ops[Op::FanRemove as usize] as usize;
     if stats.stop == StopReason::NothingRemovable {
         stats.refusals = histogram(&mesh);
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
@@ -750,6 +756,13 @@ fn removal<'m>(
         {
             best = Some((c, t));
         }
+    }
+    let mut t = Edit::new(mesh);
+    if let Ok(c) = border::remove(&mut t, v)
+        && best.as_ref().is_none_or(|b| c < b.0)
+        && holds(&t)
+    {
+        best = Some((c, t));
     }
     best
 }
