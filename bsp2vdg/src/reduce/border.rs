@@ -301,7 +301,8 @@ fn contract(e: &mut Edit, k: u32, fans: &[Fan], interior: &[(u32, u8)]) -> Resul
         if len2 <= 0.0 {
             return Err(Refusal::SeamBound);
         }
-        let at = |y: u32, l: &[(u32, f64)]| l.iter().find(|z| z.0 == y).map_or(e.radius(y), |z| z.1);
+        let at =
+            |y: u32, l: &[(u32, f64)]| l.iter().find(|z| z.0 == y).map_or(e.radius(y), |z| z.1);
         for (j, fan) in fans.iter().enumerate() {
             if fan.ends != [u, w] {
                 continue;
@@ -503,7 +504,8 @@ mod tests {
             let base = g.vertices.len() as u32;
             for i in 0..3 {
                 let a = i as f64 * 0.6;
-                g.vertices.push([s * 20.0 * a.cos(), 20.0 * a.sin(), s * 5.0]);
+                g.vertices
+                    .push([s * 20.0 * a.cos(), 20.0 * a.sin(), s * 5.0]);
                 g.clearance.push(10.0);
             }
             g.faces.push([0, base, base + 1]);

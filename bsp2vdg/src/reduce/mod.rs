@@ -54,9 +54,9 @@
 //! allows (the `raise` module; the per-operation proofs lower more than
 //! needed, and the lowerings compound).
 
+mod border;
 #[cfg(debug_assertions)]
 mod check;
-mod border;
 mod keep;
 mod mesh;
 mod queue;
