@@ -92,6 +92,11 @@ use super::volume::{add, dot, loss, optimal_linear_reduction, perpendicular_feet
 /// left with none, 5.43 % with half, 5.87 % without the operation).
 pub(crate) const MAX_LOWERING: f64 = 0.5;
 
+/// The fans of a vertex.
+type Fans = SmallVec<[Fan; 6]>;
+/// Per interior neighbour, its fan.
+type Interior = SmallVec<[(u32, u8); 16]>;
+
 /// A fan of `k`: its two special ends and its faces (path order not kept).
 #[derive(Debug, Clone)]
 struct Fan {
@@ -101,7 +106,7 @@ struct Fan {
 
 /// The fans of `k` and, per interior neighbour (edge to `k` with two faces),
 /// its fan; `None` if `k` does not qualify (see the module docs).
-fn fans(e: &Edit, k: u32) -> Option<(SmallVec<[Fan; 6]>, SmallVec<[(u32, u8); 16]>)> {
+fn fans(e: &Edit, k: u32) -> Option<(Fans, Interior)> {
     let faces = e.faces_of(k);
     if faces.is_empty() || faces.len() > 48 {
         return None;
