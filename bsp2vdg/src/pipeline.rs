@@ -199,10 +199,11 @@ fn reduce_graph(
     ));
     if let Some(at) = rs.seam_phase_at {
         log.info(format!(
-            "Seam phase from {} vertices: {} seam contractions, {} collapses, {} deep points kept [{}]",
+            "Seam phase from {} vertices: {} seam contractions, {} collapses, {} fan removals, {} deep points kept [{}]",
             at,
             rs.seam_contractions,
             rs.seam_collapses,
+            rs.fan_removals,
             rs.seam_deep_points,
             secs(rs.seam_phase_seconds)
         ));

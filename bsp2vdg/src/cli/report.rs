@@ -82,6 +82,7 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "reduce_seam_phase_at": s.reduce.as_ref().and_then(|r| r.seam_phase_at),
                 "reduce_seam_contractions": s.reduce.as_ref().map(|r| r.seam_contractions),
                 "reduce_seam_collapses": s.reduce.as_ref().map(|r| r.seam_collapses),
+                "reduce_fan_removals": s.reduce.as_ref().map(|r| r.fan_removals),
                 "reduce_seam_deep_points": s.reduce.as_ref().map(|r| r.seam_deep_points),
                 "reduce_refusals": s.reduce.as_ref().map(|r| {
                     r.refusals

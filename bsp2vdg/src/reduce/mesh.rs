@@ -240,10 +240,12 @@ pub(crate) enum Op {
     SeamContract = 5,
     /// A seam or border vertex collapsed into a neighbour along its edge.
     SeamCollapse = 6,
+    /// A border or seam-end vertex removed fan by fan (module `border`).
+    FanRemove = 7,
 }
 
 impl Op {
-    pub const COUNT: usize = 7;
+    pub const COUNT: usize = 8;
 }
 
 /// An operation in progress over a [`Mesh`]: reads see the edit's changes,

@@ -42,16 +42,19 @@
 //! Not in the thesis: a second phase for the vertices the thesis' cases
 //! cannot remove (seam and border vertices, 2–9 % of the graph on the
 //! shared maps): when the loop stops with nothing removable above the
-//! limit, it goes on with two more operations that keep A–C, the seam
+//! limit, it goes on with three more operations that keep A–C, the seam
 //! contraction and the collapse along an edge (module `seam`, which gives
-//! their design and proofs). A map the thesis' cases reduce to the limit
-//! gets the same graph as without them.
+//! their design and proofs) and the fan removal for border vertices and
+//! the corners where a seam ends at its sheets' borders (module `border`).
+//! A map the thesis' cases reduce to the limit gets the same graph as
+//! without them.
 //!
 //! Not in the thesis: after the loop the clearances the operations lowered
 //! are raised again as far as condition A against the unreduced volume
 //! allows (the `raise` module; the per-operation proofs lower more than
 //! needed, and the lowerings compound).
 
+mod border;
 #[cfg(debug_assertions)]
 mod check;
 mod keep;
@@ -132,6 +135,8 @@ pub struct ReduceStats {
     /// into a neighbour along an edge (module `seam`).
     pub seam_contractions: usize,
     pub seam_collapses: usize,
+    /// Border and seam-end vertices removed fan by fan (module `border`).
+    pub fan_removals: usize,
     /// Vertices left when the thesis' cases alone stopped and the second
     /// phase with the seam operations began (`None`: the limit came first).
     pub seam_phase_at: Option<usize>,
@@ -261,6 +266,7 @@ pub fn reduce_keeping(
     stats.two_faces_concave = ops[Op::TwoFacesConcave as usize] as usize;
     stats.seam_contractions = ops[Op::SeamContract as usize] as usize;
     stats.seam_collapses = ops[Op::SeamCollapse as usize] as usize;
+    stats.fan_removals = ops[Op::FanRemove as usize] as usize;
     if stats.stop == StopReason::NothingRemovable {
         stats.refusals = histogram(&mesh);
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
@@ -315,7 +321,8 @@ fn run(
 ) -> (Mesh, ReduceStats, [u64; Op::COUNT]) {
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
-    let mut kept = (!keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
+    let guards = coverage_guards();
+    let mut kept = (guards && !keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
     let keeping = kept.as_ref().map_or(0, Keep::len);
     let mut live = mesh.live_vertices();
     let mut faces = mesh.live_faces();
@@ -377,7 +384,7 @@ fn run(
                     // Second phase: the thesis' cases are exhausted; the
                     // seam operations may take the vertices left.
                     mesh.seam_ops = true;
-                    deep = Some(deep_points(graph, &mesh));
+                    deep = guards.then(|| deep_points(graph, &mesh));
                     stats.seam_deep_points = deep.as_ref().map_or(0, Keep::len);
                     stats.seam_phase_at = Some(live);
                     seam_start = Some(Instant::now());
@@ -686,6 +693,17 @@ fn cost_of(mesh: &Mesh, keep: Option<&Keep>, deep: Option<&Keep>, v: u32) -> Opt
     removal(mesh, keep, deep, v).map(|x| x.0)
 }
 
+/// Whether the coverage guards (the kept standing places and the second
+/// phase's deep points) are on: always, unless the environment variable
+/// `BSP2VDG_REDUCE_NO_GUARDS` is set — a measurement switch that shows
+/// whether the reduction stops above `-rl` because of the guards or because
+/// the vertices left have no operation that keeps conditions A–C. Never for
+/// production graphs: without the guards the reduction shaves the volume
+/// off the floors (walkable coverage).
+fn coverage_guards() -> bool {
+    std::env::var_os("BSP2VDG_REDUCE_NO_GUARDS").is_none()
+}
+
 /// The deep points of the second phase: every vertex of the unreduced graph
 /// whose ball reaches deeper than [`seam::DEEP_CLEARANCE`], keeping its ball
 /// shrunk by that clearance (or what the volume holds of it when the phase
@@ -738,6 +756,13 @@ fn removal<'m>(
         {
             best = Some((c, t));
         }
+    }
+    let mut t = Edit::new(mesh);
+    if let Ok(c) = border::remove(&mut t, v)
+        && best.as_ref().is_none_or(|b| c < b.0)
+        && holds(&t)
+    {
+        best = Some((c, t));
     }
     best
 }

@@ -148,7 +148,24 @@ pub(crate) fn remove_vertex_why(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
             Ok(c)
         }
         Err(r @ (Refusal::Dead | Refusal::DegreeWait | Refusal::IsolatedFace)) => Err(r),
-        Err(r) => seam::collapse_cheapest(e, k).map_err(|_| r),
+        Err(r) => {
+            // The cheaper of the collapse along an edge and the fan
+            // removal (module `border`), if either applies.
+            let mut f = Edit::new(e.base);
+            let fan = super::border::remove(&mut f, k);
+            match (seam::collapse_cheapest(e, k), fan) {
+                (Ok(c), Ok(d)) if d < c => {
+                    *e = f;
+                    Ok(d)
+                }
+                (Ok(c), _) => Ok(c),
+                (Err(_), Ok(d)) => {
+                    *e = f;
+                    Ok(d)
+                }
+                (Err(_), Err(_)) => Err(r),
+            }
+        }
     }
 }
 

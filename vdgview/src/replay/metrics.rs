@@ -12,12 +12,17 @@
 //!   the target moves);
 //! - distance from the target's eye minus the camera's ideal distance d_μ (112 for the
 //!   chase cam and spring arm), cuts, compute time per update;
-//! - target outside Volume(VDG): the graph's fault, listed for the graph-quality work.
+//! - target outside Volume(VDG): the graph's fault, listed for the graph-quality work;
+//! - the graph's own answer for the same sight line (`Visible`, eye → target eye):
+//!   a line the BSP sees and the graph does not is a false occlusion, which makes a
+//!   camera move for nothing; one the graph sees and the BSP does not would be a
+//!   false positive of `Visible` (a camera trusting a blocked line).
 
 use super::cameras::Frame;
 use super::route::TargetState;
 use bsp::oracle::Oracle;
 use bsp::walls::Walls;
+use vdgformat::Vdg;
 
 /// Distance below which the near plane cuts into a wall.
 pub const NEAR_PLANE: f64 = 6.4;
@@ -42,6 +47,8 @@ pub struct FrameMeasure {
     pub dist_error: f32,
     pub micros: f32,
     pub target_outside: bool,
+    /// `Visible(eye, target eye)` on the graph.
+    pub graph_visible: bool,
 }
 
 fn sub(a: [f32; 3], b: [f32; 3]) -> [f64; 3] {
@@ -53,11 +60,12 @@ fn norm(a: [f64; 3]) -> f64 {
 
 /// Measures one camera on one route. `frames[i]` was shown for `targets[i]` and took
 /// `micros[i]` to compute; `outside[i]` says whether the target was outside the volume;
-/// `d_mu` is the camera's own ideal distance.
+/// `d_mu` is the camera's own ideal distance; `graph` answers the same sight lines.
 #[allow(clippy::too_many_arguments)]
 pub fn measure(
     oracle: &Oracle,
     walls: &Walls,
+    graph: &Vdg<'_>,
     targets: &[TargetState],
     frames: &[Frame],
     micros: &[f32],
@@ -79,6 +87,7 @@ pub fn measure(
         let clearance = if solid { 0.0 } else { walls.distance(eye) };
         let target_eye = t.eye().map(f64::from);
         let eye_visible = !solid && oracle.segment_free(eye, target_eye);
+        let graph_visible = graph.visible(f.eye, t.eye());
         let hull_visible = if solid {
             0.0
         } else {
@@ -124,6 +133,7 @@ pub fn measure(
             dist_error: (target_dist - d_mu) as f32,
             micros: micros[i],
             target_outside: outside[i],
+            graph_visible,
         });
         vel.push(v);
         acc.push(a);
@@ -161,6 +171,12 @@ pub struct Summary {
     /// volume is the graph's fault (Visible traces through the volume), and
     /// the graph-quality figures need the two told apart.
     pub visible_fraction_target_inside: f64,
+    /// Of the frames whose target eye the BSP sees, the share the graph's
+    /// `Visible` calls hidden: sight lines the camera would move away from for
+    /// nothing (Visible's false negatives where the camera actually looks).
+    pub graph_false_occlusion: f64,
+    /// Frames the graph calls visible and the BSP blocked (must stay 0).
+    pub graph_false_visible_frames: usize,
 }
 
 /// Summarises the measures of each route (routes are separate: occlusion runs and
@@ -228,6 +244,15 @@ pub fn summarise(routes: &[Vec<FrameMeasure>], dt: f64) -> Summary {
                 count(&|m| !m.target_outside && m.eye_visible) as f64 / inside as f64
             }
         },
+        graph_false_occlusion: {
+            let seen = count(&|m| m.eye_visible);
+            if seen == 0 {
+                0.0
+            } else {
+                count(&|m| m.eye_visible && !m.graph_visible) as f64 / seen as f64
+            }
+        },
+        graph_false_visible_frames: count(&|m| m.graph_visible && !m.eye_visible),
     }
 }
 
@@ -257,18 +282,20 @@ impl Summary {
             "p99_us": self.p99_us,
             "target_outside_fraction": self.target_outside_fraction,
             "visible_fraction_target_inside": self.visible_fraction_target_inside,
+            "graph_false_occlusion": self.graph_false_occlusion,
+            "graph_false_visible_frames": self.graph_false_visible_frames,
         })
     }
 }
 
 /// CSV header of [`csv_row`].
-pub const CSV_HEADER: &str = "route,t,target_x,target_y,target_z,eye_x,eye_y,eye_z,cut,solid,clearance,eye_visible,hull_visible,speed,accel,jerk,turn_rate,jump,stall,dist_error,micros,target_outside";
+pub const CSV_HEADER: &str = "route,t,target_x,target_y,target_z,eye_x,eye_y,eye_z,cut,solid,clearance,eye_visible,hull_visible,speed,accel,jerk,turn_rate,jump,stall,dist_error,micros,target_outside,graph_visible";
 
 /// One CSV line of a frame.
 pub fn csv_row(route: &str, m: &FrameMeasure) -> String {
     let b = |x: bool| x as u8;
     format!(
-        "{},{:.4},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{},{},{:.2},{},{:.3},{:.2},{:.1},{:.1},{:.2},{},{},{:.2},{:.2},{}",
+        "{},{:.4},{:.2},{:.2},{:.2},{:.2},{:.2},{:.2},{},{},{:.2},{},{:.3},{:.2},{:.1},{:.1},{:.2},{},{},{:.2},{:.2},{},{}",
         route.replace(',', ";"),
         m.t,
         m.target[0],
@@ -290,7 +317,8 @@ pub fn csv_row(route: &str, m: &FrameMeasure) -> String {
         b(m.stall),
         m.dist_error,
         m.micros,
-        b(m.target_outside)
+        b(m.target_outside),
+        b(m.graph_visible)
     )
 }
 
@@ -319,5 +347,23 @@ mod tests {
         assert!((s.target_outside_fraction - 0.2).abs() < 1e-12);
         assert!((s.visible_fraction_target_inside - 0.75).abs() < 1e-12);
         assert_eq!(s.to_json()["visible_fraction_target_inside"], 0.75);
+    }
+
+    #[test]
+    fn false_occlusions_count_the_lines_the_bsp_sees_and_the_graph_does_not() {
+        let f = |eye_visible, graph_visible| FrameMeasure {
+            eye_visible,
+            graph_visible,
+            ..Default::default()
+        };
+        // 8 frames the BSP sees (2 of them hidden for the graph), 2 it does not
+        // (1 of them visible for the graph: a false positive).
+        let mut route = vec![f(true, true); 6];
+        route.extend([f(true, false); 2]);
+        route.extend([f(false, false), f(false, true)]);
+        let s = summarise(&[route], 1.0 / 60.0);
+        assert!((s.graph_false_occlusion - 0.25).abs() < 1e-12);
+        assert_eq!(s.graph_false_visible_frames, 1);
+        assert_eq!(s.to_json()["graph_false_occlusion"], 0.25);
     }
 }

@@ -281,7 +281,7 @@ pub fn replay(
             .par_iter()
             .zip(sampled.par_iter().zip(outside.par_iter()))
             .map(|((frames, micros), (states, out))| {
-                metrics::measure(oracle, walls, states, frames, micros, out, dt, d_mu)
+                metrics::measure(oracle, walls, graph, states, frames, micros, out, dt, d_mu)
             })
             .collect();
         let summary = metrics::summarise(&measured, dt);
@@ -347,13 +347,14 @@ impl Report {
             self.outside.len()
         );
         s += &format!(
-            "{:<12} {:>7} {:>6} {:>6} {:>8} {:>8} {:>7} {:>6} {:>6} {:>10} {:>8} {:>8} {:>9}\n",
+            "{:<12} {:>7} {:>6} {:>6} {:>8} {:>8} {:>8} {:>7} {:>6} {:>6} {:>10} {:>8} {:>8} {:>9}\n",
             "camera",
             "frames",
             "solid",
             "near",
             "visible",
             "hull vis",
+            "false oc",
             "occl s",
             "jumps",
             "stalls",
@@ -365,13 +366,14 @@ impl Report {
         for c in &self.cameras {
             let m = &c.summary;
             s += &format!(
-                "{:<12} {:>7} {:>6} {:>6} {:>7.2}% {:>7.2}% {:>7.2} {:>6} {:>6} {:>10.0} {:>8.1} {:>8.2} {:>9.1}\n",
+                "{:<12} {:>7} {:>6} {:>6} {:>7.2}% {:>7.2}% {:>7.2}% {:>7.2} {:>6} {:>6} {:>10.0} {:>8.1} {:>8.2} {:>9.1}\n",
                 c.name,
                 m.frames,
                 m.solid_frames,
                 m.nearplane_frames,
                 100.0 * m.visible_fraction,
                 100.0 * m.hull_visible_mean,
+                100.0 * m.graph_false_occlusion,
                 m.longest_occlusion_s,
                 m.jumps,
                 m.stalls,
