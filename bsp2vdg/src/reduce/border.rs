@@ -482,6 +482,25 @@ mod tests {
     }
 
     #[test]
+    fn the_second_phase_takes_the_corner_the_thesis_keeps() {
+        // The book's corner: the thesis' cases refuse it (its edges are seam
+        // and border edges once the fans are swapped down); in the second
+        // phase the fan removal takes it, or the collapse where cheaper.
+        for (pages, fan) in [(3, 2), (3, 3), (4, 2)] {
+            let mut mesh = Mesh::new(&book(pages, fan, 14.0));
+            assert!(
+                crate::reduce::remove::remove_vertex_why(&mut Edit::new(&mesh), 0).is_err(),
+                "{pages}×{fan}"
+            );
+            mesh.seam_ops = true;
+            let mut e = Edit::new(&mesh);
+            crate::reduce::remove::remove_vertex_why(&mut e, 0).expect("removed");
+            let ch = e.into_changes();
+            assert_eq!(ch.ops[Op::FanRemove as usize], 1, "{pages}×{fan}");
+        }
+    }
+
+    #[test]
     fn a_thin_corner_asks_more_lowering_than_allowed() {
         // With a clearance of 1 at the corner the new edges' radius of 12
         // at q would need the ends lowered almost to nothing.
