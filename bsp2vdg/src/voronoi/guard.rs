@@ -226,12 +226,30 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
         .zip(&graph.clearance)
         .map(|(t, c)| (t - c).max(0.0))
         .collect();
+    // A face where no vertex has room gets no grid, and a vertex with such a face
+    // cannot rise; a face none of whose vertices can rise needs no grid either (no
+    // raise reads or changes it), which spares most of the queries on some maps.
+    let most = |f: &[u32; 3]| f.iter().map(|&v| room[v as usize]).fold(0.0f64, f64::max);
+    let mut faces_of: Vec<Vec<(u32, u8)>> = vec![Vec::new(); graph.vertices.len()];
+    for (i, f) in graph.faces.iter().enumerate() {
+        for (k, &v) in f.iter().enumerate() {
+            faces_of[v as usize].push((i as u32, k as u8));
+        }
+    }
+    let may_rise: Vec<bool> = (0..graph.vertices.len())
+        .map(|v| {
+            room[v] > 0.0
+                && faces_of[v]
+                    .iter()
+                    .all(|&(f, _)| most(&graph.faces[f as usize]) > 0.0)
+        })
+        .collect();
     let mut grids: Vec<SlackGrid> = graph
         .faces
         .par_iter()
         .map(|f| {
-            let most = f.iter().map(|&v| room[v as usize]).fold(0.0f64, f64::max);
-            if most <= 0.0 {
+            let most = most(f);
+            if most <= 0.0 || !f.iter().any(|&v| may_rise[v as usize]) {
                 return SlackGrid {
                     weights: Vec::new(),
                     slack: Vec::new(),
@@ -246,12 +264,6 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
             )
         })
         .collect();
-    let mut faces_of: Vec<Vec<(u32, u8)>> = vec![Vec::new(); graph.vertices.len()];
-    for (i, f) in graph.faces.iter().enumerate() {
-        for (k, &v) in f.iter().enumerate() {
-            faces_of[v as usize].push((i as u32, k as u8));
-        }
-    }
     let mut order: Vec<u32> = (0..graph.vertices.len() as u32)
         .filter(|&v| room[v as usize] > 0.0)
         .collect();
@@ -265,6 +277,7 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
         let mut allow = room[v as usize];
         for &(f, k) in &faces_of[v as usize] {
             let g = &grids[f as usize];
+            // No grid: a face without room, or a vertex that cannot rise.
             if g.slack.is_empty() {
                 allow = 0.0;
                 break;
