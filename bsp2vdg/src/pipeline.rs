@@ -34,6 +34,14 @@ impl FreeSpace for MapSpace<'_> {
     fn wall_distance_within(&self, p: [f64; 3], radius: f64) -> Option<f64> {
         self.walls.distance_within(p, radius)
     }
+    fn wall_distances_within(
+        &self,
+        points: &[[f64; 3]],
+        radii: &[f64],
+        out: &mut Vec<Option<f64>>,
+    ) {
+        self.walls.distances_within(points, radii, out)
+    }
 }
 
 use std::fmt;

@@ -142,10 +142,12 @@ fn face_excess(
     let mut max_excess = 0.0f64;
     let mut seen = f64::NEG_INFINITY;
     let mut min_distance = c[0].min(c[1]).min(c[2]);
+    // The grid's nodes but the corners (exact clearance: excess 0 there), with
+    // their radii; only walls closer than r matter, farther ones bound d from below.
+    let (mut points, mut radii) = (Vec::new(), Vec::new());
     for i in 0..=n {
         for j in 0..=(n - i) {
             let k = n - i - j;
-            // The corners have exact clearance: excess 0 there.
             if i == n || j == n || k == n {
                 continue;
             }
@@ -154,16 +156,18 @@ fn face_excess(
                 j as f64 / n as f64,
                 k as f64 / n as f64,
             ];
-            let q = [0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]);
-            let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
-            // Only walls closer than r matter; farther ones bound d from below.
-            let d = recent
-                .wall_distance_within(space, q, r + 1.0)
-                .unwrap_or(r + 1.0);
-            min_distance = min_distance.min(d);
-            max_excess = max_excess.max(r - d);
-            seen = seen.max(r - d);
+            points.push([0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]));
+            radii.push(b[0] * c[0] + b[1] * c[1] + b[2] * c[2]);
         }
+    }
+    let reach: Vec<f64> = radii.iter().map(|r| r + 1.0).collect();
+    let mut found = Vec::with_capacity(points.len());
+    recent.wall_distances_within(space, &points, &reach, &mut found);
+    for ((&r, &far), d) in radii.iter().zip(&reach).zip(found) {
+        let d = d.unwrap_or(far);
+        min_distance = min_distance.min(d);
+        max_excess = max_excess.max(r - d);
+        seen = seen.max(r - d);
     }
     // Curvature margin inside one grid cell: the wall distance there is at least the
     // smallest grid value less the cell size.
@@ -323,6 +327,23 @@ fn slack_grid(
     let mut weights = Vec::with_capacity(row[n + 1]);
     let mut excess = Vec::with_capacity(row[n + 1]);
     let mut distance = Vec::with_capacity(row[n + 1]);
+    // The nodes but the corners ask for their wall distance, all at once.
+    let (mut points, mut radii) = (Vec::new(), Vec::new());
+    for i in 0..=n {
+        for j in 0..=(n - i) {
+            let k = n - i - j;
+            let b = [i, j, k].map(|x| x as f64 / n as f64);
+            if [i, j, k].contains(&n) {
+                continue;
+            }
+            points.push([0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]));
+            let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+            radii.push(r + room + 1.0);
+        }
+    }
+    let mut found = Vec::with_capacity(points.len());
+    space.wall_distances_within(&points, &radii, &mut found);
+    let mut asked = radii.iter().zip(&found);
     for i in 0..=n {
         for j in 0..=(n - i) {
             let k = n - i - j;
@@ -330,10 +351,9 @@ fn slack_grid(
             let (r, d) = match [i, j, k].iter().position(|&x| x == n) {
                 Some(a) => (c[a], t[a]),
                 None => {
-                    let q = [0, 1, 2].map(|a| b[0] * p[0][a] + b[1] * p[1][a] + b[2] * p[2][a]);
                     let r = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
-                    let far = r + room + 1.0;
-                    (r, space.wall_distance_within(q, far).unwrap_or(far))
+                    let (&far, d) = asked.next().expect("one answer per node");
+                    (r, d.unwrap_or(far))
                 }
             };
             weights.push(b.map(|x| x as f32));
@@ -382,25 +402,66 @@ impl Recent {
 
     /// [`FreeSpace::wall_distance_within`], answered from the slots when the
     /// same query was asked last there.
+    #[cfg(test)]
     fn wall_distance_within(
         &mut self,
         space: &dyn FreeSpace,
         q: [f64; 3],
         radius: f64,
     ) -> Option<f64> {
-        let key = [q[0], q[1], q[2], radius].map(f64::to_bits);
+        let mut out = Vec::with_capacity(1);
+        self.wall_distances_within(space, &[q], &[radius], &mut out);
+        out[0]
+    }
+
+    /// [`FreeSpace::wall_distances_within`], each answered from the slots when
+    /// the same query was asked last there; the others are asked at once.
+    fn wall_distances_within(
+        &mut self,
+        space: &dyn FreeSpace,
+        points: &[[f64; 3]],
+        radii: &[f64],
+        out: &mut Vec<Option<f64>>,
+    ) {
+        out.clear();
+        let (mut ask, mut ask_points, mut ask_radii) = (Vec::new(), Vec::new(), Vec::new());
+        for (i, (&q, &radius)) in points.iter().zip(radii).enumerate() {
+            let key = Self::key(q, radius);
+            match self.slots[Self::slot(&key)] {
+                Some((k, d)) if k == key => out.push(d),
+                _ => {
+                    out.push(None);
+                    ask.push(i);
+                    ask_points.push(q);
+                    ask_radii.push(radius);
+                }
+            }
+        }
+        if ask.is_empty() {
+            return;
+        }
+        let mut answers = Vec::with_capacity(ask.len());
+        space.wall_distances_within(&ask_points, &ask_radii, &mut answers);
+        for ((i, (q, radius)), d) in ask
+            .into_iter()
+            .zip(ask_points.into_iter().zip(ask_radii))
+            .zip(answers)
+        {
+            let key = Self::key(q, radius);
+            self.slots[Self::slot(&key)] = Some((key, d));
+            out[i] = d;
+        }
+    }
+
+    fn key(q: [f64; 3], radius: f64) -> [u64; 4] {
+        [q[0], q[1], q[2], radius].map(f64::to_bits)
+    }
+
+    fn slot(key: &[u64; 4]) -> usize {
         let mix = key.iter().fold(0u64, |h, &k| {
             (h ^ k).wrapping_mul(0x9E37_79B9_7F4A_7C15).rotate_left(29)
         });
-        let slot = &mut self.slots[(mix >> 32) as usize & (RECENT - 1)];
-        if let Some((k, d)) = *slot
-            && k == key
-        {
-            return d;
-        }
-        let d = space.wall_distance_within(q, radius);
-        *slot = Some((key, d));
-        d
+        (mix >> 32) as usize & (RECENT - 1)
     }
 }
 
