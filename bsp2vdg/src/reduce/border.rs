@@ -371,6 +371,50 @@ fn contract(e: &mut Edit, k: u32, fans: &[Fan], interior: &[(u32, u8)]) -> Resul
     Ok(cost)
 }
 
+/// A second bound for the collapse of `k` into `s` (module `seam`) on the
+/// radius of `s`, for a moved face `f = (k, a, b)` → `(s, a, b)` whose other
+/// corners both span faces `(k, s, a)` and `(k, s, b)` with `k` and `s` (as
+/// at a junction where seams meet, where the collapse's own bound — the
+/// old face `f` alone holding `s`'s ball — asks most): split the moved face
+/// at a point `p` inside it into `(s, a, p)`, `(a, b, p)`, `(b, s, p)`. The
+/// corners `s`, `a` are corners of the old face `(k, s, a)`, so by the
+/// concavity argument of module `swap` the piece `(s, a, p)` lies in its
+/// volume once the new radius at `p` is at most that face's clearance at
+/// `p`; likewise `(a, b, p)` in `f` and `(b, s, p)` in `(k, s, b)`. The new
+/// radius at `p` is linear in the radius of `s` (only `s` is lowered), so
+/// each `p` bounds it; the best of a few points inside is returned
+/// (`-∞` where the split does not apply). `faces` are `k`'s faces.
+pub(crate) fn split_bound(e: &Edit, k: u32, s: u32, f: u32, faces: &[u32]) -> f64 {
+    let t = e.face(f);
+    let mut ab = t.into_iter().filter(|&v| v != k);
+    let (Some(a), Some(b)) = (ab.next(), ab.next()) else {
+        return f64::NEG_INFINITY;
+    };
+    let with = |x: u32| {
+        faces.iter().copied().find(|&g| {
+            let t = e.face(g);
+            t.contains(&s) && t.contains(&x)
+        })
+    };
+    let (Some(fa), Some(fb)) = (with(a), with(b)) else {
+        return f64::NEG_INFINITY;
+    };
+    let (ps, pa, pb) = (e.pos(s), e.pos(a), e.pos(b));
+    let (ra, rb) = (e.radius(a), e.radius(b));
+    let mut best = f64::NEG_INFINITY;
+    for ws in [1.0 / 3.0, 0.5, 0.2] {
+        let wo = (1.0 - ws) / 2.0;
+        let p = add(scale(ps, ws), add(scale(pa, wo), scale(pb, wo)));
+        let m = e
+            .clearance_at(fa, p)
+            .min(e.clearance_at(fb, p))
+            .min(e.clearance_at(f, p))
+            - MARGIN;
+        best = best.max((m - wo * (ra + rb)) / ws);
+    }
+    best
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -498,6 +542,50 @@ mod tests {
             let ch = e.into_changes();
             assert_eq!(ch.ops[Op::FanRemove as usize], 1, "{pages}×{fan}");
         }
+    }
+
+    #[test]
+    fn a_junction_of_seams_collapses_by_the_split_bound() {
+        // Four seams meeting at 0 (the cone over the six edges between the
+        // corners of a regular tetrahedron: every edge of 0 has three
+        // faces). The ball of a corner (radius 6, 10 units out) is not in
+        // the old face (0, a, b) (clearance at it 12 − 10 = 2), so the
+        // collapse's own bound refuses; split at the moved face's centroid
+        // (3.3 units from 0) the old faces hold it.
+        let d = 10.0 / 3f64.sqrt();
+        let mut g = Graph {
+            vertices: vec![[0.0; 3], [d, d, d], [d, -d, -d], [-d, d, -d], [-d, -d, d]],
+            clearance: vec![12.0, 6.0, 6.0, 6.0, 6.0],
+            faces: vec![],
+        };
+        for a in 1..5u32 {
+            for b in a + 1..5 {
+                g.faces.push([0, a, b]);
+            }
+        }
+        let mesh = Mesh::new(&g);
+        let e = Edit::new(&mesh);
+        let f = e
+            .faces_of(0)
+            .iter()
+            .copied()
+            .find(|&f| !e.face(f).contains(&1))
+            .unwrap();
+        assert!(e.clearance_at(f, e.pos(1)) < 3.0);
+        let nb = e.neighbours(0);
+        let mut e = Edit::new(&mesh);
+        crate::reduce::seam::collapse(&mut e, 0, 1, &nb).expect("collapsed");
+        let ch = e.into_changes();
+        crate::reduce::check::condition_a(&mesh, &ch).unwrap();
+        let mut m = Mesh::new(&g);
+        m.apply(ch);
+        let r = m.to_graph();
+        assert_eq!(r.faces.len(), 3);
+        assert_eq!(euler(&r), euler(&g));
+        // With a thin centre the split does not hold either.
+        g.clearance[0] = 7.0;
+        let mesh = Mesh::new(&g);
+        assert!(crate::reduce::seam::collapse(&mut Edit::new(&mesh), 0, 1, &nb).is_err());
     }
 
     #[test]

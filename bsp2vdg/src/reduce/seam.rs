@@ -59,8 +59,11 @@
 //! `(s, a, b)` lies in the volume of the old face `(k, a, b)` when the
 //! radius at `s` is at most that face's clearance at `s` (corners `a`, `b`
 //! are its own; concavity as above), so `s`'s radius must not exceed the
-//! least of those clearances. The cheapest collapse over all edges of `k`
-//! is taken.
+//! least of those clearances — or, where both other corners `a`, `b` span
+//! faces `(k, s, a)`, `(k, s, b)` (a junction of seams), the bound of a split
+//! of `(s, a, b)` at an inner point between those three old faces, if that
+//! asks less (`border::split_bound`). The cheapest collapse over all edges
+//! of `k` is taken.
 //!
 //! Both operations could lower the clearances of `s1`, `s2` or `s` to meet
 //! their bounds, as the thesis' cases do; they do not (`MAX_LOWERING`): on
@@ -379,7 +382,12 @@ pub(crate) fn collapse(e: &mut Edit, k: u32, s: u32, nb: &[u32]) -> Result<f64, 
     let mut bound = e.radius(s);
     for &f in &faces {
         if !e.face(f).contains(&s) {
-            bound = bound.min(e.clearance_at(f, ps) - MARGIN);
+            let mut b = e.clearance_at(f, ps) - MARGIN;
+            if b < bound {
+                // Or split the moved face between the old faces (module `border`).
+                b = b.max(super::border::split_bound(e, k, s, f, &faces));
+            }
+            bound = bound.min(b);
             if bound <= 0.0 || !mild(e, s, bound) {
                 return Err(Refusal::CollapseBound);
             }
