@@ -228,7 +228,7 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
         .collect();
     // A face where no vertex has room gets no grid, and a vertex with such a face
     // cannot rise; a face none of whose vertices can rise needs no grid either (no
-    // raise reads or changes it), which spares most of the queries on some maps.
+    // raise reads or changes it).
     let most = |f: &[u32; 3]| f.iter().map(|&v| room[v as usize]).fold(0.0f64, f64::max);
     let mut faces_of: Vec<Vec<(u32, u8)>> = vec![Vec::new(); graph.vertices.len()];
     for (i, f) in graph.faces.iter().enumerate() {
