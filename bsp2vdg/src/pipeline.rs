@@ -231,10 +231,14 @@ fn reduce_graph(
     ));
     log.detail(format!(
         "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost; \
+         {} sweeps skipping {} unchanged refused vertices [{}]; \
          {} initial costs, {} batches, {} the rest",
         rs.batches,
         rs.costed,
         rs.requeued,
+        rs.sweeps,
+        rs.sweep_skipped,
+        secs(rs.seconds_sweeps),
         secs(rs.seconds_initial),
         secs(rs.seconds_batches),
         secs(rs.seconds_rest)

@@ -285,7 +285,7 @@ impl Walls {
         points: &[[f64; 3]],
         radii: &[f64],
         out: &mut [Option<f64>],
-        near: &mut Vec<u32>,
+        near: &mut Vec<(f64, u32)>,
     ) {
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         let mut reach = f64::NEG_INFINITY;
@@ -320,6 +320,11 @@ impl Walls {
         }
         near.clear();
         self.gather(lo, hi, reach, near);
+        // Nearest boxes first: a point stops at the first polygon whose box is
+        // farther from the group's box than its best distance so far (that box is
+        // as far from the point, so `may_beat` refuses it and all after it).
+        // (Squares are never negative: their bits order them.)
+        near.sort_unstable_by_key(|x| x.0.to_bits());
         let mut hint = u32::MAX;
         for &i in group.iter() {
             let (p, radius) = (points[i as usize], radii[i as usize]);
@@ -329,9 +334,12 @@ impl Walls {
             let mut found = u32::MAX;
             // The polygon nearest to the point before first: the others then
             // mostly fail the plane and box tests.
-            for &j in std::iter::once(&hint).chain(near.iter()) {
+            for (box2, j) in std::iter::once((0.0, hint)).chain(near.iter().copied()) {
                 if j == u32::MAX {
                     continue;
+                }
+                if box2 > reach2 {
+                    break;
                 }
                 let poly = &self.polygons[j as usize];
                 if !poly.may_beat(p, reach, reach2) {
@@ -355,8 +363,9 @@ impl Walls {
     }
 
     /// The polygons whose plane and box both come within `reach` of the box
-    /// `lo`–`hi`: every polygon within `reach` of a point of the box is among them.
-    fn gather(&self, lo: [f64; 3], hi: [f64; 3], reach: f64, out: &mut Vec<u32>) {
+    /// `lo`–`hi`: every polygon within `reach` of a point of the box is among them,
+    /// each with the squared distance between its box and `lo`–`hi`.
+    fn gather(&self, lo: [f64; 3], hi: [f64; 3], reach: f64, out: &mut Vec<(f64, u32)>) {
         // Scaled as the queries' tests (see `Walls::scale`), and a hair more, so
         // that rounding never leaves out a polygon at the reach.
         let reach = reach * self.scale * (1.0 + 1e-9) + 1e-6;
@@ -378,10 +387,11 @@ impl Walls {
             }
             for i in node.first..node.first + node.count {
                 let poly = &self.polygons[i as usize];
-                if box_box_distance2(lo, hi, poly.lo, poly.hi) <= reach2
+                let box2 = box_box_distance2(lo, hi, poly.lo, poly.hi);
+                if box2 <= reach2
                     && plane_box_distance(poly.normal, poly.offset, lo, hi) - poly.slack <= reach
                 {
-                    out.push(i);
+                    out.push((box2, i));
                 }
             }
         }

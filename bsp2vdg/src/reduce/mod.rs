@@ -166,6 +166,12 @@ pub struct ReduceStats {
     pub seconds_initial: f64,
     pub seconds_batches: f64,
     pub seconds_rest: f64,
+    /// Sweeps over every vertex before giving up (see [`run`]), the vertices
+    /// they did not cost again because nothing around them had changed since
+    /// a costing refused them, and their seconds (part of `seconds_rest`).
+    pub sweeps: usize,
+    pub sweep_skipped: usize,
+    pub seconds_sweeps: f64,
     pub stop: StopReason,
     /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
     /// refusal reason (see [`refusals`]), how many of the vertices left it
@@ -338,7 +344,14 @@ fn run(
         .into_par_iter()
         .map(|v| cost_of(&mesh, kept.as_ref(), None, v))
         .collect();
+    // Per vertex, the removal after which its costing last found it not
+    // removable (`NOT_REFUSED` if it did not): the sweeps below skip it while
+    // nothing within its two rings changed since, as the batches reuse results.
+    let mut refused_at = vec![NOT_REFUSED; mesh.pos.len()];
     for (v, c) in initial.into_iter().enumerate() {
+        if c.is_none() {
+            refused_at[v] = 0;
+        }
         queue.set(v as u32, c);
     }
     stats.seconds_initial = start.elapsed().as_secs_f64();
@@ -384,6 +397,8 @@ fn run(
                     // Second phase: the thesis' cases are exhausted; the
                     // seam operations may take the vertices left.
                     mesh.seam_ops = true;
+                    // The second phase removes what the first refused.
+                    refused_at.fill(NOT_REFUSED);
                     deep = guards.then(|| deep_points(graph, &mesh));
                     stats.seam_deep_points = deep.as_ref().map_or(0, Keep::len);
                     stats.seam_phase_at = Some(live);
@@ -395,16 +410,29 @@ fn run(
                 break;
             }
             removals_at_sweep = stats.removals;
-            let costs: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
+            let sweep_start = Instant::now();
+            let costs: Vec<Option<Option<f64>>> = (0..mesh.pos.len() as u32)
                 .into_par_iter()
-                .map(|v| cost_of(&mesh, kept.as_ref(), deep.as_ref(), v))
+                .map(|v| {
+                    let at = refused_at[v as usize];
+                    // A refusal stands while the two rings it read are as they were.
+                    (at == NOT_REFUSED || !unchanged_since(&mesh, v, &changed_at, at))
+                        .then(|| cost_of(&mesh, kept.as_ref(), deep.as_ref(), v))
+                })
                 .collect();
+            stats.sweeps += 1;
             for (v, c) in costs.into_iter().enumerate() {
-                if c.is_some() {
-                    queue.set(v as u32, c);
-                    saved[v] = None;
+                match c {
+                    None => stats.sweep_skipped += 1,
+                    Some(None) => refused_at[v] = epoch,
+                    Some(c @ Some(_)) => {
+                        refused_at[v] = NOT_REFUSED;
+                        queue.set(v as u32, c);
+                        saved[v] = None;
+                    }
                 }
             }
+            stats.seconds_sweeps += sweep_start.elapsed().as_secs_f64();
             continue;
         }
         let mut results: Vec<Option<Box<Costed>>> = batch
@@ -434,8 +462,13 @@ fn run(
         );
         following = next_batch;
         stats.seconds_batches += costing.elapsed().as_secs_f64();
-        for (r, f) in results.iter_mut().zip(fresh) {
+        for ((r, f), &(v, _)) in results.iter_mut().zip(fresh).zip(&batch) {
             if r.is_none() {
+                refused_at[v as usize] = if f.is_none() {
+                    batch_epoch
+                } else {
+                    NOT_REFUSED
+                };
                 *r = f;
             }
         }
@@ -622,6 +655,9 @@ const BATCH: usize = 64;
 /// than [`BATCH`] vertices.
 const BATCH_SCAN: usize = 4 * BATCH;
 
+/// [`run`]'s mark of a vertex whose last costing did not refuse it.
+const NOT_REFUSED: u32 = u32::MAX;
+
 /// Picks batches of vertices whose removals are independent: a removal
 /// changes only the faces and clearances of its vertex's closed one-ring
 /// and reads only its closed two-ring (the rings `unchanged_since`
@@ -680,9 +716,7 @@ impl Claims {
             }
             out.push((v, key));
         }
-        for (v, key) in self.clashed.drain(..) {
-            queue.push_key(v, key);
-        }
+        queue.put_back(self.clashed.drain(..));
         out
     }
 }
