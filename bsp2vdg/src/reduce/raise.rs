@@ -621,7 +621,10 @@ mod tests {
         let g = in_hilbert_order(&roof(18));
         let (mut mesh, _, _) = run(
             &g,
-            &ReduceOptions { limit: 0.08 },
+            &ReduceOptions {
+                limit: 0.08,
+                ..Default::default()
+            },
             &[],
             &NoProgress,
             &mut |_| {},
