@@ -181,12 +181,7 @@ fn reduce_graph(
     ));
     let (reduced, rs) = reduce::reduce_keeping(
         graph,
-        // The raise towards the walls after the reduction replaces the
-        // reduction's own raise (see `ReduceOptions::raise_unreduced`).
-        &reduce::ReduceOptions {
-            limit,
-            raise_unreduced: false,
-        },
+        &reduce::ReduceOptions { limit },
         &keep,
         progress,
         &mut |k| {
@@ -227,6 +222,12 @@ fn reduce_graph(
         rs.faces_after,
         rs.swaps,
         secs(t.elapsed().as_secs_f64())
+    ));
+    log.info(format!(
+        "Raised {} vertices back towards their unreduced clearance (by {:.1} units on average) [{}]",
+        rs.raised,
+        rs.raised_by / rs.raised.max(1) as f64,
+        secs(rs.raise_seconds)
     ));
     log.detail(format!(
         "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost; \

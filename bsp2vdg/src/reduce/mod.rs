@@ -52,9 +52,7 @@
 //! Not in the thesis: after the loop the clearances the operations lowered
 //! are raised again as far as condition A against the unreduced volume
 //! allows (the `raise` module; the per-operation proofs lower more than
-//! needed, and the lowerings compound), unless
-//! [`ReduceOptions::raise_unreduced`] is off, as in the compiler, whose raise
-//! towards the walls follows.
+//! needed, and the lowerings compound).
 
 mod border;
 #[cfg(debug_assertions)]
@@ -84,24 +82,11 @@ use remove::Refusal;
 pub struct ReduceOptions {
     /// Stop when at most this fraction of the vertices is left (`-rl`).
     pub limit: f64,
-    /// After the loop, raise the clearances the operations lowered back
-    /// towards their unreduced values, as far as condition A against the
-    /// unreduced volume allows (module `raise`). The compiler turns it off:
-    /// its raise towards the walls (`voronoi::raise_to_walls`), certified
-    /// against the map itself, does at least as well alone (issue 14: on
-    /// de_dust2, de_cbble, c1a0, c1a1, c1a1b and lq_e0m1 Visible's false
-    /// negatives inside the volume were as low or lower and coverage the same
-    /// within 0.0003) and this raise took a tenth of the compile. Without a
-    /// map (the viewer's `reduce`) it is the only raise there is.
-    pub raise_unreduced: bool,
 }
 
 impl Default for ReduceOptions {
     fn default() -> Self {
-        ReduceOptions {
-            limit: 0.025,
-            raise_unreduced: true,
-        }
+        ReduceOptions { limit: 0.025 }
     }
 }
 
@@ -220,7 +205,7 @@ pub struct Tick {
 ///     g.faces.push([v, v + 1, v + n as u32]);
 ///     g.faces.push([v + 1, v + n as u32 + 1, v + n as u32]);
 /// } }
-/// let (r, stats) = reduce(&g, &ReduceOptions { limit: 0.2, ..Default::default() }, &bsp2vdg::progress::NoProgress);
+/// let (r, stats) = reduce(&g, &ReduceOptions { limit: 0.2 }, &bsp2vdg::progress::NoProgress);
 /// assert!(r.vertices.len() < g.vertices.len());
 /// assert_eq!(stats.vertices_after, r.vertices.len());
 /// ```
@@ -320,11 +305,7 @@ pub fn reduce_keeping(
     }
     let t = Instant::now();
     // The raise needs the unreduced graph with the mesh's vertex ids.
-    let raised = if options.raise_unreduced {
-        raise::raise(graph, &mut mesh)
-    } else {
-        raise::RaiseStats::default()
-    };
+    let raised = raise::raise(graph, &mut mesh);
     stats.raised = raised.raised;
     stats.raised_by = raised.total;
     stats.raise_seconds = t.elapsed().as_secs_f64();
@@ -946,10 +927,7 @@ mod tests {
             .filter(|&p| inside(&g, p))
             .collect();
         assert!(keep.len() > 25);
-        let options = ReduceOptions {
-            limit: 0.0,
-            ..Default::default()
-        };
+        let options = ReduceOptions { limit: 0.0 };
         let (plain, _) = reduce(&g, &options, &NoProgress);
         let lost = keep.iter().filter(|&&p| !inside(&plain, p)).count();
         assert!(
@@ -1002,14 +980,7 @@ mod tests {
     #[test]
     fn reduces_a_sheet_keeping_components_and_never_growing_clearance() {
         let g = sheet(12, 7);
-        let (r, s) = reduce(
-            &g,
-            &ReduceOptions {
-                limit: 0.05,
-                ..Default::default()
-            },
-            &NoProgress,
-        );
+        let (r, s) = reduce(&g, &ReduceOptions { limit: 0.05 }, &NoProgress);
         assert!(s.vertices_after * 3 < s.vertices_before, "{s:?}");
         assert!(
             s.swaps > 0 && s.one_face + s.three_faces + s.two_faces_concave > 0,
@@ -1037,14 +1008,7 @@ mod tests {
     fn stops_only_when_no_vertex_is_removable() {
         for seed in 1..=12 {
             let g = sheet(16, seed);
-            let (_, s) = reduce(
-                &g,
-                &ReduceOptions {
-                    limit: 0.0,
-                    ..Default::default()
-                },
-                &NoProgress,
-            );
+            let (_, s) = reduce(&g, &ReduceOptions { limit: 0.0 }, &NoProgress);
             assert_eq!(s.stop, StopReason::NothingRemovable);
             // Taken when the loop stopped: the raise afterwards (the
             // `raise` module) can give a vertex room for a swap again.
@@ -1120,31 +1084,14 @@ mod tests {
     #[test]
     fn limit_one_keeps_everything_and_threads_do_not_matter() {
         let g = sheet(10, 3);
-        let (r, _) = reduce(
-            &g,
-            &ReduceOptions {
-                limit: 1.0,
-                ..Default::default()
-            },
-            &NoProgress,
-        );
+        let (r, _) = reduce(&g, &ReduceOptions { limit: 1.0 }, &NoProgress);
         assert_eq!(r.faces.len(), g.faces.len());
         let run = |threads| {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| {
-                    reduce(
-                        &g,
-                        &ReduceOptions {
-                            limit: 0.1,
-                            ..Default::default()
-                        },
-                        &NoProgress,
-                    )
-                    .0
-                })
+                .install(|| reduce(&g, &ReduceOptions { limit: 0.1 }, &NoProgress).0)
         };
         let (a, b) = (run(1), run(2));
         assert_eq!(a.faces, b.faces);
