@@ -206,8 +206,9 @@ struct SlackGrid {
 /// `δ` raises `r` by `δ·λ_v` at a node, so `v` may rise by the least `slack/λ_v` over
 /// the nodes of its faces; the vertices are raised one by one (largest room first,
 /// ties by id; in two rounds, half the allowance and then the rest), each taking
-/// its raise out of its faces' slacks, so the certificate holds after every step. The wall distances are measured once, in parallel; the
-/// result is the same for any thread count.
+/// its raise out of its faces' slacks, so the certificate holds after every step.
+/// The wall distances are measured once, in parallel; the result is the same for
+/// any thread count.
 ///
 /// Why (issue 14): the reduction keeps its volume inside the unreduced one
 /// (condition A), whose clearances the guard lowered and whose faces lie on the
@@ -278,11 +279,11 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
     // 10^5 sight lines: Visible's false negatives inside 4.10 % with one round,
     // 3.85 % with two, 3.92 % with three).
     let mut risen = vec![0.0f64; graph.vertices.len()];
-    for share in [0.5, 1.0] {
-        raise_round(
-            graph, &order, &room, &faces_of, &mut grids, &mut risen, share,
-        );
-    }
+    raise_round(graph, &order, &room, &faces_of, &mut grids, &mut risen, 0.5);
+    // A vertex that could not rise in the first round cannot in the second:
+    // its room is the same and its faces' slacks have only fallen.
+    order.retain(|&v| risen[v as usize] > 0.0);
+    raise_round(graph, &order, &room, &faces_of, &mut grids, &mut risen, 1.0);
     let raised = risen.iter().filter(|&&r| r > 0.0).count();
     RaiseStats {
         raised,
