@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Quality of the compiled graphs against each map's own BSP (SPEC §8): compiles every
-# generated map and every GoldSrc map in ../shared/testmaps (nonfree too, when present),
-# then runs `vdgview check` with N points (default 10^6) and N/10 segments.
+# generated map and every GoldSrc, Quake 1, 2 and 3 map in ../shared/testmaps (nonfree too,
+# when present), then runs `vdgview check` with N points (default 10^6) and N/10 segments.
 # Prints one row per map: counts, sizes, seconds per stage, leak, coverage, walkable coverage
 # (standing player origin and head, SPEC §8), visible fp/fn.
 #   scripts/quality-report.sh [N] [extra bsp2vdg options, e.g. -rl 1.0]
@@ -20,7 +20,9 @@ if [ -n "${MAPS:-}" ]; then
   # shellcheck disable=SC2206
   maps=($MAPS)
 else
-  maps=(testdata/maps/*.bsp ../shared/testmaps/goldsrc/*.bsp ../shared/testmaps/goldsrc/nonfree/*.bsp)
+  maps=(testdata/maps/*.bsp ../shared/testmaps/goldsrc/*.bsp ../shared/testmaps/goldsrc/nonfree/*.bsp
+        ../shared/testmaps/quake1/*.bsp ../shared/testmaps/quake1/nonfree/*.bsp
+        ../shared/testmaps/quake2/*.bsp ../shared/testmaps/quake3/*.bsp)
 fi
 printf '%-32s %7s %8s %8s %8s %9s %7s %7s %7s %9s %8s %9s %9s %9s %9s %9s %9s\n' map samples tets inner_v inner_f vertices faces bytes secs leak coverage walkable walk_head vis_fp vis_fn fn_inside fn_query
 for m in "${maps[@]}"; do
