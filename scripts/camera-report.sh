@@ -104,10 +104,14 @@ with open(os.path.join(out, "report.md"), "w") as f:
 # All maps together, frames weighted: the acceptance figures.
 agg = {}
 for m, s, dt, cam, n, c in rows:
-    a = agg.setdefault((dt, cam), dict(frames=0, seconds=0.0, solid=0, near=0, vis=0.0, vis_in=0.0, inside=0.0, jumps=0, cuts=0, jerk2=0.0, seen=0.0, false_occl=0.0))
+    a = agg.setdefault((dt, cam), dict(frames=0, seconds=0.0, solid=0, near=0, vis=0.0, vis_in=0.0, inside=0.0, jumps=0, cuts=0, jerk2=0.0, seen=0.0, false_occl=0.0,
+                                       hull=0.0, longest=0.0, stalls=0, dist=0.0, median_us=0.0, reports=0))
     fr = c["frames"]
     a["frames"] += fr; a["seconds"] += c["seconds"]; a["solid"] += c["solid_frames"]; a["near"] += c["nearplane_frames"]
     a["vis"] += c["visible_fraction"] * fr; a["jumps"] += c["jumps"]; a["cuts"] += c["cuts"]
+    a["hull"] += c["hull_visible_mean"] * fr; a["longest"] = max(a["longest"], c["longest_occlusion_s"])
+    a["stalls"] += c["stalls"]; a["dist"] += c["mean_abs_dist_error"] * fr
+    a["median_us"] += c["median_us"]; a["reports"] += 1
     a["jerk2"] += c["rms_jerk"] ** 2 * fr
     inside = (1 - c["target_outside_fraction"]) * fr
     a["inside"] += inside; a["vis_in"] += c.get("visible_fraction_target_inside", 0.0) * inside
@@ -116,12 +120,13 @@ for m, s, dt, cam, n, c in rows:
     a["seen"] += seen; a["false_occl"] += c.get("graph_false_occlusion", 0.0) * seen
 def jerk(a): return (a["jerk2"] / max(a["frames"], 1)) ** 0.5
 with open(os.path.join(out, "summary.md"), "w") as f:
-    f.write("| dt | camera | frames | solid | near-plane | visible % | visible % (target inside the volume) | target outside % | jumps | cuts/min | RMS jerk u/s³ | jerk / chase | jerk / spring arm | false occlusion % |\n")
-    f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
+    # The README's camera table is this file as it stands.
+    f.write("| dt | camera | frames | solid | near-plane | visible % | visible % (target inside the volume) | hull visible % | longest occlusion s | jumps | stalls | RMS jerk u/s³ | jerk / chase | jerk / spring arm | mean abs(d−d_μ) | cuts/min | mean of median µs | target outside % | false occlusion % |\n")
+    f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     for (dt, cam), a in sorted(agg.items()):
         n = max(a["frames"], 1)
         ref = lambda other: f"{100 * jerk(a) / jerk(agg[(dt, other)]):.1f} %" if (dt, other) in agg and jerk(agg[(dt, other)]) > 0 else "-"
-        f.write(f"| {dt} | {cam} | {a['frames']} | {a['solid']} | {a['near']} | {pct(a['vis'] / n)} | {pct(a['vis_in'] / max(a['inside'], 1))} | {pct(1 - a['inside'] / n)} | {a['jumps']} | {a['cuts'] / max(a['seconds'] / 60, 1e-9):.2f} | {jerk(a):.0f} | {ref('chase')} | {ref('springarm')} | {pct(a['false_occl'] / max(a['seen'], 1))} |\n")
+        f.write(f"| {dt} | {cam} | {a['frames']} | {a['solid']} | {a['near']} | {pct(a['vis'] / n)} | {pct(a['vis_in'] / max(a['inside'], 1))} | {pct(a['hull'] / n)} | {a['longest']:.2f} | {a['jumps']} | {a['stalls']} | {jerk(a):.0f} | {ref('chase')} | {ref('springarm')} | {a['dist'] / n:.1f} | {a['cuts'] / max(a['seconds'] / 60, 1e-9):.2f} | {a['median_us'] / max(a['reports'], 1):.1f} | {pct(1 - a['inside'] / n)} | {pct(a['false_occl'] / max(a['seen'], 1))} |\n")
 with open(os.path.join(out, "outside.md"), "w") as f:
     f.write("# Target positions outside Volume(VDG)\n\n")
     for m, s, dt, frac, runs, routes in outside:
