@@ -232,7 +232,7 @@ fn reduce_graph(
     log.detail(format!(
         "Reduction work: {} batches, {} removals costed in them, {} put back with a higher cost; \
          {} sweeps skipping {} unchanged refused vertices [{}]; \
-         {} initial costs, {} batches, {} the rest",
+         {} initial costs, {} batches ({} of it picking the next one on one thread), {} the rest ({} committing)",
         rs.batches,
         rs.costed,
         rs.requeued,
@@ -241,7 +241,9 @@ fn reduce_graph(
         secs(rs.seconds_sweeps),
         secs(rs.seconds_initial),
         secs(rs.seconds_batches),
-        secs(rs.seconds_rest)
+        secs(rs.seconds_picking),
+        secs(rs.seconds_rest),
+        secs(rs.seconds_commits)
     ));
     (reduced, (rs, t.elapsed().as_secs_f64()))
 }

@@ -166,6 +166,10 @@ pub struct ReduceStats {
     pub seconds_initial: f64,
     pub seconds_batches: f64,
     pub seconds_rest: f64,
+    /// Of those, the seconds spent picking the batches (on one thread, while
+    /// the batch before is costed) and committing them (serial).
+    pub seconds_picking: f64,
+    pub seconds_commits: f64,
     /// Sweeps over every vertex before giving up (see [`run`]), the vertices
     /// they did not cost again because nothing around them had changed since
     /// a costing refused them, and their seconds (part of `seconds_rest`).
@@ -458,10 +462,16 @@ fn run(
                     })
                     .collect::<Vec<Option<Box<Costed>>>>()
             },
-            || claims.select(&mut queue, &mesh),
+            || {
+                let t = Instant::now();
+                let next = claims.select(&mut queue, &mesh);
+                (next, t.elapsed().as_secs_f64())
+            },
         );
-        following = next_batch;
+        following = next_batch.0;
+        stats.seconds_picking += next_batch.1;
         stats.seconds_batches += costing.elapsed().as_secs_f64();
+        let committing = Instant::now();
         for ((r, f), &(v, _)) in results.iter_mut().zip(fresh).zip(&batch) {
             if r.is_none() {
                 refused_at[v as usize] = if f.is_none() {
@@ -478,6 +488,7 @@ fn run(
                 for &(u, k) in batch[i..].iter().chain(&following) {
                     queue.push_key(u, k);
                 }
+                stats.seconds_commits += committing.elapsed().as_secs_f64();
                 break 'outer;
             }
             let Some(c) = res else {
@@ -563,6 +574,7 @@ fn run(
                 });
             }
         }
+        stats.seconds_commits += committing.elapsed().as_secs_f64();
     }
     progress.finish();
     stats.seam_phase_seconds = seam_start.map_or(0.0, |t| t.elapsed().as_secs_f64());
@@ -672,8 +684,10 @@ struct Claims {
     claimed: Vec<u32>,
     batch: u32,
     clashed: Vec<(u32, u64)>,
-    /// Scratch: a closed one-ring.
+    /// Scratch: a closed one-ring, the faces of its vertices and theirs.
     ring: Vec<u32>,
+    ring_faces: Vec<u32>,
+    two_ring: Vec<u32>,
 }
 
 impl Claims {
@@ -683,6 +697,8 @@ impl Claims {
             batch: 1,
             clashed: Vec::new(),
             ring: Vec::new(),
+            ring_faces: Vec::new(),
+            two_ring: Vec::new(),
         }
     }
 
@@ -707,12 +723,19 @@ impl Claims {
             }
             self.ring.sort_unstable();
             self.ring.dedup();
+            // The two rings in three flat passes (face lists, faces, marks)
+            // rather than one nested loop: the loads of a pass do not wait
+            // for each other, and this walk waits on memory, not arithmetic.
+            self.ring_faces.clear();
             for &u in &self.ring {
-                for &f in &mesh.vfaces[u as usize] {
-                    for w in mesh.faces[f as usize] {
-                        self.claimed[w as usize] = b;
-                    }
-                }
+                self.ring_faces.extend_from_slice(&mesh.vfaces[u as usize]);
+            }
+            self.two_ring.clear();
+            for &f in &self.ring_faces {
+                self.two_ring.extend(mesh.faces[f as usize]);
+            }
+            for &w in &self.two_ring {
+                self.claimed[w as usize] = b;
             }
             out.push((v, key));
         }

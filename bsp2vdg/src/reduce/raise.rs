@@ -173,9 +173,10 @@ impl<'g> Unreduced<'g> {
                 fill[v as usize] += 1;
             }
         }
+        // Per face, in parallel (the order of the results is the faces' own).
         let sphere = graph
             .faces
-            .iter()
+            .par_iter()
             .map(|t| {
                 let p = t.map(|v| graph.vertices[v as usize]);
                 let c = scale(add(add(p[0], p[1]), p[2]), 1.0 / 3.0);
@@ -189,7 +190,7 @@ impl<'g> Unreduced<'g> {
             .collect();
         let geom = graph
             .faces
-            .iter()
+            .par_iter()
             .map(|t| {
                 Geom::new(
                     t.map(|v| graph.vertices[v as usize]),
