@@ -3,7 +3,8 @@
 //! `visible_misses` example draw them) that `Visible` rejects and that leave the
 //! volume between their ends, the outside stretches (sampled every half unit): their
 //! length, the true wall distance at the deepest outside point, how far outside the
-//! reduced volume it is, and whether the unreduced graph (optional third file) holds it.
+//! reduced volume it is, whether the unreduced graph (optional third file) holds it, and
+//! what the nearest wall looks like there (a plane, a convex edge or corner).
 //!
 //! ```text
 //! cargo run --release -p bsp2vdg --example miss_shape -- MAP.bsp REDUCED.vdg [UNREDUCED.vdg] [SEGMENTS]
@@ -40,6 +41,37 @@ struct Stats {
     stretches: usize,
     /// The deepest point's reduced clearance relative to its true wall distance: ratio bins.
     frac: [usize; 5],
+    /// What the nearest wall looks like from the deepest point (see [`wall_shape`]):
+    /// a plane, a convex edge, a convex corner, or where two walls are equally near.
+    shape: [usize; 4],
+}
+
+/// The shape of the walls nearest to `p` at wall distance `d`, from the Laplacian of
+/// the distance field (finite differences at half a unit): 0 near a plane (`d` is
+/// linear there), about `1/d` near a convex edge (the distance is a cylinder's) and
+/// `2/d` near a convex corner (a sphere's); negative where two walls are equally near
+/// (the distance is the smaller of two and has a crease). Returns 0 plane, 1 convex
+/// edge, 2 convex corner, 3 crease.
+fn wall_shape(walls: &Walls, p: [f64; 3], d: f64) -> usize {
+    let h = 0.5f64.min(d / 4.0).max(1e-3);
+    let mut lap = 0.0;
+    for i in 0..3 {
+        let mut a = p;
+        let mut b = p;
+        a[i] += h;
+        b[i] -= h;
+        lap += (walls.distance(a) + walls.distance(b) - 2.0 * d) / (h * h);
+    }
+    let k = lap * d;
+    if k < -0.3 {
+        3
+    } else if k < 0.5 {
+        0
+    } else if k < 1.5 {
+        1
+    } else {
+        2
+    }
 }
 
 fn main() -> anyhow::Result<()> {
@@ -109,6 +141,7 @@ fn main() -> anyhow::Result<()> {
                 s.stretches += runs;
                 let wd = walls.distance(p);
                 s.wall[bin(wd)] += 1;
+                s.shape[wall_shape(&walls, p, wd)] += 1;
                 s.depth[bin(-c)] += 1;
                 s.stretch[bin(longest as f64 * 0.5)] += 1;
                 let minwall = (0..=steps)
@@ -158,6 +191,9 @@ fn main() -> anyhow::Result<()> {
         }
         for i in 0..5 {
             t.frac[i] += p.frac[i];
+        }
+        for i in 0..4 {
+            t.shape[i] += p.shape[i];
         }
     }
     // Coverage of free points by true wall distance, reduced and unreduced.
@@ -227,6 +263,13 @@ fn main() -> anyhow::Result<()> {
     println!(
         "deepest point within 4 units of the segment's closest approach to a wall: {:.1} %",
         pc(t.near_min)
+    );
+    println!(
+        "nearest wall at the deepest point: plane {:.1} %, convex edge {:.1} %, convex corner {:.1} %, two walls equally near {:.1} %",
+        pc(t.shape[0]),
+        pc(t.shape[1]),
+        pc(t.shape[2]),
+        pc(t.shape[3])
     );
     let f: Vec<String> = t.frac.iter().map(|&x| format!("{:.1}", pc(x))).collect();
     println!(
