@@ -5,7 +5,9 @@
 # --seed S` (so both builds are judged by the same checker) and prints one TSV row per map:
 # reduction ratio and stop reason, vertices, file sizes, coverage (>= 32), walkable coverage
 # at the standing origin and at head height, Visible's false negatives with both ends inside
-# the volume, leak and false positives; then the unreduced figures as `#` lines.
+# the volume, leak and false positives, and crouch coverage (GoldSrc: the eyes of the places
+# where a player only fits crouching inside the volume, n/a elsewhere); then the unreduced
+# figures as `#` lines.
 #   scripts/quality-table.sh [-samples N] [-seed S] BEFORE_BIN AFTER_BIN [MAP.bsp ...]
 # Without maps: every GoldSrc, Quake 1, 2 and 3 map in ../shared/testmaps (nonfree too).
 # BEFORE_BIN / AFTER_BIN are bsp2vdg executables (e.g. built from two commits with
@@ -44,7 +46,7 @@ trap 'rm -rf "$out"' EXIT
 echo "# vdgview check --samples $samples --seed $seed ($((samples / 10)) sight lines) on graphs compiled at the default options;"
 echo "# before = $before ($("$before" -version 2>/dev/null | head -n1 || true)), after = $after; unreduced = after at -rl 1.0 (last lines)."
 echo "# fn_inside: Visible's false negatives among the free sight lines with both ends inside the volume (inside_segments of them, after)."
-printf 'map\tratio\tstop\tvertices\tbytes_before\tbytes_after\tcoverage_before\tcoverage_after\twalkable_before\twalkable_after\thead_before\thead_after\tfn_inside_before\tfn_inside_after\tinside_segments\tleak_after\tfp_after\n'
+printf 'map\tratio\tstop\tvertices\tbytes_before\tbytes_after\tcoverage_before\tcoverage_after\twalkable_before\twalkable_after\thead_before\thead_after\tfn_inside_before\tfn_inside_after\tinside_segments\tleak_after\tfp_after\tcrouch_before\tcrouch_after\n'
 unreduced=()
 for m in "${maps[@]}"; do
   name=$(basename "$m" .bsp)
@@ -81,14 +83,15 @@ print("\t".join([
     share(kb["walkable_coverage_head"]), share(ka["walkable_coverage_head"]),
     f"{kb['visible_fn_inside']:.4f}", f"{ka['visible_fn_inside']:.4f}",
     str(ka["free_segments_inside"]), f"{ka['leak']:.6f}", f"{ka['visible_fp']:.6f}",
+    share(kb.get("crouch_coverage")), share(ka.get("crouch_coverage")),
 ]))
 ku, cu = load("unreduced.check.json"), load("unreduced.json")
 with open(f"{d}/unreduced.rows", "a") as f:
     f.write("#\t" + "\t".join([name, str(cu["vertices"]), share(ku["walkable_coverage"]),
         share(ku["walkable_coverage_head"]), f"{ku['coverage']:.4f}",
-        f"{ku['visible_fn_inside']:.4f}"]) + "\n")
+        f"{ku['visible_fn_inside']:.4f}", share(ku.get("crouch_coverage"))]) + "\n")
 PY
 done
-echo "# unreduced (-rl 1.0), same check: map, vertices, walkable, head, coverage, fn_inside"
+echo "# unreduced (-rl 1.0), same check: map, vertices, walkable, head, coverage, fn_inside, crouch"
 [ -f "$out/unreduced.rows" ] && cat "$out/unreduced.rows"
 exit 0

@@ -14,6 +14,9 @@
 //!   the floor, 36 units above the ground) — and the share of those origins inside the
 //!   volume; the same for the head (64 units above the ground, skipped where it is in
 //!   solid). The camera's target is there; outside the volume it can never be visible.
+//! - **crouch coverage** (GoldSrc): the places where a player only fits crouching
+//!   (vents, crawl spaces) in random columns, and the share of their crouched eyes (18 +
+//!   12 units above the ground, the point the camera follows) inside the volume.
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
@@ -81,6 +84,12 @@ pub struct CheckReport {
     /// Their heads that are in free space, and how many of those lie inside the volume.
     pub walkable_head_points: usize,
     pub walkable_head_covered: usize,
+    /// GoldSrc maps: the places where a player only fits crouching (vents, crawl
+    /// spaces; [`crate::standing::column_crouch_places`]) drawn from as many random
+    /// columns as there are points, whose crouched eye (the camera's target) is in
+    /// free space, and how many of those eyes lie inside the volume.
+    pub crouch_points: usize,
+    pub crouch_covered: usize,
     pub seconds: f64,
     /// Seconds of the four measurements (leak, coverage, visibility, walkable).
     pub seconds_parts: [f64; 4],
@@ -121,6 +130,11 @@ impl CheckReport {
         (self.walkable_head_points > 0)
             .then(|| ratio(self.walkable_head_covered, self.walkable_head_points))
     }
+    /// Share of the crouch-only places' eyes inside the volume; `None` where there is
+    /// none (every non-GoldSrc map, and GoldSrc maps without low ceilings).
+    pub fn crouch_coverage(&self) -> Option<f64> {
+        (self.crouch_points > 0).then(|| ratio(self.crouch_covered, self.crouch_points))
+    }
     /// Whether the graph passes: nothing leaks, nothing is seen through walls.
     pub fn passed(&self) -> bool {
         self.leaked == 0 && self.false_positives == 0
@@ -140,6 +154,9 @@ impl CheckReport {
             "walkable_covered": self.walkable_covered,
             "walkable_head_points": self.walkable_head_points,
             "walkable_head_covered": self.walkable_head_covered,
+            "crouch_coverage": self.crouch_coverage(),
+            "crouch_points": self.crouch_points,
+            "crouch_covered": self.crouch_covered,
             "vertices": self.vertices,
             "faces": self.faces,
             "bytes": self.bytes,
@@ -202,7 +219,10 @@ pub fn check(bsp: &Bsp, vdg: &Vdg<'_>, bytes: usize, options: &CheckOptions) -> 
         timed(|| measure_coverage(bsp, vdg, &oracle, &walls, options));
     (r.coverage_points, r.covered) = (points, covered);
     let ((), s_visible) = timed(|| measure_visibility(bsp, vdg, &oracle, options, &mut r));
-    let ((), s_walkable) = timed(|| measure_walkable(bsp, vdg, &oracle, options, &mut r));
+    let ((), s_walkable) = timed(|| {
+        measure_walkable(bsp, vdg, &oracle, options, &mut r);
+        measure_crouch(bsp, vdg, &oracle, options, &mut r);
+    });
     r.seconds_parts = [s_leak, s_coverage, s_visible, s_walkable];
     r.seconds = t.elapsed().as_secs_f64();
     r
@@ -484,6 +504,55 @@ fn measure_walkable(
         r.walkable_head_points,
         r.walkable_head_covered,
     ] = counts;
+}
+
+/// The eyes of the crouch-only places ([`crate::standing::column_crouch_places`]) in
+/// `columns` random columns, drawn uniformly over the world's horizontal extent in
+/// chunks with their own seeds, where the eye is in free space. Empty on maps other
+/// than GoldSrc's (their players crouch in other hulls, or not at all).
+pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec<[f64; 3]> {
+    use crate::standing::{CROUCH_EYE_ABOVE_ORIGIN, column_crouch_places};
+    if bsp.version.game() != bsp::Game::GoldSrc {
+        return Vec::new();
+    }
+    let (Some(duck), Some(stand)) = (oracle.clip_hull(3), oracle.clip_hull(1)) else {
+        return Vec::new();
+    };
+    let (lo, hi) = free_bounds(bsp);
+    let parts: Vec<Vec<[f64; 3]>> = (0..columns.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let mut rng = SplitMix64::new(seed ^ (0xc40 << 44) ^ c as u64);
+            let mut out = Vec::new();
+            for _ in 0..CHUNK.min(columns - c * CHUNK) {
+                let (x, y) = (rng.range(lo[0], hi[0]), rng.range(lo[1], hi[1]));
+                for z in column_crouch_places(duck, stand, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0) {
+                    let eye = widen(as_f32([x, y, z + CROUCH_EYE_ABOVE_ORIGIN]));
+                    if oracle.is_free(eye) {
+                        out.push(eye);
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    parts.concat()
+}
+
+/// Crouch coverage: the share of the crouch-only places' eyes inside the volume.
+fn measure_crouch(
+    bsp: &Bsp,
+    vdg: &Vdg<'_>,
+    oracle: &Oracle,
+    options: &CheckOptions,
+    r: &mut CheckReport,
+) {
+    let eyes = crouch_eyes(bsp, oracle, options.samples, options.seed);
+    r.crouch_points = eyes.len();
+    r.crouch_covered = eyes
+        .par_iter()
+        .filter(|&&e| vdg.contains(as_f32(e)))
+        .count();
 }
 
 /// Spacing (units) of the points that test whether a missed segment stays inside the

@@ -5,6 +5,10 @@
 //! A place is a player origin with clip hull 1 free there and the floor right below
 //! (the origin dropped onto a floor), on a slope a player can stand on.
 //!
+//! GoldSrc players also crouch (clip hull 3, 36 units tall) where they cannot stand:
+//! vents, crawl spaces, low gaps. Those places ([`column_crouch_places`]) are kept too,
+//! at the crouched eye the camera follows.
+//!
 //! ```no_run
 //! use bsp2vdg::{bsp::Bsp, oracle::Oracle, standing};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
@@ -61,6 +65,70 @@ pub fn column_floors(
     floors
 }
 
+/// A crouching GoldSrc player's origin above the ground (the middle of the 36-unit
+/// duck hull, clip hull 3) and the eye above that origin (the engine's duck view
+/// offset): the point a third-person camera follows.
+pub const CROUCH_ORIGIN_ABOVE_GROUND: f64 = 18.0;
+pub const CROUCH_EYE_ABOVE_ORIGIN: f64 = 12.0;
+
+/// The crouched origins in the column (`x`, `y`) where only a crouching player fits:
+/// the duck hull (`duck`, clip hull 3) has a floor there ([`column_floors`]), the
+/// standing hull (`stand`, clip hull 1) is blocked where a standing player's origin
+/// would be, the point hull's floor lies right below (within 2 units: the hulls'
+/// expansions also find "floors" on the tops of walls and clip brushes with open
+/// space below) and its ceiling less than a standing player's height above it
+/// (straight up). On de_dust2 2 % of the places a player fits are crouch-only, on
+/// c1a1b 0.8 %.
+pub fn column_crouch_places(
+    duck: &Hull,
+    stand: &Hull,
+    oracle: &Oracle,
+    x: f64,
+    y: f64,
+    top: f64,
+    bottom: f64,
+) -> Vec<f64> {
+    let mut out = column_floors(duck, oracle, x, y, top, bottom);
+    out.retain(|&z| {
+        let floor = z - CROUCH_ORIGIN_ABOVE_GROUND;
+        let standing_origin = floor + ORIGIN_ABOVE_GROUND;
+        oracle.blocks(stand.contents([x, y, standing_origin]))
+            && !oracle.is_free([x, y, floor - 2.0])
+            && (0..=72).any(|k| !oracle.is_free([x, y, floor + 0.5 + f64::from(k)]))
+    });
+    out
+}
+
+/// The crouched eyes ([`CROUCH_EYE_ABOVE_ORIGIN`] above the origin) of the crouch-only
+/// places ([`column_crouch_places`]) on the grid of [`grid_origins`], where the eye is
+/// free. Empty when the map has no clip hulls 1 and 3 (Quake has no duck hull).
+pub fn grid_crouch_eyes(
+    oracle: &Oracle,
+    lo: [f64; 3],
+    hi: [f64; 3],
+    spacing: f64,
+) -> Vec<[f64; 3]> {
+    let (Some(duck), Some(stand)) = (oracle.clip_hull(3), oracle.clip_hull(1)) else {
+        return Vec::new();
+    };
+    let nx = ((hi[0] - lo[0]) / spacing).ceil().max(1.0) as usize;
+    let ny = ((hi[1] - lo[1]) / spacing).ceil().max(1.0) as usize;
+    use rayon::prelude::*;
+    (0..ny)
+        .into_par_iter()
+        .flat_map_iter(|j| {
+            let y = lo[1] + (j as f64 + 0.5) * spacing;
+            (0..nx).flat_map(move |i| {
+                let x = lo[0] + (i as f64 + 0.5) * spacing;
+                column_crouch_places(duck, stand, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0)
+                    .into_iter()
+                    .map(move |z| [x, y, z + CROUCH_EYE_ABOVE_ORIGIN])
+                    .filter(|&eye| oracle.is_free(eye))
+            })
+        })
+        .collect()
+}
+
 /// Spacing of the columns whose floors the reduction keeps inside the volume.
 pub const KEEP_SPACING: f64 = 16.0;
 
@@ -86,4 +154,83 @@ pub fn grid_origins(oracle: &Oracle, lo: [f64; 3], hi: [f64; 3], spacing: f64) -
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use bsp::Bsp;
+    use bsp::oracle::OracleOptions;
+
+    /// mapgen's `crawl_duct`: rooms `[0,256]` and `[512,768]` in x, a duct
+    /// `[240,528]×[96,160]×[0,48]` between them, floors at z = 0.
+    fn duct() -> (Bsp, Oracle) {
+        let bytes = mapgen::bsp::write_world(&mapgen::worlds::crawl_duct());
+        let bsp = Bsp::parse(&bytes).expect("generated map parses");
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        (bsp, oracle)
+    }
+
+    #[test]
+    fn crouch_places_are_exactly_where_only_the_duck_hull_fits() {
+        let (_, oracle) = duct();
+        let duck = oracle.clip_hull(3).expect("hull 3");
+        let stand = oracle.clip_hull(1).expect("hull 1");
+        let at = |x: f64, y: f64| column_crouch_places(duck, stand, &oracle, x, y, 200.0, -8.0);
+        // Inside the duct, the duck hull's 16-unit half width clear of its side
+        // walls: one place, the crouched origin 18 units above the floor.
+        for (x, y) in [
+            (300.0, 128.0),
+            (384.0, 113.0),
+            (480.0, 143.0),
+            (272.5, 128.0),
+        ] {
+            let z = at(x, y);
+            assert_eq!(z.len(), 1, "({x}, {y}): {z:?}");
+            assert!(
+                (z[0] - CROUCH_ORIGIN_ABOVE_GROUND).abs() < 0.1,
+                "({x}, {y}): {z:?}"
+            );
+        }
+        // In the rooms a player stands; against the duct's side walls the duck hull
+        // does not fit; under the duct's mouth the standing hull still fits.
+        for (x, y) in [
+            (128.0, 128.0),
+            (640.0, 200.0),
+            (384.0, 104.0),
+            (384.0, 156.0),
+            (230.0, 128.0),
+        ] {
+            assert_eq!(at(x, y), Vec::<f64>::new(), "({x}, {y})");
+        }
+    }
+
+    #[test]
+    fn crouch_eyes_cover_the_duct_floor_and_nothing_else() {
+        let (bsp, oracle) = duct();
+        let w = bsp.world();
+        let (lo, hi) = (w.mins.map(f64::from), w.maxs.map(f64::from));
+        let eyes = grid_crouch_eyes(&oracle, lo, hi, 8.0);
+        // The duct's floor under its 48-unit ceiling (x from 256 to 512; in its
+        // mouths, 16 units either side, a player cannot stand either, but the
+        // ceiling straight up is the room's), where the duck hull clears the side
+        // walls (y from 96 + 16 to 160 − 16): every column of the 8-unit grid there.
+        let columns = |a: f64, b: f64, l: f64| {
+            (0..1000)
+                .map(|i| l + (i as f64 + 0.5) * 8.0)
+                .filter(|&c| c > a && c < b)
+                .count()
+        };
+        let want = columns(256.0, 512.0, lo[0]) * columns(112.0, 144.0, lo[1]);
+        assert!(want > 100);
+        assert_eq!(eyes.len(), want);
+        for e in &eyes {
+            assert!(
+                e[0] > 256.0 && e[0] < 512.0 && e[1] > 112.0 && e[1] < 144.0,
+                "{e:?}"
+            );
+            let eye = CROUCH_ORIGIN_ABOVE_GROUND + CROUCH_EYE_ABOVE_ORIGIN;
+            assert!((e[2] - eye).abs() < 0.1, "{e:?}");
+        }
+    }
 }

@@ -446,3 +446,45 @@ fn open_field_file_is_compact() {
     println!("open_field: {faces} faces, {bytes} bytes, {per_face:.1} bytes per face");
     assert!(per_face <= 100.0, "{per_face:.1} bytes per face");
 }
+
+/// Where only a crouching player fits (mapgen's `crawl_duct`: a 48-unit-high duct
+/// between two rooms), the reduction keeps the crouched eyes inside the volume: the
+/// camera follows a player through vents. Without keeping them the reduction took
+/// the whole duct (0 of 4 034 eyes inside at `vdgview check --samples 100000`).
+#[test]
+fn crawl_duct_keeps_the_crouched_eyes_inside() {
+    let dir = std::env::temp_dir().join(format!("bsp2vdg-crawl-duct-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = dir.join("crawl_duct.bsp");
+    std::fs::write(
+        &map,
+        mapgen::bsp::write_world(&mapgen::worlds::crawl_duct()),
+    )
+    .unwrap();
+    let out = dir.join("crawl_duct.vdg");
+    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(["-quiet", "-o"])
+        .arg(&out)
+        .arg(&map)
+        .output()
+        .expect("bsp2vdg runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = VdgFile::open(&out).unwrap();
+    let bsp = bsp2vdg::bsp::Bsp::open(&map).unwrap();
+    let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
+    let eyes = bsp2vdg::check::crouch_eyes(&bsp, &oracle, 20_000, 1);
+    let _ = std::fs::remove_dir_all(&dir);
+    let g = file.graph();
+    let inside = eyes
+        .iter()
+        .filter(|e| g.contains(e.map(|c| c as f32)))
+        .count();
+    println!(
+        "crawl_duct: {inside} of {} crouched eyes inside",
+        eyes.len()
+    );
+    // The duct's floor is 256 × 32 units of the 768 × 256 map's extent.
+    assert!(eyes.len() > 500, "{} eyes", eyes.len());
+    assert_eq!(inside, eyes.len());
+}

@@ -317,6 +317,12 @@ fn run_check(
             r.walkable_head_points
         );
         println!(
+            "  crouching  {}  ({} of {} eyes of places where a player only fits crouching inside)",
+            share(r.crouch_coverage()),
+            r.crouch_covered,
+            r.crouch_points
+        );
+        println!(
             "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,

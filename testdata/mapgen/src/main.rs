@@ -6,8 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use mapgen::{bsp, manifest::Manifest};
 
-const USAGE: &str =
-    "usage: mapgen --out DIR [--only NAME]  (NAME may also be an extra world: open_field)";
+const USAGE: &str = "usage: mapgen --out DIR [--only NAME]  (NAME may also be an extra world: open_field, crawl_duct)";
 
 fn main() -> Result<()> {
     let mut out: Option<PathBuf> = None;

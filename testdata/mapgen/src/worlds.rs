@@ -228,7 +228,23 @@ pub fn pillar_hall() -> World {
 /// Worlds made on request, not among the standard maps (too large to compile in
 /// every test run): `mapgen --out DIR --only NAME` writes them too.
 pub fn extra_worlds() -> Vec<World> {
-    vec![open_field()]
+    vec![open_field(), crawl_duct()]
+}
+
+/// Two 256 × 256 × 160 rooms joined by a duct 256 units long, 64 wide and 48 high
+/// (`[256,512]×[96,160]×[0,48]`): a player stands in the rooms and only crouches in
+/// the duct (GoldSrc's duck hull is 36 units tall, the standing hull 72). Where the
+/// camera's target crawls (issue 14: crouch coverage).
+pub fn crawl_duct() -> World {
+    let mut w = World::new(
+        "crawl_duct",
+        "two 256x256x160 rooms joined by a 256-long, 64-wide, 48-high crawl duct",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [256.0, 256.0, 160.0]));
+    w.free.push(b([512.0, 0.0, 0.0], [768.0, 256.0, 160.0]));
+    w.free.push(b([240.0, 96.0, 0.0], [528.0, 160.0, 48.0]));
+    w.spawns = vec![[128.0, 128.0, 37.0], [640.0, 128.0, 37.0]];
+    w
 }
 
 /// A large open map like an outdoor level: a 3072 × 3072 field under a sky 768
