@@ -91,7 +91,8 @@ pub struct CheckReport {
     pub crouch_points: usize,
     pub crouch_covered: usize,
     pub seconds: f64,
-    /// Seconds of the four measurements (leak, coverage, visibility, walkable).
+    /// Seconds of the four measurements (leak, coverage, visibility, walkable with
+    /// crouch).
     pub seconds_parts: [f64; 4],
 }
 

@@ -101,7 +101,9 @@ pub fn column_crouch_places(
 
 /// The crouched eyes ([`CROUCH_EYE_ABOVE_ORIGIN`] above the origin) of the crouch-only
 /// places ([`column_crouch_places`]) on the grid of [`grid_origins`], where the eye is
-/// free. Empty when the map has no clip hulls 1 and 3 (Quake has no duck hull).
+/// free. Empty when the map has no clip hulls 1 and 3. The heights are GoldSrc's: ask
+/// on GoldSrc maps only (Quake 1 has no duck hull; Quake 2 and 3 players crouch with
+/// their origin where it stands, 24 units up, which these offsets do not describe).
 pub fn grid_crouch_eyes(
     oracle: &Oracle,
     lo: [f64; 3],
