@@ -113,22 +113,13 @@ pub fn grid_crouch_eyes(
     let (Some(duck), Some(stand)) = (oracle.clip_hull(3), oracle.clip_hull(1)) else {
         return Vec::new();
     };
-    let nx = ((hi[0] - lo[0]) / spacing).ceil().max(1.0) as usize;
-    let ny = ((hi[1] - lo[1]) / spacing).ceil().max(1.0) as usize;
-    use rayon::prelude::*;
-    (0..ny)
-        .into_par_iter()
-        .flat_map_iter(|j| {
-            let y = lo[1] + (j as f64 + 0.5) * spacing;
-            (0..nx).flat_map(move |i| {
-                let x = lo[0] + (i as f64 + 0.5) * spacing;
-                column_crouch_places(duck, stand, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0)
-                    .into_iter()
-                    .map(move |z| [x, y, z + CROUCH_EYE_ABOVE_ORIGIN])
-                    .filter(|&eye| oracle.is_free(eye))
-            })
-        })
-        .collect()
+    on_grid(lo, hi, spacing, |x, y, top, bottom| {
+        column_crouch_places(duck, stand, oracle, x, y, top, bottom)
+            .into_iter()
+            .map(|z| [x, y, z + CROUCH_EYE_ABOVE_ORIGIN])
+            .filter(|&eye| oracle.is_free(eye))
+            .collect()
+    })
 }
 
 /// Spacing of the columns whose floors the reduction keeps inside the volume.
@@ -141,18 +132,34 @@ pub fn grid_origins(oracle: &Oracle, lo: [f64; 3], hi: [f64; 3], spacing: f64) -
     let Some(hull) = oracle.clip_hull(1) else {
         return Vec::new();
     };
+    on_grid(lo, hi, spacing, |x, y, top, bottom| {
+        column_floors(hull, oracle, x, y, top, bottom)
+            .into_iter()
+            .map(|z| [x, y, z])
+            .collect()
+    })
+}
+
+/// The points `column(x, y, top, bottom)` gives for every column of a regular grid
+/// `spacing` units apart over the box `lo`–`hi` (column centres, the box's height a
+/// unit wider), row by row: in a fixed order, whatever the thread count.
+fn on_grid(
+    lo: [f64; 3],
+    hi: [f64; 3],
+    spacing: f64,
+    column: impl Fn(f64, f64, f64, f64) -> Vec<[f64; 3]> + Sync,
+) -> Vec<[f64; 3]> {
+    use rayon::prelude::*;
     let nx = ((hi[0] - lo[0]) / spacing).ceil().max(1.0) as usize;
     let ny = ((hi[1] - lo[1]) / spacing).ceil().max(1.0) as usize;
-    use rayon::prelude::*;
     (0..ny)
         .into_par_iter()
         .flat_map_iter(|j| {
             let y = lo[1] + (j as f64 + 0.5) * spacing;
+            let column = &column;
             (0..nx).flat_map(move |i| {
                 let x = lo[0] + (i as f64 + 0.5) * spacing;
-                column_floors(hull, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0)
-                    .into_iter()
-                    .map(move |z| [x, y, z])
+                column(x, y, hi[2] + 1.0, lo[2] - 1.0)
             })
         })
         .collect()

@@ -422,16 +422,28 @@ fn volume_kept_on_given_files() {
 #[test]
 #[ignore]
 fn open_field_file_is_compact() {
-    let dir = std::env::temp_dir().join(format!("bsp2vdg-open-field-{}", std::process::id()));
+    let (dir, map, out) = compile_world(&mapgen::worlds::open_field());
+    let bytes = std::fs::read(&out).unwrap().len();
+    let faces = VdgFile::open(&out).unwrap().graph().face_count();
+    let _ = (std::fs::remove_dir_all(&dir), map);
+    let per_face = bytes as f64 / faces as f64;
+    println!("open_field: {faces} faces, {bytes} bytes, {per_face:.1} bytes per face");
+    assert!(per_face <= 100.0, "{per_face:.1} bytes per face");
+}
+
+/// Writes one of mapgen's worlds into a fresh folder and compiles it at the default
+/// options: the folder, the map and the `.vdg`.
+fn compile_world(world: &World) -> (PathBuf, PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!(
+        "bsp2vdg-world-{}-{}",
+        world.name,
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let map = dir.join("open_field.bsp");
-    std::fs::write(
-        &map,
-        mapgen::bsp::write_world(&mapgen::worlds::open_field()),
-    )
-    .unwrap();
-    let out = dir.join("open_field.vdg");
+    let map = dir.join(format!("{}.bsp", world.name));
+    std::fs::write(&map, mapgen::bsp::write_world(world)).unwrap();
+    let out = dir.join(format!("{}.vdg", world.name));
     let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
         .args(["-quiet", "-o"])
         .arg(&out)
@@ -439,12 +451,7 @@ fn open_field_file_is_compact() {
         .output()
         .expect("bsp2vdg runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let bytes = std::fs::read(&out).unwrap().len();
-    let faces = VdgFile::open(&out).unwrap().graph().face_count();
-    let _ = std::fs::remove_dir_all(&dir);
-    let per_face = bytes as f64 / faces as f64;
-    println!("open_field: {faces} faces, {bytes} bytes, {per_face:.1} bytes per face");
-    assert!(per_face <= 100.0, "{per_face:.1} bytes per face");
+    (dir, map, out)
 }
 
 /// Where only a crouching player fits (mapgen's `crawl_duct`: a 48-unit-high duct
@@ -453,23 +460,7 @@ fn open_field_file_is_compact() {
 /// the whole duct (0 of 4 034 eyes inside at `vdgview check --samples 100000`).
 #[test]
 fn crawl_duct_keeps_the_crouched_eyes_inside() {
-    let dir = std::env::temp_dir().join(format!("bsp2vdg-crawl-duct-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let map = dir.join("crawl_duct.bsp");
-    std::fs::write(
-        &map,
-        mapgen::bsp::write_world(&mapgen::worlds::crawl_duct()),
-    )
-    .unwrap();
-    let out = dir.join("crawl_duct.vdg");
-    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
-        .args(["-quiet", "-o"])
-        .arg(&out)
-        .arg(&map)
-        .output()
-        .expect("bsp2vdg runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (dir, map, out) = compile_world(&mapgen::worlds::crawl_duct());
     let file = VdgFile::open(&out).unwrap();
     let bsp = bsp2vdg::bsp::Bsp::open(&map).unwrap();
     let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
