@@ -20,15 +20,16 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Measure a graph against its map's BSP: leak, coverage, walkable coverage, visibility
-    /// errors (SPEC §8).
+    /// Measure a graph against its map's BSP: leak, coverage, walkable and crouch
+    /// coverage, visibility errors (SPEC §8).
     /// Exits non-zero when anything leaks or is seen through a wall.
     Check {
         #[arg(value_name = "MAP.bsp")]
         map: PathBuf,
         #[arg(value_name = "FILE.vdg")]
         vdg: PathBuf,
-        /// Random points for leak, coverage and walkable coverage each (a tenth as many segments).
+        /// Random points for leak, coverage and walkable coverage each, as many columns for
+        /// crouch coverage (a tenth as many segments).
         #[arg(long, default_value_t = 1_000_000)]
         samples: usize,
         /// Seed of the random points.
