@@ -509,14 +509,15 @@ fn measure_walkable(
 
 /// The eyes of the crouch-only places ([`crate::standing::column_crouch_places`]) in
 /// `columns` random columns, drawn uniformly over the world's horizontal extent in
-/// chunks with their own seeds, where the eye is in free space. Empty on maps other
-/// than GoldSrc's (their players crouch in other hulls, or not at all).
+/// chunks with their own seeds, where the eye is in free space. Empty unless the map's
+/// players crouch as `standing` describes ([`crate::standing::crouches`]).
 pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec<[f64; 3]> {
-    use crate::standing::{CROUCH_EYE_ABOVE_ORIGIN, column_crouch_places};
-    if bsp.version.game() != bsp::Game::GoldSrc {
-        return Vec::new();
-    }
-    let (Some(duck), Some(stand)) = (oracle.clip_hull(3), oracle.clip_hull(1)) else {
+    use crate::standing::{CROUCH_EYE_ABOVE_ORIGIN, column_crouch_places, crouches};
+    let (true, Some(duck), Some(stand)) = (
+        crouches(bsp.version.game()),
+        oracle.clip_hull(3),
+        oracle.clip_hull(1),
+    ) else {
         return Vec::new();
     };
     let (lo, hi) = free_bounds(bsp);

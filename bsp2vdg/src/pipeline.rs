@@ -19,9 +19,8 @@ struct MapSpace<'a> {
     walls: Walls,
     /// The world's bounds (mins, maxs).
     bounds: ([f64; 3], [f64; 3]),
-    /// Whether players crouch in the duck hull of GoldSrc (clip hull 3), whose
-    /// crouch-only places the reduction keeps.
-    goldsrc: bool,
+    /// The map's game: whose players crouch where (see `standing::crouches`).
+    game: crate::bsp::Game,
 }
 
 impl FreeSpace for MapSpace<'_> {
@@ -179,14 +178,13 @@ fn reduce_graph(
         crate::standing::KEEP_SPACING,
     );
     let standing = keep.len();
-    if space.goldsrc {
-        keep.extend(crate::standing::grid_crouch_eyes(
-            space.oracle,
-            space.bounds.0,
-            space.bounds.1,
-            crate::standing::KEEP_SPACING,
-        ));
-    }
+    keep.extend(crate::standing::grid_crouch_eyes(
+        space.oracle,
+        space.game,
+        space.bounds.0,
+        space.bounds.1,
+        crate::standing::KEEP_SPACING,
+    ));
     let crouching = keep.len() - standing;
     let before = graph.vertices.len();
     log.info(format!(
@@ -441,7 +439,7 @@ pub fn compile(
         oracle: &oracle,
         walls,
         bounds: (world.mins.map(f64::from), world.maxs.map(f64::from)),
-        goldsrc: bsp.version.game() == crate::bsp::Game::GoldSrc,
+        game: bsp.version.game(),
     };
     let result = later_stages(map, options, &samples, &space, log, progress, &mut stats);
     stats

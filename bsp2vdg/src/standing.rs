@@ -18,6 +18,7 @@
 //! # Ok::<(), bsp2vdg::bsp::BspError>(())
 //! ```
 
+use bsp::Game;
 use bsp::oracle::{Hull, Oracle};
 
 /// The standing player's origin is 36 units above the ground (the middle of the
@@ -70,6 +71,16 @@ pub fn column_floors(
 /// offset): the point a third-person camera follows.
 pub const CROUCH_ORIGIN_ABOVE_GROUND: f64 = 18.0;
 pub const CROUCH_EYE_ABOVE_ORIGIN: f64 = 12.0;
+/// A standing player's height (clip hull 1): a ceiling lower than this above the
+/// floor makes a player crouch.
+const STANDING_HEIGHT: f64 = 2.0 * ORIGIN_ABOVE_GROUND;
+
+/// Whether the crouch-only places of this module describe `game`'s players: GoldSrc's
+/// only. Quake 1 has no duck hull; Quake 2 and 3 players crouch with their origin
+/// where it stands, 24 units up, which the offsets above do not describe.
+pub fn crouches(game: Game) -> bool {
+    game == Game::GoldSrc
+}
 
 /// The crouched origins in the column (`x`, `y`) where only a crouching player fits:
 /// the duck hull (`duck`, clip hull 3) has a floor there ([`column_floors`]), the
@@ -94,23 +105,25 @@ pub fn column_crouch_places(
         let standing_origin = floor + ORIGIN_ABOVE_GROUND;
         oracle.blocks(stand.contents([x, y, standing_origin]))
             && !oracle.is_free([x, y, floor - 2.0])
-            && (0..=72).any(|k| !oracle.is_free([x, y, floor + 0.5 + f64::from(k)]))
+            && !oracle.segment_free([x, y, floor + 0.5], [x, y, floor + STANDING_HEIGHT + 0.5])
     });
     out
 }
 
 /// The crouched eyes ([`CROUCH_EYE_ABOVE_ORIGIN`] above the origin) of the crouch-only
 /// places ([`column_crouch_places`]) on the grid of [`grid_origins`], where the eye is
-/// free. Empty when the map has no clip hulls 1 and 3. The heights are GoldSrc's: ask
-/// on GoldSrc maps only (Quake 1 has no duck hull; Quake 2 and 3 players crouch with
-/// their origin where it stands, 24 units up, which these offsets do not describe).
+/// free. Empty unless `game`'s players crouch as described here ([`crouches`]) and the
+/// map has clip hulls 1 and 3.
 pub fn grid_crouch_eyes(
     oracle: &Oracle,
+    game: Game,
     lo: [f64; 3],
     hi: [f64; 3],
     spacing: f64,
 ) -> Vec<[f64; 3]> {
-    let (Some(duck), Some(stand)) = (oracle.clip_hull(3), oracle.clip_hull(1)) else {
+    let (true, Some(duck), Some(stand)) =
+        (crouches(game), oracle.clip_hull(3), oracle.clip_hull(1))
+    else {
         return Vec::new();
     };
     on_grid(lo, hi, spacing, |x, y, top, bottom| {
@@ -219,7 +232,7 @@ mod tests {
         let (bsp, oracle) = duct();
         let w = bsp.world();
         let (lo, hi) = (w.mins.map(f64::from), w.maxs.map(f64::from));
-        let eyes = grid_crouch_eyes(&oracle, lo, hi, 8.0);
+        let eyes = grid_crouch_eyes(&oracle, bsp.version.game(), lo, hi, 8.0);
         // The duct's floor under its 48-unit ceiling (x from 256 to 512; in its
         // mouths, 16 units either side, a player cannot stand either, but the
         // ceiling straight up is the room's), where the duck hull clears the side
