@@ -5,9 +5,9 @@
 # --seed S` (so both builds are judged by the same checker) and prints one TSV row per map:
 # reduction ratio and stop reason, vertices, file sizes, coverage (>= 32), walkable coverage
 # at the standing origin and at head height, Visible's false negatives with both ends inside
-# the volume, leak and false positives, and crouch coverage (GoldSrc: the eyes of the places
-# where a player only fits crouching inside the volume, n/a elsewhere); then the unreduced
-# figures as `#` lines.
+# the volume, leak and false positives, and crouch coverage (GoldSrc, Quake 2 and 3: the eyes
+# of the places where a player only fits crouching inside the volume, n/a where there are
+# none); then the unreduced figures as `#` lines.
 #   scripts/quality-table.sh [-samples N] [-seed S] BEFORE_BIN AFTER_BIN [MAP.bsp ...]
 # Without maps: every GoldSrc, Quake 1, 2 and 3 map in ../shared/testmaps (nonfree too).
 # BEFORE_BIN / AFTER_BIN are bsp2vdg executables (e.g. built from two commits with
@@ -20,7 +20,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     -samples) samples=$2; shift 2 ;;
     -seed) seed=$2; shift 2 ;;
-    -h|--help) sed -n '2,13p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done

@@ -14,9 +14,10 @@
 //!   the floor, 36 units above the ground) — and the share of those origins inside the
 //!   volume; the same for the head (64 units above the ground, skipped where it is in
 //!   solid). The camera's target is there; outside the volume it can never be visible.
-//! - **crouch coverage** (GoldSrc): the places where a player only fits crouching
-//!   (vents, crawl spaces) in random columns, and the share of their crouched eyes (18 +
-//!   12 units above the ground, the point the camera follows) inside the volume.
+//! - **crouch coverage** (GoldSrc, Quake 2 and 3): the places where a player only fits
+//!   crouching (vents, crawl spaces) in random columns, and the share of their crouched
+//!   eyes (the point the camera follows; GoldSrc 18 + 12 units above the ground, see
+//!   [`crate::standing::crouch`] for the others) inside the volume.
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
@@ -84,8 +85,8 @@ pub struct CheckReport {
     /// Their heads that are in free space, and how many of those lie inside the volume.
     pub walkable_head_points: usize,
     pub walkable_head_covered: usize,
-    /// GoldSrc maps: the places where a player only fits crouching (vents, crawl
-    /// spaces; [`crate::standing::column_crouch_places`]) drawn from as many random
+    /// GoldSrc, Quake 2 and 3 maps: the places where a player only fits crouching (vents, crawl
+    /// spaces; [`crate::standing::Crouching::column_places`]) drawn from as many random
     /// columns as there are points, whose crouched eye (the camera's target) is in
     /// free space, and how many of those eyes lie inside the volume.
     pub crouch_points: usize,
@@ -507,17 +508,12 @@ fn measure_walkable(
     ] = counts;
 }
 
-/// The eyes of the crouch-only places ([`crate::standing::column_crouch_places`]) in
+/// The eyes of the crouch-only places ([`crate::standing::Crouching::column_places`]) in
 /// `columns` random columns, drawn uniformly over the world's horizontal extent in
 /// chunks with their own seeds, where the eye is in free space. Empty unless the map's
-/// players crouch as `standing` describes ([`crate::standing::crouches`]).
+/// players crouch ([`crate::standing::Crouching::of`]).
 pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec<[f64; 3]> {
-    use crate::standing::{CROUCH_EYE_ABOVE_ORIGIN, column_crouch_places, crouches};
-    let (true, Some(duck), Some(stand)) = (
-        crouches(bsp.version.game()),
-        oracle.clip_hull(3),
-        oracle.clip_hull(1),
-    ) else {
+    let Some(crouching) = crate::standing::Crouching::of(oracle, bsp.version.game()) else {
         return Vec::new();
     };
     let (lo, hi) = free_bounds(bsp);
@@ -528,8 +524,8 @@ pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec
             let mut out = Vec::new();
             for _ in 0..CHUNK.min(columns - c * CHUNK) {
                 let (x, y) = (rng.range(lo[0], hi[0]), rng.range(lo[1], hi[1]));
-                for z in column_crouch_places(duck, stand, oracle, x, y, hi[2] + 1.0, lo[2] - 1.0) {
-                    let eye = widen(as_f32([x, y, z + CROUCH_EYE_ABOVE_ORIGIN]));
+                for z in crouching.column_places(x, y, hi[2] + 1.0, lo[2] - 1.0) {
+                    let eye = widen(as_f32([x, y, z + crouching.heights.eye_above_origin]));
                     if oracle.is_free(eye) {
                         out.push(eye);
                     }

@@ -19,7 +19,7 @@ struct MapSpace<'a> {
     walls: Walls,
     /// The world's bounds (mins, maxs).
     bounds: ([f64; 3], [f64; 3]),
-    /// The map's game: whose players crouch where (see `standing::crouches`).
+    /// The map's game: how its players crouch (see `standing::crouch`).
     game: crate::bsp::Game,
 }
 
@@ -168,9 +168,9 @@ fn reduce_graph(
 ) -> (Graph, (reduce::ReduceStats, f64)) {
     let t = Instant::now();
     // Where a standing player is, the camera's target is: the reduction keeps those
-    // places inside the volume (a grid of floor points of clip hull 1), and on GoldSrc
-    // maps the eyes of the places where a player only fits crouching (vents, crawl
-    // spaces: c1a1b's unreduced graph holds 91 % of them, the reduction kept 80 %).
+    // places inside the volume (a grid of floor points of clip hull 1), and the eyes
+    // of the places where a player only fits crouching (vents, crawl spaces: c1a1b's
+    // unreduced graph holds 91 % of them, the reduction kept 80 %).
     let mut keep = crate::standing::grid_origins(
         space.oracle,
         space.bounds.0,

@@ -5,9 +5,10 @@
 //! A place is a player origin with clip hull 1 free there and the floor right below
 //! (the origin dropped onto a floor), on a slope a player can stand on.
 //!
-//! GoldSrc players also crouch (clip hull 3, 36 units tall) where they cannot stand:
-//! vents, crawl spaces, low gaps. Those places ([`column_crouch_places`]) are kept too,
-//! at the crouched eye the camera follows.
+//! GoldSrc, Quake 2 and Quake 3 players also crouch (clip hull 3; GoldSrc's is 36 units
+//! tall) where they cannot stand: vents, crawl spaces, low gaps. Those places
+//! ([`Crouching::column_places`], with each game's heights: [`crouch`]) are kept too, at
+//! the crouched eye the camera follows.
 //!
 //! ```no_run
 //! use bsp2vdg::{bsp::Bsp, oracle::Oracle, standing};
@@ -66,54 +67,116 @@ pub fn column_floors(
     floors
 }
 
-/// A crouching GoldSrc player's origin above the ground (the middle of the 36-unit
-/// duck hull, clip hull 3) and the eye above that origin (the engine's duck view
-/// offset): the point a third-person camera follows.
-pub const CROUCH_ORIGIN_ABOVE_GROUND: f64 = 18.0;
-pub const CROUCH_EYE_ABOVE_ORIGIN: f64 = 12.0;
-/// A standing player's height (clip hull 1): a ceiling lower than this above the
-/// floor makes a player crouch.
-const STANDING_HEIGHT: f64 = 2.0 * ORIGIN_ABOVE_GROUND;
-
-/// Whether the crouch-only places of this module describe `game`'s players: GoldSrc's
-/// only. Quake 1 has no duck hull; Quake 2 and 3 players crouch with their origin
-/// where it stands, 24 units up, which the offsets above do not describe.
-pub fn crouches(game: Game) -> bool {
-    game == Game::GoldSrc
+/// How a game's players crouch, in units above the floor they stand on: what the
+/// crouch-only places ([`Crouching::column_places`]) and their eyes depend on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Crouch {
+    /// The crouched player's origin (the duck hull's, clip hull 3's) above the floor.
+    pub origin_above_ground: f64,
+    /// The standing player's origin above the floor: the standing hull is blocked
+    /// there where a player only fits crouching.
+    pub standing_origin_above_ground: f64,
+    /// The crouched eye above the crouched origin (the engine's view offset): the
+    /// point a third-person camera follows.
+    pub eye_above_origin: f64,
+    /// A standing player's height: a ceiling lower than this above the floor makes
+    /// a player crouch.
+    pub standing_height: f64,
 }
 
-/// The crouched origins in the column (`x`, `y`) where only a crouching player fits:
-/// the duck hull (`duck`, clip hull 3) has a floor there ([`column_floors`]), the
-/// standing hull (`stand`, clip hull 1) is blocked where a standing player's origin
-/// would be, the point hull's floor lies right below (within 2 units: the hulls'
-/// expansions also find "floors" on the tops of walls and clip brushes with open
-/// space below) and its ceiling less than a standing player's height above it
-/// (straight up). On de_dust2 2 % of the places a player fits are crouch-only, on
-/// c1a1b 0.8 %.
-pub fn column_crouch_places(
-    duck: &Hull,
-    stand: &Hull,
-    oracle: &Oracle,
-    x: f64,
-    y: f64,
-    top: f64,
-    bottom: f64,
-) -> Vec<f64> {
-    let mut out = column_floors(duck, oracle, x, y, top, bottom);
-    out.retain(|&z| {
-        let floor = z - CROUCH_ORIGIN_ABOVE_GROUND;
-        let standing_origin = floor + ORIGIN_ABOVE_GROUND;
-        oracle.blocks(stand.contents([x, y, standing_origin]))
-            && !oracle.is_free([x, y, floor - 2.0])
-            && !oracle.segment_free([x, y, floor + 0.5], [x, y, floor + STANDING_HEIGHT + 0.5])
-    });
-    out
+impl Crouch {
+    /// The crouched eye above the floor.
+    pub fn eye_above_ground(&self) -> f64 {
+        self.origin_above_ground + self.eye_above_origin
+    }
 }
 
-/// The crouched eyes ([`CROUCH_EYE_ABOVE_ORIGIN`] above the origin) of the crouch-only
-/// places ([`column_crouch_places`]) on the grid of [`grid_origins`], where the eye is
-/// free. Empty unless `game`'s players crouch as described here ([`crouches`]) and the
-/// map has clip hulls 1 and 3.
+/// GoldSrc: the 36-unit duck hull's origin 18 units up (its middle), the duck view
+/// offset 12 above it; standing, the 72-unit hull 1's origin 36 units up.
+pub const GOLDSRC_CROUCH: Crouch = Crouch {
+    origin_above_ground: 18.0,
+    standing_origin_above_ground: ORIGIN_ABOVE_GROUND,
+    eye_above_origin: 12.0,
+    standing_height: 2.0 * ORIGIN_ABOVE_GROUND,
+};
+
+/// Quake 2 (`pmove.c`): the box reaches 24 units below the origin in both stances,
+/// 32 above standing and 4 crouched; the view is 22 units above the origin standing,
+/// 2 below crouched.
+pub const QUAKE2_CROUCH: Crouch = Crouch {
+    origin_above_ground: 24.0,
+    standing_origin_above_ground: 24.0,
+    eye_above_origin: -2.0,
+    standing_height: 56.0,
+};
+
+/// Quake 3 (`bg_pmove.c`): the box reaches 24 units below the origin in both
+/// stances, 32 above standing and 16 crouched; the crouched view height is 12.
+pub const QUAKE3_CROUCH: Crouch = Crouch {
+    origin_above_ground: 24.0,
+    standing_origin_above_ground: 24.0,
+    eye_above_origin: 12.0,
+    standing_height: 56.0,
+};
+
+/// How `game`'s players crouch; `None` for Quake 1, whose players do not.
+pub fn crouch(game: Game) -> Option<Crouch> {
+    match game {
+        Game::GoldSrc => Some(GOLDSRC_CROUCH),
+        Game::Quake2 => Some(QUAKE2_CROUCH),
+        Game::Quake3 => Some(QUAKE3_CROUCH),
+        Game::Quake => None,
+    }
+}
+
+/// A map's crouching players: their game's heights and the two hulls that say where
+/// they fit, the duck hull (clip hull 3) and the standing hull (clip hull 1).
+#[derive(Clone, Copy)]
+pub struct Crouching<'o> {
+    pub heights: Crouch,
+    duck: &'o Hull,
+    stand: &'o Hull,
+    oracle: &'o Oracle,
+}
+
+impl<'o> Crouching<'o> {
+    /// The crouching players of a `game` map: `None` unless they crouch ([`crouch`])
+    /// and the map has clip hulls 1 and 3 (Quake 2 and 3: built from the brushes).
+    pub fn of(oracle: &'o Oracle, game: Game) -> Option<Crouching<'o>> {
+        Some(Crouching {
+            heights: crouch(game)?,
+            duck: oracle.clip_hull(3)?,
+            stand: oracle.clip_hull(1)?,
+            oracle,
+        })
+    }
+
+    /// The crouched origins in the column (`x`, `y`) where only a crouching player
+    /// fits: the duck hull has a floor there ([`column_floors`]), the standing hull is
+    /// blocked where a standing player's origin would be, the point hull's floor lies
+    /// right below (within 2 units: the hulls' expansions also find "floors" on the
+    /// tops of walls and clip brushes with open space below) and its ceiling less than
+    /// a standing player's height above it (straight up). On de_dust2 2 % of the
+    /// places a player fits are crouch-only, on c1a1b 0.8 %.
+    pub fn column_places(&self, x: f64, y: f64, top: f64, bottom: f64) -> Vec<f64> {
+        let (h, oracle) = (&self.heights, self.oracle);
+        let mut out = column_floors(self.duck, oracle, x, y, top, bottom);
+        out.retain(|&z| {
+            let floor = z - h.origin_above_ground;
+            let standing_origin = floor + h.standing_origin_above_ground;
+            oracle.blocks(self.stand.contents([x, y, standing_origin]))
+                && !oracle.is_free([x, y, floor - 2.0])
+                && !oracle
+                    .segment_free([x, y, floor + 0.5], [x, y, floor + h.standing_height + 0.5])
+        });
+        out
+    }
+}
+
+/// The crouched eyes ([`Crouch::eye_above_origin`] above the origin) of the
+/// crouch-only places ([`Crouching::column_places`]) on the grid of [`grid_origins`],
+/// where the eye is free. Empty unless `game`'s players crouch and the map has the
+/// hulls for it ([`Crouching::of`]).
 pub fn grid_crouch_eyes(
     oracle: &Oracle,
     game: Game,
@@ -121,16 +184,16 @@ pub fn grid_crouch_eyes(
     hi: [f64; 3],
     spacing: f64,
 ) -> Vec<[f64; 3]> {
-    let (true, Some(duck), Some(stand)) =
-        (crouches(game), oracle.clip_hull(3), oracle.clip_hull(1))
-    else {
+    let Some(crouching) = Crouching::of(oracle, game) else {
         return Vec::new();
     };
+    let eye = crouching.heights.eye_above_origin;
     on_grid(lo, hi, spacing, |x, y, top, bottom| {
-        column_crouch_places(duck, stand, oracle, x, y, top, bottom)
+        crouching
+            .column_places(x, y, top, bottom)
             .into_iter()
-            .map(|z| [x, y, z + CROUCH_EYE_ABOVE_ORIGIN])
-            .filter(|&eye| oracle.is_free(eye))
+            .map(|z| [x, y, z + eye])
+            .filter(|&p| oracle.is_free(p))
             .collect()
     })
 }
@@ -196,9 +259,9 @@ mod tests {
     #[test]
     fn crouch_places_are_exactly_where_only_the_duck_hull_fits() {
         let (_, oracle) = duct();
-        let duck = oracle.clip_hull(3).expect("hull 3");
-        let stand = oracle.clip_hull(1).expect("hull 1");
-        let at = |x: f64, y: f64| column_crouch_places(duck, stand, &oracle, x, y, 200.0, -8.0);
+        let crouching = Crouching::of(&oracle, Game::GoldSrc).expect("hulls 1 and 3");
+        assert_eq!(crouching.heights, GOLDSRC_CROUCH);
+        let at = |x: f64, y: f64| crouching.column_places(x, y, 200.0, -8.0);
         // Inside the duct, the duck hull's 16-unit half width clear of its side
         // walls: one place, the crouched origin 18 units above the floor.
         for (x, y) in [
@@ -210,7 +273,7 @@ mod tests {
             let z = at(x, y);
             assert_eq!(z.len(), 1, "({x}, {y}): {z:?}");
             assert!(
-                (z[0] - CROUCH_ORIGIN_ABOVE_GROUND).abs() < 0.1,
+                (z[0] - GOLDSRC_CROUCH.origin_above_ground).abs() < 0.1,
                 "({x}, {y}): {z:?}"
             );
         }
@@ -251,7 +314,7 @@ mod tests {
                 e[0] > 256.0 && e[0] < 512.0 && e[1] > 112.0 && e[1] < 144.0,
                 "{e:?}"
             );
-            let eye = CROUCH_ORIGIN_ABOVE_GROUND + CROUCH_EYE_ABOVE_ORIGIN;
+            let eye = GOLDSRC_CROUCH.eye_above_ground();
             assert!((e[2] - eye).abs() < 0.1, "{e:?}");
         }
     }
