@@ -232,11 +232,10 @@ impl<'g> Unreduced<'g> {
     /// edges). Any point `q` of the triangle gives `r(q) − |x − q| ≤ u_f(x)`,
     /// so a certificate built on it is only more conservative.
     fn lower(&self, f: u32, x: P3) -> f64 {
-        let Some(Err(b)) = self.geom[f as usize].locate(x) else {
-            return match self.geom[f as usize].locate(x) {
-                Some(Ok(c)) => c,
-                _ => self.clearance(f, x),
-            };
+        let b = match self.geom[f as usize].locate(x) {
+            Some(Ok(c)) => return c,
+            None => return self.clearance(f, x),
+            Some(Err(b)) => b,
         };
         let t = self.graph.faces[f as usize];
         let p = t.map(|v| self.graph.vertices[v as usize]);
