@@ -20,7 +20,7 @@
 //! ```
 
 use bsp::Game;
-use bsp::oracle::{Hull, Oracle};
+use bsp::oracle::{Body, Hull, Oracle};
 
 /// The standing player's origin is 36 units above the ground (the middle of the
 /// 72-unit clip hull 1), the head (eyes) 64 units above it.
@@ -91,42 +91,18 @@ impl Crouch {
     }
 }
 
-/// GoldSrc: the 36-unit duck hull's origin 18 units up (its middle), the duck view
-/// offset 12 above it; standing, the 72-unit hull 1's origin 36 units up.
-pub const GOLDSRC_CROUCH: Crouch = Crouch {
-    origin_above_ground: 18.0,
-    standing_origin_above_ground: ORIGIN_ABOVE_GROUND,
-    eye_above_origin: 12.0,
-    standing_height: 2.0 * ORIGIN_ABOVE_GROUND,
-};
-
-/// Quake 2 (`pmove.c`): the box reaches 24 units below the origin in both stances,
-/// 32 above standing and 4 crouched; the view is 22 units above the origin standing,
-/// 2 below crouched.
-pub const QUAKE2_CROUCH: Crouch = Crouch {
-    origin_above_ground: 24.0,
-    standing_origin_above_ground: 24.0,
-    eye_above_origin: -2.0,
-    standing_height: 56.0,
-};
-
-/// Quake 3 (`bg_pmove.c`): the box reaches 24 units below the origin in both
-/// stances, 32 above standing and 16 crouched; the crouched view height is 12.
-pub const QUAKE3_CROUCH: Crouch = Crouch {
-    origin_above_ground: 24.0,
-    standing_origin_above_ground: 24.0,
-    eye_above_origin: 12.0,
-    standing_height: 56.0,
-};
-
-/// How `game`'s players crouch; `None` for Quake 1, whose players do not.
+/// How `game`'s players crouch, from their [`Body`]; `None` for Quake 1, whose players
+/// do not. GoldSrc: the crouched origin 18 units up, the eye 12 above it, standing 72
+/// units tall; Quake 2: 24 up in both stances, the eye 2 below it, 56 tall; Quake 3:
+/// 24 up, the eye 12 above it, 56 tall.
 pub fn crouch(game: Game) -> Option<Crouch> {
-    match game {
-        Game::GoldSrc => Some(GOLDSRC_CROUCH),
-        Game::Quake2 => Some(QUAKE2_CROUCH),
-        Game::Quake3 => Some(QUAKE3_CROUCH),
-        Game::Quake => None,
-    }
+    let body = Body::of(game);
+    body.crouches.then(|| Crouch {
+        origin_above_ground: body.crouched.origin_above_ground(),
+        standing_origin_above_ground: body.standing.origin_above_ground(),
+        eye_above_origin: body.crouched.view,
+        standing_height: body.standing.height(),
+    })
 }
 
 /// A map's crouching players: their game's heights and the two hulls that say where
@@ -285,7 +261,9 @@ mod tests {
     fn crouch_places_are_exactly_where_only_the_duck_hull_fits() {
         let (_, oracle) = duct();
         let crouching = Crouching::of(&oracle, Game::GoldSrc).expect("hulls 1 and 3");
-        assert_eq!(crouching.heights, GOLDSRC_CROUCH);
+        assert_eq!(crouching.heights.origin_above_ground, 18.0);
+        assert_eq!(crouching.heights.eye_above_ground(), 30.0);
+        assert_eq!(crouching.heights.standing_height, 72.0);
         let at = |x: f64, y: f64| crouching.column_places(x, y, 200.0, -8.0);
         // Inside the duct, the duck hull's 16-unit half width clear of its side
         // walls: one place, the crouched origin 18 units above the floor.
@@ -298,7 +276,7 @@ mod tests {
             let z = at(x, y);
             assert_eq!(z.len(), 1, "({x}, {y}): {z:?}");
             assert!(
-                (z[0] - GOLDSRC_CROUCH.origin_above_ground).abs() < 0.1,
+                (z[0] - crouch(Game::GoldSrc).unwrap().origin_above_ground).abs() < 0.1,
                 "({x}, {y}): {z:?}"
             );
         }
@@ -348,7 +326,7 @@ mod tests {
         assert_eq!(eyes.len(), 12 * 16, "{:?}", &eyes[..eyes.len().min(8)]);
         for e in &eyes {
             assert!(e[0] > 144.0 && e[0] < 240.0, "{e:?}");
-            let eye = 112.0 + GOLDSRC_CROUCH.eye_above_ground();
+            let eye = 112.0 + crouch(Game::GoldSrc).unwrap().eye_above_ground();
             assert!((e[2] - eye).abs() < 0.1, "{e:?}");
         }
     }
@@ -377,7 +355,7 @@ mod tests {
                 e[0] > 256.0 && e[0] < 512.0 && e[1] > 112.0 && e[1] < 144.0,
                 "{e:?}"
             );
-            let eye = GOLDSRC_CROUCH.eye_above_ground();
+            let eye = crouch(Game::GoldSrc).unwrap().eye_above_ground();
             assert!((e[2] - eye).abs() < 0.1, "{e:?}");
         }
     }

@@ -26,6 +26,7 @@ fn target(origin: [f32; 3], yaw: f32) -> TargetState {
         angles: [0.0, yaw, 0.0],
         velocity: [0.0; 3],
         crouch: false,
+        game: bsp::Game::GoldSrc,
     }
 }
 
@@ -72,6 +73,55 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
                 world.name
             );
         }
+    }
+}
+
+/// On Quake 1 and 2 maps the player's box reaches 24 units below the origin and 32
+/// above it (Quake 2 crouched: 4), not GoldSrc's 36 either way: the hull points a
+/// replay measures visibility on (pulled 1 unit in) lie in free space just above the
+/// floor, and the eye (22 above the origin; Quake 2 crouched 2 below it) is free.
+/// With GoldSrc's box the bottom corners were 11 units inside the floor and the
+/// chase cam "saw" 63 % of the hull. Skipped without ../shared/testmaps.
+#[test]
+fn quake_routes_measure_the_quake_players_box_and_eye() {
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/testmaps");
+    if !shared.is_dir() {
+        eprintln!("skipped: {} is absent", shared.display());
+        return;
+    }
+    for name in ["quake1/lq_e0m1.bsp", "quake2/lq_e0m1-quake2.bsp"] {
+        let bsp = Bsp::open(shared.join(name)).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let (routes, _, _) = spawns::routes(&bsp, &oracle, 1, 2);
+        assert!(!routes.is_empty(), "{name}: no route");
+        let (mut points, mut free, mut eyes_free, mut frames) = (0usize, 0usize, 0usize, 0usize);
+        for r in &routes {
+            for t in r.resample(1.0 / 10.0) {
+                frames += 1;
+                let s = t.stance();
+                assert_eq!(s.origin_above_ground(), 24.0, "{name}");
+                let eye = t.eye();
+                let want = if t.crouch { -2.0 } else { 22.0 };
+                assert!(
+                    (eye[2] - t.origin[2] - want).abs() < 1e-3,
+                    "{name}: {eye:?} {t:?}"
+                );
+                eyes_free += usize::from(oracle.is_free(eye.map(f64::from)));
+                for p in &t.hull_points()[..8] {
+                    points += 1;
+                    free += usize::from(oracle.is_free(*p));
+                }
+            }
+        }
+        // Corners may touch a wall the box grazes; the floor is 1 unit below them.
+        assert!(
+            free * 100 >= points * 97,
+            "{name}: {free} of {points} hull points free"
+        );
+        assert!(
+            eyes_free * 100 >= frames * 99,
+            "{name}: {eyes_free} of {frames} eyes free"
+        );
     }
 }
 

@@ -278,18 +278,101 @@ pub enum PlayerHull {
 impl PlayerHull {
     /// The Quake 2 player's box for this stance (`pmove`'s mins and maxs).
     pub fn quake2_box(self) -> ([f64; 3], [f64; 3]) {
-        match self {
-            PlayerHull::Standing => ([-16.0, -16.0, -24.0], [16.0, 16.0, 32.0]),
-            PlayerHull::Crouched => ([-16.0, -16.0, -24.0], [16.0, 16.0, 4.0]),
-        }
+        let s = *Body::of(crate::Game::Quake2).stance(self);
+        (s.mins, s.maxs)
     }
 
     /// The Quake 3 player's box for this stance (`bg_pmove.c`: 15 units to each
     /// side, 32 above the origin standing, 16 crouched, 24 below).
     pub fn quake3_box(self) -> ([f64; 3], [f64; 3]) {
-        match self {
-            PlayerHull::Standing => ([-15.0, -15.0, -24.0], [15.0, 15.0, 32.0]),
-            PlayerHull::Crouched => ([-15.0, -15.0, -24.0], [15.0, 15.0, 16.0]),
+        let s = *Body::of(crate::Game::Quake3).stance(self);
+        (s.mins, s.maxs)
+    }
+}
+
+/// A player in one stance: the collision box around the origin and the eye (the
+/// view offset) above it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stance {
+    pub mins: [f64; 3],
+    pub maxs: [f64; 3],
+    /// The eye's height above the origin (negative: below it).
+    pub view: f64,
+}
+
+impl Stance {
+    /// How far the origin is above the floor the player stands on.
+    pub fn origin_above_ground(&self) -> f64 {
+        -self.mins[2]
+    }
+
+    /// The box's height.
+    pub fn height(&self) -> f64 {
+        self.maxs[2] - self.mins[2]
+    }
+}
+
+/// A game's player, standing and crouched: the numbers every tool that puts a player
+/// into a map needs (where the origin is above the floor, how tall the box is, where
+/// the eye a camera follows is).
+///
+/// ```
+/// use bsp::{Game, oracle::Body};
+/// let hl = Body::of(Game::GoldSrc);
+/// assert_eq!(hl.standing.origin_above_ground() + hl.standing.view, 64.0);
+/// assert_eq!(Body::of(Game::Quake2).crouched.view, -2.0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    pub standing: Stance,
+    /// Quake 1 players do not crouch: the standing stance again.
+    pub crouched: Stance,
+    /// Whether the player crouches at all.
+    pub crouches: bool,
+}
+
+impl Body {
+    /// The player of `game`: GoldSrc's clip hulls 1 (32 × 32 × 72) and 3 (32 × 32 × 36)
+    /// centred on the origin with the views `VEC_VIEW` 28 and `VEC_DUCK_VIEW` 12;
+    /// Quake's 32 × 32 × 56 box 24 units below and 32 above the origin, view 22;
+    /// Quake 2's (`pmove.c`) 24 below and 32 above standing, 4 above crouched, views 22
+    /// and −2; Quake 3's (`bg_pmove.c`) 15 units to each side, 24 below and 32 above
+    /// standing, 16 above crouched, views 26 and 12.
+    pub fn of(game: crate::Game) -> Body {
+        let stance = |w: f64, below: f64, above: f64, view: f64| Stance {
+            mins: [-w, -w, -below],
+            maxs: [w, w, above],
+            view,
+        };
+        match game {
+            crate::Game::GoldSrc => Body {
+                standing: stance(16.0, 36.0, 36.0, 28.0),
+                crouched: stance(16.0, 18.0, 18.0, 12.0),
+                crouches: true,
+            },
+            crate::Game::Quake => Body {
+                standing: stance(16.0, 24.0, 32.0, 22.0),
+                crouched: stance(16.0, 24.0, 32.0, 22.0),
+                crouches: false,
+            },
+            crate::Game::Quake2 => Body {
+                standing: stance(16.0, 24.0, 32.0, 22.0),
+                crouched: stance(16.0, 24.0, 4.0, -2.0),
+                crouches: true,
+            },
+            crate::Game::Quake3 => Body {
+                standing: stance(15.0, 24.0, 32.0, 26.0),
+                crouched: stance(15.0, 24.0, 16.0, 12.0),
+                crouches: true,
+            },
+        }
+    }
+
+    /// The stance of `hull`.
+    pub fn stance(&self, hull: PlayerHull) -> &Stance {
+        match hull {
+            PlayerHull::Standing => &self.standing,
+            PlayerHull::Crouched => &self.crouched,
         }
     }
 }
@@ -345,6 +428,11 @@ impl Oracle {
     #[inline]
     pub fn blocks(&self, c: i32) -> bool {
         blocks(c, self.liquids_are_solid, self.clip_is_solid)
+    }
+
+    /// The game of the map: how its players collide and crouch ([`Body::of`]).
+    pub fn game(&self) -> crate::Game {
+        self.game
     }
 
     /// The world's hull-0 contents at `p` (solid models not included).

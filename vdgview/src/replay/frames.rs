@@ -5,7 +5,7 @@
 //! visible (BSP trace); a camera inside a wall shows the wall's inside, as it would.
 
 use super::Report;
-use super::route::{HULL_HALF_WIDTH, TargetState};
+use super::route::TargetState;
 use crate::camera::Camera;
 use crate::hud;
 use crate::raster::Framebuffer;
@@ -24,16 +24,13 @@ const FOV_Y: f32 = 74.0;
 /// Draws the player's hull as a red box.
 fn draw_player(fb: &mut Framebuffer, t: &TargetState) {
     let o = Vec3::from(t.origin);
-    let h = Vec3::new(
-        HULL_HALF_WIDTH as f32,
-        HULL_HALF_WIDTH as f32,
-        t.half_height() as f32,
-    );
+    let s = t.stance();
+    let (lo, hi) = (s.mins.map(|x| x as f32), s.maxs.map(|x| x as f32));
     let c = |i: usize| {
         o + Vec3::new(
-            if i & 1 == 1 { h.x } else { -h.x },
-            if i & 2 == 2 { h.y } else { -h.y },
-            if i & 4 == 4 { h.z } else { -h.z },
+            if i & 1 == 1 { hi[0] } else { lo[0] },
+            if i & 2 == 2 { hi[1] } else { lo[1] },
+            if i & 4 == 4 { hi[2] } else { lo[2] },
         )
     };
     let faces = [

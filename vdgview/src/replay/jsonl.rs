@@ -4,6 +4,7 @@
 //! are taken from the positions. Blank lines and lines starting with `#` are skipped.
 
 use super::route::{Route, TargetState};
+use bsp::Game;
 use serde::Deserialize;
 
 #[derive(Deserialize)]
@@ -21,8 +22,9 @@ struct Line {
     velocity: Option<[f32; 3]>,
 }
 
-/// Parses the text of a JSONL route file; `stem` names routes that carry no name.
-pub fn parse(text: &str, stem: &str) -> Result<Vec<Route>, String> {
+/// Parses the text of a JSONL route file; `stem` names routes that carry no name,
+/// `game` is the map's (the player's box and view, see [`TargetState::stance`]).
+pub fn parse(text: &str, stem: &str, game: Game) -> Result<Vec<Route>, String> {
     let mut routes: Vec<Route> = Vec::new();
     for (n, line) in text.lines().enumerate() {
         let line = line.trim();
@@ -62,6 +64,7 @@ pub fn parse(text: &str, stem: &str) -> Result<Vec<Route>, String> {
             angles: l.angles,
             velocity: [0.0; 3],
             crouch: l.crouch,
+            game,
         });
     }
     for r in &mut routes {
@@ -105,13 +108,13 @@ mod tests {
                     {\"t\":0.5,\"origin\":[0,100,36],\"angles\":[0,90,0],\"crouch\":true}\n\n\
                     {\"route\":\"b\",\"t\":0,\"origin\":[5,5,36],\"angles\":[0,0,0]}\n\
                     {\"route\":\"b\",\"t\":1,\"origin\":[15,5,36],\"angles\":[0,0,0]}\n";
-        let r = parse(text, "rec").unwrap();
+        let r = parse(text, "rec", Game::GoldSrc).unwrap();
         assert_eq!(r.len(), 2);
         assert_eq!(r[0].name, "rec");
         assert_eq!(r[0].states[1].velocity, [0.0, 200.0, 0.0]);
         assert!(r[0].states[1].crouch);
         assert_eq!(r[1].name, "b");
-        let again = parse(&write(&r), "x").unwrap();
+        let again = parse(&write(&r), "x", Game::GoldSrc).unwrap();
         assert_eq!(again.len(), 2);
         assert_eq!(again[1].states, r[1].states);
     }
@@ -124,7 +127,7 @@ mod tests {
             "{\"t\":1,\"origin\":[0,0,0],\"angles\":[0,0,0]}\n{\"t\":0.5,\"origin\":[0,0,0],\"angles\":[0,0,0]}",
             "",
         ] {
-            let e = parse(bad, "x").unwrap_err();
+            let e = parse(bad, "x", Game::GoldSrc).unwrap_err();
             assert!(!e.contains('\n'), "{e}");
         }
     }

@@ -13,7 +13,7 @@
 //! use vdgview::replay::{cameras::{ChaseCam, ReplayCamera}, route::{Route, TargetState}};
 //! # let oracle: bsp::oracle::Oracle = unimplemented!();
 //! let mut cam = ChaseCam::new(&oracle);
-//! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false };
+//! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false, game: bsp::Game::GoldSrc };
 //! cam.reset(&t);
 //! let frame = cam.update(&t, 1.0 / 60.0);
 //! println!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
@@ -143,8 +143,8 @@ pub fn load_routes(
             let stem = p
                 .file_stem()
                 .map_or("recording".into(), |s| s.to_string_lossy().into_owned());
-            let routes =
-                jsonl::parse(&text, &stem).map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
+            let routes = jsonl::parse(&text, &stem, oracle.game())
+                .map_err(|e| anyhow::anyhow!("{}: {e}", p.display()))?;
             (routes, Vec::new(), 0)
         }
     };

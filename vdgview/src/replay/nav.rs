@@ -63,7 +63,7 @@ pub fn routes(
         let path: Vec<Waypoint> = waypoints(mesh, &chain)
             .into_iter()
             .map(|w| match settle(oracle, w.x, w.y, w.floor, w.crouch) {
-                Some((o, c)) => Waypoint::from_origin(o, c),
+                Some((o, c)) => Waypoint::from_origin(oracle, o, c),
                 None => w,
             })
             .collect();

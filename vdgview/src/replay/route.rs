@@ -1,23 +1,14 @@
 //! Target routes: what the followed player does, frame by frame.
 //!
-//! A route is a list of player states at increasing times (GoldSrc conventions:
-//! the origin is the centre of the player's clip hull, angles are Quake view angles
+//! A route is a list of player states at increasing times (the origin is the player's
+//! origin in the map's game — GoldSrc: the centre of its clip hull; Quake 1, 2 and 3:
+//! 24 units above the floor, [`Body::of`] — angles are Quake view angles
 //! `[pitch, yaw, roll]` in degrees). Routes are produced at their own rate (the
 //! walker's fixed step, a recording's frames) and [`Route::resample`]d at the
 //! replay's `--dt`, so 1/60 and 1/30 replays see the same motion.
 
-use bsp::oracle::Oracle;
-
-/// Eye height above the origin of a standing player (`VEC_VIEW`).
-pub const STAND_VIEW: f32 = 28.0;
-/// Eye height above the origin of a crouched player (`VEC_DUCK_VIEW`).
-pub const CROUCH_VIEW: f32 = 12.0;
-/// Half height of the standing hull (clip hull 1: 32 × 32 × 72).
-pub const STAND_HALF: f64 = 36.0;
-/// Half height of the crouched hull (clip hull 3: 32 × 32 × 36).
-pub const CROUCH_HALF: f64 = 18.0;
-/// Half width of both player hulls.
-pub const HULL_HALF_WIDTH: f64 = 16.0;
+use bsp::Game;
+use bsp::oracle::{Body, Oracle, PlayerHull, Stance};
 
 /// One frame of the followed player.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,12 +23,25 @@ pub struct TargetState {
     pub velocity: [f32; 3],
     /// Crouched (clip hull 3) rather than standing (clip hull 1).
     pub crouch: bool,
+    /// The map's game: the player's box and view ([`Body::of`]).
+    pub game: Game,
 }
 
 impl TargetState {
-    /// The player's eye (origin + view offset).
+    /// The player's box and view now (standing or crouched, in the map's game).
+    pub fn stance(&self) -> Stance {
+        let hull = if self.crouch {
+            PlayerHull::Crouched
+        } else {
+            PlayerHull::Standing
+        };
+        *Body::of(self.game).stance(hull)
+    }
+
+    /// The player's eye (origin + the game's view offset: GoldSrc 28 standing, 12
+    /// crouched; Quake 22; Quake 2 22 and −2; Quake 3 26 and 12).
     pub fn eye(&self) -> [f32; 3] {
-        let h = if self.crouch { CROUCH_VIEW } else { STAND_VIEW };
+        let h = self.stance().view as f32;
         [self.origin[0], self.origin[1], self.origin[2] + h]
     }
 
@@ -51,20 +55,16 @@ impl TargetState {
         (self.velocity[0].powi(2) + self.velocity[1].powi(2) + self.velocity[2].powi(2)).sqrt()
     }
 
-    /// Half height of the hull the player uses now.
-    pub fn half_height(&self) -> f64 {
-        if self.crouch { CROUCH_HALF } else { STAND_HALF }
-    }
-
     /// The 8 corners (pulled 1 unit inwards) and the centre of the player's hull:
     /// the points whose visibility says how much of the player a camera shows.
     pub fn hull_points(&self) -> [[f64; 3]; 9] {
         let o = self.origin.map(f64::from);
-        let (w, h) = (HULL_HALF_WIDTH - 1.0, self.half_height() - 1.0);
+        let s = self.stance();
+        let lo = [0, 1, 2].map(|k| s.mins[k] + 1.0);
+        let hi = [0, 1, 2].map(|k| s.maxs[k] - 1.0);
         let mut out = [o; 9];
         for (i, p) in out.iter_mut().take(8).enumerate() {
-            let s = |bit: usize| if i >> bit & 1 == 1 { 1.0 } else { -1.0 };
-            *p = [o[0] + s(0) * w, o[1] + s(1) * w, o[2] + s(2) * h];
+            *p = [0, 1, 2].map(|k| o[k] + if i >> k & 1 == 1 { hi[k] } else { lo[k] });
         }
         out
     }
@@ -125,6 +125,7 @@ impl Route {
                 angles,
                 velocity: [0, 1, 2].map(|k| mix(a.velocity[k], b.velocity[k])),
                 crouch: if f < 0.5 { a.crouch } else { b.crouch },
+                game: a.game,
             });
         }
         out
@@ -140,7 +141,8 @@ pub fn hull_fits(oracle: &Oracle, hull: usize, origin: [f64; 3]) -> bool {
 
 /// A player origin on the floor below `(x, y)` near floor height `floor_hint`:
 /// the standing hull dropped from up to one step (18 units) above, or the crouched
-/// hull where the standing one does not fit (or `crouch` asks for it). Returns the
+/// hull where the standing one does not fit (or `crouch` asks for it; never where
+/// players do not crouch, see [`crouches`]). Returns the
 /// origin and whether it is crouched; `None` where neither stands on walkable ground
 /// (normal z ≥ 0.7) within 40 units.
 pub fn settle(
@@ -150,12 +152,13 @@ pub fn settle(
     floor_hint: f64,
     crouch: bool,
 ) -> Option<([f64; 3], bool)> {
-    let hulls: &[(usize, f64)] = if crouch {
-        &[(3, CROUCH_HALF)]
-    } else {
-        &[(1, STAND_HALF), (3, CROUCH_HALF)]
+    let hulls: &[usize] = match (crouch, crouches(oracle)) {
+        (_, false) => &[1],
+        (true, true) => &[3],
+        (false, true) => &[1, 3],
     };
-    for &(hull, half) in hulls {
+    for &hull in hulls {
+        let half = above_floor(oracle, hull == 3);
         for lift in [20.0, 10.0, 1.0] {
             let top = [x, y, floor_hint + half + lift];
             if !hull_fits(oracle, hull, top) {
@@ -169,6 +172,24 @@ pub fn settle(
         }
     }
     None
+}
+
+/// How far the player's origin is above the floor, standing or crouched, in the map's
+/// game ([`Body::of`]: GoldSrc 36 and 18, the middle of its hulls; Quake 1, 2 and 3
+/// 24 in both stances).
+pub fn above_floor(oracle: &Oracle, crouch: bool) -> f64 {
+    let hull = if crouch {
+        PlayerHull::Crouched
+    } else {
+        PlayerHull::Standing
+    };
+    Body::of(oracle.game()).stance(hull).origin_above_ground()
+}
+
+/// Whether the map's players crouch (Quake 1's do not, though its maps keep a third
+/// clip hull): routes crouch only where they do.
+pub fn crouches(oracle: &Oracle) -> bool {
+    Body::of(oracle.game()).crouches
 }
 
 /// Whether a player origin stands free and on the ground: its hull fits and the
@@ -192,6 +213,7 @@ mod tests {
             angles: [0.0, yaw, 0.0],
             velocity: [100.0, 0.0, 0.0],
             crouch: false,
+            game: Game::GoldSrc,
         }
     }
 

@@ -7,7 +7,7 @@
 //! hull (3) is tried, so routes crouch through low passages. A* finds the grid path,
 //! [`string_pull`] straightens it, [`walk`] turns it into a player's motion.
 
-use super::route::{CROUCH_HALF, Route, STAND_HALF, hull_fits, settle};
+use super::route::{Route, above_floor, crouches, hull_fits, settle};
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
 use bsp::Bsp;
 use bsp::oracle::Oracle;
@@ -83,7 +83,9 @@ impl<'a> Floor<'a> {
     fn step(&self, c: &Cell, dx: i32, dy: i32) -> Option<Cell> {
         let (x, y) = self.xy(c);
         let d = [dx as f64 * CELL, dy as f64 * CELL];
-        for (hull, half) in [(1usize, STAND_HALF), (3, CROUCH_HALF)] {
+        let n = if crouches(self.oracle) { 2 } else { 1 };
+        for &hull in &[1usize, 3][..n] {
+            let half = above_floor(self.oracle, hull == 3);
             let o = [x, y, c.floor + half];
             if !hull_fits(self.oracle, hull, o) {
                 continue;
@@ -117,12 +119,18 @@ impl<'a> Floor<'a> {
         let ix = ((origin[0] - self.x0) / CELL).round() as i32;
         let iy = ((origin[1] - self.y0) / CELL).round() as i32;
         let (x, y) = (self.x0 + ix as f64 * CELL, self.y0 + iy as f64 * CELL);
-        let (o, crouch) = settle(self.oracle, x, y, origin[2] - STAND_HALF, false)
-            .or_else(|| drop_to_floor(self.oracle, [x, y, origin[2]]))?;
+        let (o, crouch) = settle(
+            self.oracle,
+            x,
+            y,
+            origin[2] - above_floor(self.oracle, false),
+            false,
+        )
+        .or_else(|| drop_to_floor(self.oracle, [x, y, origin[2]]))?;
         Some(Cell {
             ix,
             iy,
-            floor: o[2] - if crouch { CROUCH_HALF } else { STAND_HALF },
+            floor: o[2] - above_floor(self.oracle, crouch),
             crouch,
         })
     }
@@ -214,7 +222,7 @@ impl<'a> Floor<'a> {
             .filter(|c| !c.crouch)
             .map(|c| {
                 let (x, y) = self.xy(c);
-                [x, y, c.floor + STAND_HALF]
+                [x, y, c.floor + above_floor(self.oracle, false)]
             })
             .collect()
     }

@@ -2,8 +2,9 @@
 //! `vdg` is [`CameraParams::default`] (our improvements on), `vdg-thesis` is
 //! [`CameraParams::thesis`] (the thesis' algorithm as written); `--params cam.toml`
 //! replaces the parameters of `vdg`. The target is the player's eye (origin + view offset,
-//! 28 standing, 12 crouched): what the spectator wants in view, what the chase cam pivots
-//! on and what the replay's visibility measures. Its heading is the view angles.
+//! on GoldSrc 28 standing, 12 crouched; see [`TargetState::eye`]): what the spectator
+//! wants in view, what the spring arm pivots on and what the replay's visibility
+//! measures. Its heading is the view angles.
 
 use super::cameras::{Frame, ReplayCamera};
 use super::route::TargetState;

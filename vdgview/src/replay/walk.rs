@@ -6,7 +6,7 @@
 //! possible in the map. All choices come from a seeded generator: the same path
 //! and seed give the same route.
 
-use super::route::{CROUCH_HALF, Route, STAND_HALF, TargetState, settle};
+use super::route::{Route, TargetState, above_floor, crouches, settle};
 use bsp::oracle::Oracle;
 use toolbox::SplitMix64;
 
@@ -30,13 +30,12 @@ pub struct Waypoint {
 }
 
 impl Waypoint {
-    /// From a player origin (hull centre) and its crouch state.
-    pub fn from_origin(o: [f64; 3], crouch: bool) -> Waypoint {
-        let half = if crouch { CROUCH_HALF } else { STAND_HALF };
+    /// From a player origin and its crouch state on `oracle`'s map.
+    pub fn from_origin(oracle: &Oracle, o: [f64; 3], crouch: bool) -> Waypoint {
         Waypoint {
             x: o[0],
             y: o[1],
-            floor: o[2] - half,
+            floor: o[2] - above_floor(oracle, crouch),
             crouch,
         }
     }
@@ -87,7 +86,7 @@ fn straight_walkable(oracle: &Oracle, a: &Waypoint, b: &Waypoint) -> bool {
         let (x, y) = (a.x + f * (b.x - a.x), a.y + f * (b.y - a.y));
         match settle(oracle, x, y, floor, a.crouch) {
             Some((o, c)) if c == a.crouch => {
-                let nf = o[2] - if c { CROUCH_HALF } else { STAND_HALF };
+                let nf = o[2] - above_floor(oracle, c);
                 if (nf - floor).abs() > 18.5 {
                     return false;
                 }
@@ -172,14 +171,16 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
     let mut next_event = rng.range(1.0, 3.0);
     let (x0, y0, f0, c0, d0) = line.at(0.0);
     let mut yaw = d0[1].atan2(d0[0]).to_degrees();
-    let mut last = settle(oracle, x0, y0, f0, c0).unwrap_or(([x0, y0, f0 + STAND_HALF], c0));
+    let mut last =
+        settle(oracle, x0, y0, f0, c0).unwrap_or(([x0, y0, f0 + above_floor(oracle, false)], c0));
     let mut states = Vec::new();
     let mut prev_feet = [
         last.0[0],
         last.0[1],
-        last.0[2] - if last.1 { CROUCH_HALF } else { STAND_HALF },
+        last.0[2] - above_floor(oracle, last.1),
     ];
     let limit = (line.length() / CROUCH_SPEED * 4.0 + 60.0) / STEP;
+    let crouching = crouches(oracle);
     for _ in 0..limit as usize {
         let (_, _, floor, must_crouch, dir) = line.at(s);
         // What the player wants now.
@@ -196,6 +197,13 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
                         stats.turns += 1;
                         Act::Back {
                             until: t + rng.range(0.8, 1.5),
+                        }
+                    }
+                    // Players that do not crouch (Quake 1) stop instead.
+                    _ if !crouching => {
+                        stats.stops += 1;
+                        Act::Stop {
+                            until: t + rng.range(1.0, 2.0),
                         }
                     }
                     _ => {
@@ -234,7 +242,7 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
         // Settle on the floor; a crouch that cannot stand up stays crouched.
         let (nx, ny, nfloor, _, _) = line.at(s);
         let hint = if (nfloor - floor).abs() < 18.0 {
-            last.0[2] - if last.1 { CROUCH_HALF } else { STAND_HALF }
+            last.0[2] - above_floor(oracle, last.1)
         } else {
             nfloor
         };
@@ -245,13 +253,10 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
             None => stats.stuck_steps += 1,
         }
         let o = last.0;
-        // Velocity of the feet: ducking moves the hull centre by 18 units at once
-        // (GoldSrc's PM_Duck), which is not motion.
-        let feet = [
-            o[0],
-            o[1],
-            o[2] - if last.1 { CROUCH_HALF } else { STAND_HALF },
-        ];
+        // Velocity of the feet: ducking moves GoldSrc's hull centre by 18 units at
+        // once (PM_Duck), which is not motion; Quake 2 and 3 keep the origin where it
+        // is (the feet must be taken with the game's heights, or a duck is a spike).
+        let feet = [o[0], o[1], o[2] - above_floor(oracle, last.1)];
         let vel = [0, 1, 2].map(|k| ((feet[k] - prev_feet[k]) / STEP) as f32);
         prev_feet = feet;
         states.push(TargetState {
@@ -260,6 +265,7 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
             angles: [0.0, yaw as f32, 0.0],
             velocity: vel,
             crouch: last.1,
+            game: oracle.game(),
         });
         t += STEP;
         if s >= line.length() {
