@@ -5,14 +5,17 @@
 //! tree, can be filled incrementally in a fixed order, which keeps merging deterministic.
 
 use rustc_hash::FxHashMap;
+use smallvec::SmallVec;
 
 /// Points bucketed by a cubic cell of a fixed size.
 #[derive(Debug, Clone)]
 pub struct PointGrid {
     cell: f64,
     points: Vec<[f64; 3]>,
-    /// Only looked up by key, never iterated: the hash cannot change a result.
-    buckets: FxHashMap<[i64; 3], Vec<u32>>,
+    /// Only looked up by key, never iterated: the hash cannot change a result. A cell
+    /// mostly holds one or two points (merging keeps near-duplicates out): inline, so
+    /// that an insert does not allocate (a million Voronoi vertices are merged so).
+    buckets: FxHashMap<[i64; 3], SmallVec<[u32; 2]>>,
 }
 
 impl PointGrid {
