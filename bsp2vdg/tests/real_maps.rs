@@ -225,10 +225,10 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
 /// `bg_pmove.c`: the box reaches 24 units below the origin in both stances; the
 /// crouched view is 2 units below the origin in Quake 2, 12 above it in Quake 3). Each
 /// eye lies that high above the floor straight below it (the point hull's), and at the
-/// origin there the crouched box is stuck 1 unit lower (its floor right there) while
-/// the standing box is stuck; the crouched box is free just above that origin at all
-/// but a few places (see below). Quake 3's shared maps have no such places; the
-/// Quake 2 ones do (the LibreQuake conversions' vents, the example's low gaps).
+/// origin there the crouched box is free just above and stuck 1 unit lower (its floor
+/// right there) while the standing box is stuck — at every place. Quake 3's shared
+/// maps have no such places; the Quake 2 ones do (the LibreQuake conversions' vents,
+/// the example's low gaps).
 #[test]
 fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
     use bsp2vdg::bsp::{Game, contents::SOLID};
@@ -236,7 +236,7 @@ fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
     let Some(maps) = common::shared_maps(&["quake2", "quake3"]) else {
         return;
     };
-    let (mut places, mut disagree, mut crouched_stuck) = (0usize, Vec::new(), 0usize);
+    let (mut places, mut disagree) = (0usize, Vec::new());
     for path in &maps {
         let bsp = Bsp::open(path).unwrap();
         let oracle = Oracle::new(&bsp, &OracleOptions::default());
@@ -266,11 +266,12 @@ fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
         for e in &eyes {
             let ok = floor(*e).is_some_and(|f| {
                 let o = [e[0], e[1], f + 24.0];
-                crouched_stuck +=
-                    usize::from(stuck(PlayerHull::Crouched, [o[0], o[1], o[2] + 2.25]));
+                // A quarter of a unit above the floor: some gaps are barely taller
+                // than the crouched box (28.5 units on the example maps' ledge).
                 (e[2] - f - eye_above_ground).abs() <= 2.0
+                    && !stuck(PlayerHull::Crouched, [o[0], o[1], o[2] + 0.25])
                     && stuck(PlayerHull::Crouched, [o[0], o[1], o[2] - 1.0])
-                    && stuck(PlayerHull::Standing, [o[0], o[1], o[2] + 2.25])
+                    && stuck(PlayerHull::Standing, [o[0], o[1], o[2] + 0.25])
             });
             if !ok {
                 disagree.push((path.file_name().unwrap().to_owned(), *e));
@@ -279,17 +280,9 @@ fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
         places += eyes.len();
     }
     assert!(
-        maps.is_empty() || (places > 100 && disagree.len() * 20 <= places),
+        maps.is_empty() || (places > 100 && disagree.is_empty()),
         "{} of {places} crouch places on the Quake 2 and 3 maps disagree with the player's boxes: {:?}",
         disagree.len(),
         &disagree[..disagree.len().min(10)]
-    );
-    // The hull carved from the brushes and the box tested on them disagree on strips
-    // under a unit wide along some ledges, where the carved hull lets the crouched
-    // box stand and the box test finds it stuck (13 of 112 places when this was
-    // written, 12 of them on the two example maps' one ledge).
-    assert!(
-        crouched_stuck * 5 <= places,
-        "{crouched_stuck} of {places} crouch places have the crouched box stuck"
     );
 }
