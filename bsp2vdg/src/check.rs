@@ -17,7 +17,7 @@
 //! - **crouch coverage** (GoldSrc, Quake 2 and 3): the places where a player only fits
 //!   crouching (vents, crawl spaces) in random columns, and the share of their crouched
 //!   eyes (the point the camera follows; GoldSrc 18 + 12 units above the ground, see
-//!   [`crate::standing::crouch`] for the others) inside the volume.
+//!   [`crate::standing::Crouching`] for the others) inside the volume.
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
@@ -525,7 +525,7 @@ pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec
             for _ in 0..CHUNK.min(columns - c * CHUNK) {
                 let (x, y) = (rng.range(lo[0], hi[0]), rng.range(lo[1], hi[1]));
                 for z in crouching.column_places(x, y, hi[2] + 1.0, lo[2] - 1.0) {
-                    let eye = widen(as_f32([x, y, z + crouching.heights.eye_above_origin]));
+                    let eye = widen(as_f32([x, y, z + crouching.eye_above_origin()]));
                     if oracle.is_free(eye) {
                         out.push(eye);
                     }

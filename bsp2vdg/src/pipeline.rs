@@ -19,7 +19,7 @@ struct MapSpace<'a> {
     walls: Walls,
     /// The world's bounds (mins, maxs).
     bounds: ([f64; 3], [f64; 3]),
-    /// The map's game: how its players crouch (see `standing::crouch`).
+    /// The map's game: how its players crouch (see `standing::Crouching`).
     game: crate::bsp::Game,
 }
 

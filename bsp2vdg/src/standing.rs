@@ -7,7 +7,7 @@
 //!
 //! GoldSrc, Quake 2 and Quake 3 players also crouch (clip hull 3; GoldSrc's is 36 units
 //! tall) where they cannot stand: vents, crawl spaces, low gaps. Those places
-//! ([`Crouching::column_places`], with each game's heights: [`crouch`]) are kept too, at
+//! ([`Crouching::column_places`], with each game's heights: [`Body`]) are kept too, at
 //! the crouched eye the camera follows.
 //!
 //! ```no_run
@@ -20,7 +20,7 @@
 //! ```
 
 use bsp::Game;
-use bsp::oracle::{Body, Hull, Oracle};
+use bsp::oracle::{Body, Hull, Oracle, Stance};
 
 /// The standing player's origin is 36 units above the ground (the middle of the
 /// 72-unit clip hull 1), the head (eyes) 64 units above it.
@@ -67,60 +67,29 @@ pub fn column_floors(
     floors
 }
 
-/// How a game's players crouch, in units above the floor they stand on: what the
-/// crouch-only places ([`Crouching::column_places`]) and their eyes depend on.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Crouch {
-    /// The crouched player's origin (the duck hull's, clip hull 3's) above the floor.
-    pub origin_above_ground: f64,
-    /// The standing player's origin above the floor: the standing hull is blocked
-    /// there where a player only fits crouching.
-    pub standing_origin_above_ground: f64,
-    /// The crouched eye above the crouched origin (the engine's view offset): the
-    /// point a third-person camera follows.
-    pub eye_above_origin: f64,
-    /// A standing player's height: a ceiling lower than this above the floor makes
-    /// a player crouch.
-    pub standing_height: f64,
-}
-
-impl Crouch {
-    /// The crouched eye above the floor.
-    pub fn eye_above_ground(&self) -> f64 {
-        self.origin_above_ground + self.eye_above_origin
-    }
-}
-
-/// How `game`'s players crouch, from their [`Body`]; `None` for Quake 1, whose players
-/// do not. GoldSrc: the crouched origin 18 units up, the eye 12 above it, standing 72
-/// units tall; Quake 2: 24 up in both stances, the eye 2 below it, 56 tall; Quake 3:
-/// 24 up, the eye 12 above it, 56 tall.
-pub fn crouch(game: Game) -> Option<Crouch> {
-    let body = Body::of(game);
-    body.crouches.then(|| Crouch {
-        origin_above_ground: body.crouched.origin_above_ground(),
-        standing_origin_above_ground: body.standing.origin_above_ground(),
-        eye_above_origin: body.crouched.view,
-        standing_height: body.standing.height(),
-    })
-}
-
-/// A map's crouching players: their game's heights and the two hulls that say where
-/// they fit, the duck hull (clip hull 3) and the standing hull (clip hull 1).
+/// A map's crouching players: their game's two stances ([`Body`]: GoldSrc crouches
+/// with the origin 18 units up and the eye 12 above it, standing 72 units tall; Quake 2
+/// 24 up in both stances, the eye 2 below it, 56 tall; Quake 3 24 up, the eye 12 above
+/// it, 56 tall) and the two hulls that say where they fit, the duck hull (clip hull 3)
+/// and the standing hull (clip hull 1).
 #[derive(Clone, Copy)]
 pub struct Crouching<'o> {
-    pub heights: Crouch,
+    pub standing: Stance,
+    pub crouched: Stance,
     duck: &'o Hull,
     stand: &'o Hull,
     oracle: &'o Oracle,
 }
 
 impl<'o> Crouching<'o> {
-    /// The crouching players of a `game` map: `None` unless they crouch ([`crouch`])
-    /// and the map has clip hulls 1 and 3 (Quake 2 and 3: built from the brushes).
+    /// The crouching players of a `game` map: `None` unless they crouch (not in
+    /// Quake 1) and the map has clip hulls 1 and 3 (Quake 2 and 3: built from the
+    /// brushes).
     pub fn of(oracle: &'o Oracle, game: Game) -> Option<Crouching<'o>> {
+        let body = Body::of(game);
         Some(Crouching {
-            heights: crouch(game)?,
+            standing: body.standing,
+            crouched: body.crouched?,
             duck: oracle.clip_hull(3)?,
             stand: oracle.clip_hull(1)?,
             oracle,
@@ -141,40 +110,44 @@ impl<'o> Crouching<'o> {
     /// of de_dust's were the tops of walls and buildings a few dozen units under the
     /// sky, out of bounds, which the reduction kept and the crouch coverage counted.
     pub fn column_places(&self, x: f64, y: f64, top: f64, bottom: f64) -> Vec<f64> {
-        let (h, oracle) = (&self.heights, self.oracle);
+        let oracle = self.oracle;
         let mut out = column_floors(self.duck, oracle, x, y, top, bottom);
         out.retain(|&z| {
-            let floor = z - h.origin_above_ground;
-            let standing_origin = floor + h.standing_origin_above_ground;
+            let floor = z - self.crouched.origin_above_ground();
+            let standing_origin = floor + self.standing.origin_above_ground();
             oracle.blocks(self.stand.contents([x, y, standing_origin]))
                 && !oracle.is_free([x, y, floor - 2.0])
-                && ceiling(oracle, [x, y, floor + 0.5], h.standing_height)
-                    .is_some_and(|c| oracle.contents([x, y, c + 0.25]) != bsp::contents::SKY)
+                && low_ceiling(oracle, [x, y, floor + 0.5], self.standing.height())
         });
         out
     }
+
+    /// The crouched eye's height above its origin (the engine's view offset).
+    pub fn eye_above_origin(&self) -> f64 {
+        self.crouched.view
+    }
 }
 
-/// The height of the first obstacle straight up from the free point `a` within
-/// `reach` units (less than 1/64 unit inside it), or `None` when the way up is free.
-fn ceiling(oracle: &Oracle, a: [f64; 3], reach: f64) -> Option<f64> {
-    let up = |z: f64| [a[0], a[1], z];
-    if oracle.segment_free(a, up(a[2] + reach)) {
-        return None;
+/// Whether something other than the sky lies straight up from the free point `a`
+/// within `reach` units: the segment is blocked, and where the world's point trace
+/// (hull 0) stops is not the sky, or a solid model blocks before that.
+fn low_ceiling(oracle: &Oracle, a: [f64; 3], reach: f64) -> bool {
+    let b = [a[0], a[1], a[2] + reach];
+    if oracle.segment_free(a, b) {
+        return false;
     }
-    let (mut free, mut blocked) = (a[2], a[2] + reach);
-    while blocked - free > 1.0 / 64.0 {
-        let mid = 0.5 * (free + blocked);
-        if oracle.segment_free(a, up(mid)) {
-            free = mid;
-        } else {
-            blocked = mid;
+    match oracle.trace(0, a, b) {
+        Some(t) if t.fraction < 1.0 => {
+            let hit = t.end;
+            oracle.contents([hit[0], hit[1], hit[2] + 0.25]) != bsp::contents::SKY
+                || !oracle.segment_free(a, hit)
         }
+        // Only a solid model blocks the way up.
+        _ => true,
     }
-    Some(blocked)
 }
 
-/// The crouched eyes ([`Crouch::eye_above_origin`] above the origin) of the
+/// The crouched eyes ([`Crouching::eye_above_origin`] above the origin) of the
 /// crouch-only places ([`Crouching::column_places`]) on the grid of [`grid_origins`],
 /// where the eye is free. Empty unless `game`'s players crouch and the map has the
 /// hulls for it ([`Crouching::of`]).
@@ -188,7 +161,7 @@ pub fn grid_crouch_eyes(
     let Some(crouching) = Crouching::of(oracle, game) else {
         return Vec::new();
     };
-    let eye = crouching.heights.eye_above_origin;
+    let eye = crouching.eye_above_origin();
     on_grid(lo, hi, spacing, |x, y, top, bottom| {
         crouching
             .column_places(x, y, top, bottom)
@@ -245,6 +218,10 @@ fn on_grid(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A crouching GoldSrc player's eye above the floor: the duck hull's origin 18
+    /// units up, the duck view 12 above it.
+    const GOLDSRC_CROUCHED_EYE: f64 = 30.0;
     use bsp::Bsp;
     use bsp::oracle::OracleOptions;
 
@@ -261,9 +238,9 @@ mod tests {
     fn crouch_places_are_exactly_where_only_the_duck_hull_fits() {
         let (_, oracle) = duct();
         let crouching = Crouching::of(&oracle, Game::GoldSrc).expect("hulls 1 and 3");
-        assert_eq!(crouching.heights.origin_above_ground, 18.0);
-        assert_eq!(crouching.heights.eye_above_ground(), 30.0);
-        assert_eq!(crouching.heights.standing_height, 72.0);
+        assert_eq!(crouching.crouched.origin_above_ground(), 18.0);
+        assert_eq!(crouching.eye_above_origin(), 12.0);
+        assert_eq!(crouching.standing.height(), 72.0);
         let at = |x: f64, y: f64| crouching.column_places(x, y, 200.0, -8.0);
         // Inside the duct, the duck hull's 16-unit half width clear of its side
         // walls: one place, the crouched origin 18 units above the floor.
@@ -276,7 +253,7 @@ mod tests {
             let z = at(x, y);
             assert_eq!(z.len(), 1, "({x}, {y}): {z:?}");
             assert!(
-                (z[0] - crouch(Game::GoldSrc).unwrap().origin_above_ground).abs() < 0.1,
+                (z[0] - crouching.crouched.origin_above_ground()).abs() < 0.1,
                 "({x}, {y}): {z:?}"
             );
         }
@@ -326,7 +303,7 @@ mod tests {
         assert_eq!(eyes.len(), 12 * 16, "{:?}", &eyes[..eyes.len().min(8)]);
         for e in &eyes {
             assert!(e[0] > 144.0 && e[0] < 240.0, "{e:?}");
-            let eye = 112.0 + crouch(Game::GoldSrc).unwrap().eye_above_ground();
+            let eye = 112.0 + GOLDSRC_CROUCHED_EYE;
             assert!((e[2] - eye).abs() < 0.1, "{e:?}");
         }
     }
@@ -355,7 +332,7 @@ mod tests {
                 e[0] > 256.0 && e[0] < 512.0 && e[1] > 112.0 && e[1] < 144.0,
                 "{e:?}"
             );
-            let eye = crouch(Game::GoldSrc).unwrap().eye_above_ground();
+            let eye = GOLDSRC_CROUCHED_EYE;
             assert!((e[2] - eye).abs() < 0.1, "{e:?}");
         }
     }

@@ -320,15 +320,14 @@ impl Stance {
 /// use bsp::{Game, oracle::Body};
 /// let hl = Body::of(Game::GoldSrc);
 /// assert_eq!(hl.standing.origin_above_ground() + hl.standing.view, 64.0);
-/// assert_eq!(Body::of(Game::Quake2).crouched.view, -2.0);
+/// assert_eq!(Body::of(Game::Quake2).crouched.map(|c| c.view), Some(-2.0));
+/// assert_eq!(Body::of(Game::Quake).crouched, None);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Body {
     pub standing: Stance,
-    /// Quake 1 players do not crouch: the standing stance again.
-    pub crouched: Stance,
-    /// Whether the player crouches at all.
-    pub crouches: bool,
+    /// `None` for Quake 1, whose players do not crouch.
+    pub crouched: Option<Stance>,
 }
 
 impl Body {
@@ -347,32 +346,28 @@ impl Body {
         match game {
             crate::Game::GoldSrc => Body {
                 standing: stance(16.0, 36.0, 36.0, 28.0),
-                crouched: stance(16.0, 18.0, 18.0, 12.0),
-                crouches: true,
+                crouched: Some(stance(16.0, 18.0, 18.0, 12.0)),
             },
             crate::Game::Quake => Body {
                 standing: stance(16.0, 24.0, 32.0, 22.0),
-                crouched: stance(16.0, 24.0, 32.0, 22.0),
-                crouches: false,
+                crouched: None,
             },
             crate::Game::Quake2 => Body {
                 standing: stance(16.0, 24.0, 32.0, 22.0),
-                crouched: stance(16.0, 24.0, 4.0, -2.0),
-                crouches: true,
+                crouched: Some(stance(16.0, 24.0, 4.0, -2.0)),
             },
             crate::Game::Quake3 => Body {
                 standing: stance(15.0, 24.0, 32.0, 26.0),
-                crouched: stance(15.0, 24.0, 16.0, 12.0),
-                crouches: true,
+                crouched: Some(stance(15.0, 24.0, 16.0, 12.0)),
             },
         }
     }
 
-    /// The stance of `hull`.
+    /// The stance of `hull` (standing for a player that does not crouch).
     pub fn stance(&self, hull: PlayerHull) -> &Stance {
-        match hull {
-            PlayerHull::Standing => &self.standing,
-            PlayerHull::Crouched => &self.crouched,
+        match (hull, &self.crouched) {
+            (PlayerHull::Crouched, Some(c)) => c,
+            _ => &self.standing,
         }
     }
 }

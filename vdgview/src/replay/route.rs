@@ -189,7 +189,7 @@ pub fn above_floor(oracle: &Oracle, crouch: bool) -> f64 {
 /// Whether the map's players crouch (Quake 1's do not, though its maps keep a third
 /// clip hull): routes crouch only where they do.
 pub fn crouches(oracle: &Oracle) -> bool {
-    Body::of(oracle.game()).crouches
+    Body::of(oracle.game()).crouched.is_some()
 }
 
 /// Whether a player origin stands free and on the ground: its hull fits and the
