@@ -30,12 +30,7 @@ pub struct TargetState {
 impl TargetState {
     /// The player's box and view now (standing or crouched, in the map's game).
     pub fn stance(&self) -> Stance {
-        let hull = if self.crouch {
-            PlayerHull::Crouched
-        } else {
-            PlayerHull::Standing
-        };
-        *Body::of(self.game).stance(hull)
+        *Body::of(self.game).stance(player_hull(self.crouch))
     }
 
     /// The player's eye (origin + the game's view offset: GoldSrc 28 standing, 12
@@ -152,12 +147,7 @@ pub fn settle(
     floor_hint: f64,
     crouch: bool,
 ) -> Option<([f64; 3], bool)> {
-    let hulls: &[usize] = match (crouch, crouches(oracle)) {
-        (_, false) => &[1],
-        (true, true) => &[3],
-        (false, true) => &[1, 3],
-    };
-    for &hull in hulls {
+    for &hull in clip_hulls(oracle, crouch) {
         let half = above_floor(oracle, hull == 3);
         for lift in [20.0, 10.0, 1.0] {
             let top = [x, y, floor_hint + half + lift];
@@ -178,12 +168,28 @@ pub fn settle(
 /// game ([`Body::of`]: GoldSrc 36 and 18, the middle of its hulls; Quake 1, 2 and 3
 /// 24 in both stances).
 pub fn above_floor(oracle: &Oracle, crouch: bool) -> f64 {
-    let hull = if crouch {
+    Body::of(oracle.game())
+        .stance(player_hull(crouch))
+        .origin_above_ground()
+}
+
+fn player_hull(crouch: bool) -> PlayerHull {
+    if crouch {
         PlayerHull::Crouched
     } else {
         PlayerHull::Standing
-    };
-    Body::of(oracle.game()).stance(hull).origin_above_ground()
+    }
+}
+
+/// The clip hulls a player may move with, in the order to try them: the crouched
+/// one (3) when `crouch` asks for it, else the standing one (1) and then the
+/// crouched one; only the standing one where players do not crouch ([`crouches`]).
+pub fn clip_hulls(oracle: &Oracle, crouch: bool) -> &'static [usize] {
+    match (crouch, crouches(oracle)) {
+        (_, false) => &[1],
+        (true, true) => &[3],
+        (false, true) => &[1, 3],
+    }
 }
 
 /// Whether the map's players crouch (Quake 1's do not, though its maps keep a third

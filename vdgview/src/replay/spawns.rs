@@ -7,7 +7,7 @@
 //! hull (3) is tried, so routes crouch through low passages. A* finds the grid path,
 //! [`string_pull`] straightens it, [`walk`] turns it into a player's motion.
 
-use super::route::{Route, above_floor, crouches, hull_fits, settle};
+use super::route::{Route, above_floor, clip_hulls, hull_fits, settle};
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
 use bsp::Bsp;
 use bsp::oracle::Oracle;
@@ -83,8 +83,7 @@ impl<'a> Floor<'a> {
     fn step(&self, c: &Cell, dx: i32, dy: i32) -> Option<Cell> {
         let (x, y) = self.xy(c);
         let d = [dx as f64 * CELL, dy as f64 * CELL];
-        let n = if crouches(self.oracle) { 2 } else { 1 };
-        for &hull in &[1usize, 3][..n] {
+        for &hull in clip_hulls(self.oracle, false) {
             let half = above_floor(self.oracle, hull == 3);
             let o = [x, y, c.floor + half];
             if !hull_fits(self.oracle, hull, o) {
