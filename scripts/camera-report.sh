@@ -12,6 +12,8 @@
 #   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-routes N] [-out DIR]
 #   MAPS="a.bsp b.bsp" scripts/camera-report.sh      (only these maps)
 #   SHARED=/path/to/shared                            (default ../shared)
+#   BSP2VDG=/path/to/bsp2vdg                          (compile with another build, e.g. to
+#                                                      compare two commits' graphs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dts="1/60 1/30"
@@ -28,6 +30,7 @@ while [ $# -gt 0 ]; do
   esac
 done
 shared=${SHARED:-../shared}
+compiler=${BSP2VDG:-./target/release/bsp2vdg}
 echo "camera-report: building (release) ..." >&2
 cargo build --release -q -p bsp2vdg -p vdgview
 shopt -s nullglob
@@ -51,7 +54,7 @@ for m in "${maps[@]}"; do
   vdg="$out/graphs/$name.vdg"
   if [ ! -s "$vdg" ] || [ "$m" -nt "$vdg" ]; then
     printf '[%d/%d] %s: compiling graph ...\n' "$i" "${#maps[@]}" "$name" >&2
-    if ! ./target/release/bsp2vdg -quiet -o "$vdg" "$m" 2> "$out/logs/$name.compile.err"; then
+    if ! "$compiler" -quiet -o "$vdg" "$m" 2> "$out/logs/$name.compile.err"; then
       printf '[%d/%d] %s: compile failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$name.compile.err")" >&2
       continue
     fi

@@ -286,7 +286,7 @@ impl Viewer {
             return;
         }
         let limit = before.saturating_sub(n) as f64 / before as f64;
-        let options = bsp2vdg::reduce::ReduceOptions { limit };
+        let options = bsp2vdg::reduce::ReduceOptions::new(limit);
         let (reduced, stats) =
             bsp2vdg::reduce::reduce(&graph, &options, &bsp2vdg::progress::NoProgress);
         let mut b = vdgformat::VdgBuilder::new();

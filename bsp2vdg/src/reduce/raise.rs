@@ -623,13 +623,7 @@ mod tests {
     #[test]
     fn raising_keeps_more_volume_and_stays_inside_the_unreduced_volume() {
         let g = in_hilbert_order(&roof(18));
-        let (mut mesh, _, _) = run(
-            &g,
-            &ReduceOptions { limit: 0.08 },
-            &[],
-            &NoProgress,
-            &mut |_| {},
-        );
+        let (mut mesh, _, _) = run(&g, &ReduceOptions::new(0.08), &[], &NoProgress, &mut |_| {});
         let lowered = mesh.to_graph();
         let stats = raise(&g, &mut mesh);
         let raised = mesh.to_graph();
