@@ -232,12 +232,12 @@ fn reduce_graph(
         rs.swaps,
         secs(t.elapsed().as_secs_f64())
     ));
-    if rs.raise_ran {
+    if let Some(r) = rs.raised_back {
         log.info(format!(
             "Raised {} vertices back towards their unreduced clearance (by {:.1} units on average) [{}]",
-            rs.raised,
-            rs.raised_by / rs.raised.max(1) as f64,
-            secs(rs.raise_seconds)
+            r.vertices,
+            r.total / r.vertices.max(1) as f64,
+            secs(r.seconds)
         ));
     }
     log.detail(format!(

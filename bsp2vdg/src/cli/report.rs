@@ -77,7 +77,7 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
                 "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
                 "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
-                "reduce_raise": s.reduce.as_ref().filter(|r| r.raise_ran).map(|r| [r.raised as f64, r.raised_by, r.raise_seconds]),
+                "reduce_raise": s.reduce.as_ref().and_then(|r| r.raised_back).map(|r| [r.vertices as f64, r.total, r.seconds]),
                 "reduce_kept_points": s.reduce.as_ref().map(|r| r.kept_points),
                 "reduce_seam_phase_at": s.reduce.as_ref().and_then(|r| r.seam_phase_at),
                 "reduce_seam_contractions": s.reduce.as_ref().map(|r| r.seam_contractions),

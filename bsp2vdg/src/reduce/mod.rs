@@ -127,6 +127,17 @@ impl StopReason {
     }
 }
 
+/// What the raise back towards the unreduced clearances did (see
+/// [`ReduceOptions::raise`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RaisedBack {
+    /// Vertices whose clearance was raised, and the sum of the raises (units).
+    pub vertices: usize,
+    pub total: f64,
+    /// Seconds the raise took (part of the reduction's time).
+    pub seconds: f64,
+}
+
 /// Counts of a reduction.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ReduceStats {
@@ -163,15 +174,9 @@ pub struct ReduceStats {
     pub seam_deep_points: usize,
     /// Sum of the costs (model volume, cubic units) of the removals.
     pub lost_volume: f64,
-    /// Whether the clearances were raised back after the reduction
-    /// ([`ReduceOptions::raise`]).
-    pub raise_ran: bool,
-    /// Vertices whose clearance was raised back after the reduction (see
-    /// the `raise` module), and the sum of the raises (units).
-    pub raised: usize,
-    pub raised_by: f64,
-    /// Seconds the raise took (part of the reduction's time).
-    pub raise_seconds: f64,
+    /// The raise back towards the unreduced clearances after the reduction
+    /// (the `raise` module), `None` when [`ReduceOptions::raise`] is off.
+    pub raised_back: Option<RaisedBack>,
     /// Points kept inside the volume (see [`reduce_keeping`]).
     pub kept_points: usize,
     /// Batches of the main loop, removals costed in them (initial costs
@@ -331,10 +336,11 @@ pub fn reduce_keeping(
         let t = Instant::now();
         // The raise needs the unreduced graph with the mesh's vertex ids.
         let raised = raise::raise(graph, &mut mesh);
-        stats.raise_ran = true;
-        stats.raised = raised.raised;
-        stats.raised_by = raised.total;
-        stats.raise_seconds = t.elapsed().as_secs_f64();
+        stats.raised_back = Some(RaisedBack {
+            vertices: raised.raised,
+            total: raised.total,
+            seconds: t.elapsed().as_secs_f64(),
+        });
     }
     let out = mesh.to_graph();
     stats.vertices_after = out.vertices.len();

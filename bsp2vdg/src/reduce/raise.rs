@@ -52,9 +52,9 @@ use crate::voronoi::Graph;
 const CELL: f64 = 24.0;
 /// Most grid divisions per face edge (before refinement).
 const MAX_DIVISIONS: usize = 16;
-/// How often a cell may be cut in four. Once is enough since the raise
-/// towards the walls (`voronoi::raise_to_walls`) follows in the compiler:
-/// cutting twice gave the same coverage and `Visible` false negatives
+/// How often a cell may be cut in four. Once was enough while the raise
+/// towards the walls (`voronoi::raise_to_walls`) followed this one in the
+/// compiler (it now replaces it there): cutting twice gave the same coverage and `Visible` false negatives
 /// within the noise on de_dust2, c1a0, c1a0d, c1a1, lq_e0m1 and
 /// allocblock-lightmap-test (10⁶ points) and took 15–20 % longer.
 const DEPTH: usize = 1;

@@ -5,21 +5,21 @@
 //! and the volume pokes through the wall (thesis fig. 3.9).
 //!
 //! We bound that excess per face and lower the face's vertices by it. Each face is
-//! evaluated on a barycentric grid of spacing h ≤ 8 units. The wall distance is the
+//! evaluated on a barycentric grid of spacing h ≤ 10 units. The wall distance is the
 //! minimum of distances to convex faces, each convex with curvature at most 1/d, so the
 //! excess `r − d` can exceed its largest grid value by at most `h² / (6 d)` inside a
 //! grid cell (`curvature_margin`): lowering by the grid maximum plus that margin makes
 //! every ball of the face lie in free space. The cost is local and small (the margin is
-//! a third of a unit for 8-unit cells at 30 units of clearance), not a global shrink.
+//! about half a unit for 10-unit cells at 30 units of clearance), not a global shrink.
 
 use super::{FreeSpace, Graph};
 use rayon::prelude::*;
 
 /// Largest grid spacing on a face. 10 since the margin is `h²/(6d)`
-/// ([`curvature_margin`]): at 8 the guard asked a third more wall distances and
-/// its reduced graphs missed more sight lines, not fewer (Visible's false negatives
-/// inside, every shared map, weighted by inside lines, with the wall raise's 7-unit
-/// grid: 3.84 % at 8, 3.70 % at 10; 25 maps lower, 13 higher).
+/// ([`curvature_margin`]): at 8 the guard asked half again as many wall distances,
+/// and its reduced graphs missed more sight lines, not fewer (Visible's false
+/// negatives inside, every shared map, weighted by inside lines: 3.84 % with this
+/// grid at 8 and the wall raise's at 6, 3.70 % at 10 and 7; 25 maps lower, 13 higher).
 const CELL: f64 = 10.0;
 /// Most grid divisions per face edge (faces are rarely longer than 64 units).
 const MAX_DIVISIONS: usize = 16;
@@ -205,7 +205,8 @@ const RAISE_CELL: f64 = 7.0;
 /// on open maps some span over a thousand units). At 64 the grid of such a face grew
 /// coarse and its curvature margin with it; once the reduction's own raise no longer
 /// ran first, allocblock-lightmap-test then held 0.9694 of the points of clearance
-/// ≥ 32, at 128 0.9819 (10⁵ samples), and the few faces that long cost little.
+/// ≥ 32, at 128 0.9819 (10⁵ samples; both with the earlier margin `h²/(2d)`), and the
+/// few faces that long cost little.
 const RAISE_MAX_DIVISIONS: usize = 128;
 
 /// What [`raise_to_walls`] did.
@@ -581,42 +582,35 @@ mod tests {
         assert_eq!(floor.0.load(Ordering::Relaxed), before + 2);
     }
 
-    /// The distance to a few wall segments, the kind of function `curvature_margin`
-    /// bounds (a polygon's distance is the least over its edges and interior).
-    fn segments_distance(walls: &[([f64; 3], [f64; 3])], x: [f64; 3]) -> f64 {
-        walls
-            .iter()
-            .map(|&(a, b)| {
-                let ab = [0, 1, 2].map(|i| b[i] - a[i]);
-                let ax = [0, 1, 2].map(|i| x[i] - a[i]);
-                let len2: f64 = ab.iter().map(|c| c * c).sum();
-                let t = ((0..3).map(|i| ab[i] * ax[i]).sum::<f64>() / len2).clamp(0.0, 1.0);
-                (0..3)
-                    .map(|i| (x[i] - a[i] - t * ab[i]).powi(2))
-                    .sum::<f64>()
-                    .sqrt()
-            })
-            .fold(f64::INFINITY, f64::min)
-    }
-
     #[test]
     fn curvature_margin_bounds_the_distance_below_its_interpolation() {
         // Random cells (triangles of any shape, edges up to ~10 units) near random
-        // wall segments: inside each cell the distance never falls below the
-        // interpolation of its corner values by more than the margin, taken with the
-        // lower bound the certificates use (least corner distance less `h`). Half the
-        // margin would not do: the worst cell needs more than that.
+        // wall triangles (the map's `Walls`, as the compiler asks them): inside each
+        // cell the distance never falls below the interpolation of its corner values
+        // by more than the margin, taken with the lower bound the certificates use
+        // (least corner distance less `h`). Half the margin would not do: the worst
+        // cell needs more than that.
         let mut rng = crate::util::SplitMix64::new(0x6d61_7267);
         let mut worst = 0.0f64;
         for _ in 0..3000 {
-            let walls: Vec<([f64; 3], [f64; 3])> = (0..3)
-                .map(|_| {
-                    (
-                        [0; 3].map(|_| rng.range(-20.0, 20.0)),
-                        [0; 3].map(|_| rng.range(-20.0, 20.0)),
-                    )
-                })
-                .collect();
+            let walls = crate::walls::Walls::new(
+                (0..3)
+                    .map(|_| {
+                        let t = [0; 3].map(|_| [0; 3].map(|_| rng.range(-20.0, 20.0)));
+                        let (u, v) = (
+                            [0, 1, 2].map(|i| t[1][i] - t[0][i]),
+                            [0, 1, 2].map(|i| t[2][i] - t[0][i]),
+                        );
+                        let n = [
+                            u[1] * v[2] - u[2] * v[1],
+                            u[2] * v[0] - u[0] * v[2],
+                            u[0] * v[1] - u[1] * v[0],
+                        ];
+                        let len = n.iter().map(|c| c * c).sum::<f64>().sqrt();
+                        (t.to_vec(), n.map(|c| c / len))
+                    })
+                    .collect(),
+            );
             let corners = [0; 3].map(|_| [0; 3].map(|_| rng.range(-3.0, 3.0)));
             let edge = |i: usize, j: usize| {
                 (0..3)
@@ -625,7 +619,7 @@ mod tests {
                     .sqrt()
             };
             let h = edge(0, 1).max(edge(1, 2)).max(edge(2, 0));
-            let d = corners.map(|c| segments_distance(&walls, c));
+            let d = corners.map(|c| walls.distance(c));
             let d_low = d[0].min(d[1]).min(d[2]) - h;
             if d_low < 1.0 {
                 continue;
@@ -637,7 +631,7 @@ mod tests {
                     let b = [i, j, n - i - j].map(|k| f64::from(k) / f64::from(n));
                     let x = [0, 1, 2].map(|a| (0..3).map(|k| b[k] * corners[k][a]).sum::<f64>());
                     let interpolated: f64 = (0..3).map(|k| b[k] * d[k]).sum();
-                    let dip = interpolated - segments_distance(&walls, x);
+                    let dip = interpolated - walls.distance(x);
                     assert!(
                         dip <= margin + 1e-9,
                         "dip {dip} > margin {margin} (h {h}, d_low {d_low})"
