@@ -254,12 +254,14 @@ fn measure_leak(vdg: &Vdg<'_>, oracle: &Oracle, options: &CheckOptions) -> (usiz
         return (0, 0);
     }
     // Weight faces by a rough volume: area times mean radius², plus a mean-radius ball.
+    // The radii are the faces' own corner radii (the vertex clearances in files
+    // without them): the volume the queries see.
     let mut cumulative = Vec::with_capacity(faces.len());
     let mut total = 0.0f64;
-    for f in faces {
+    for (k, f) in faces.iter().enumerate() {
         let [a, b, c] = f.map(|i| verts[i as usize]);
         let area = tri_area(widen(a.pos), widen(b.pos), widen(c.pos));
-        let r = (a.clearance + b.clearance + c.clearance) as f64 / 3.0;
+        let r = vdg.face_radii(k as u32).map(f64::from).iter().sum::<f64>() / 3.0;
         total += area * r * r + r * r * r;
         cumulative.push(total);
     }
@@ -274,6 +276,7 @@ fn measure_leak(vdg: &Vdg<'_>, oracle: &Oracle, options: &CheckOptions) -> (usiz
                     let x = rng.next_f64() * total;
                     let k = cumulative.partition_point(|&w| w <= x).min(faces.len() - 1);
                     let [a, b, c] = faces[k].map(|i| verts[i as usize]);
+                    let radii = vdg.face_radii(k as u32).map(f64::from);
                     let (mut u, mut v) = (rng.next_f64(), rng.next_f64());
                     if u + v > 1.0 {
                         (u, v) = (1.0 - u, 1.0 - v);
@@ -281,8 +284,7 @@ fn measure_leak(vdg: &Vdg<'_>, oracle: &Oracle, options: &CheckOptions) -> (usiz
                     let w = 1.0 - u - v;
                     let q = [0, 1, 2]
                         .map(|i| w * a.pos[i] as f64 + u * b.pos[i] as f64 + v * c.pos[i] as f64);
-                    let r =
-                        w * a.clearance as f64 + u * b.clearance as f64 + v * c.clearance as f64;
+                    let r = w * radii[0] + u * radii[1] + v * radii[2];
                     let d = random_in_ball(&mut rng);
                     let p = [0, 1, 2].map(|i| q[i] + r * d[i]);
                     !oracle.is_free(widen(as_f32(p)))

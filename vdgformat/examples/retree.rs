@@ -20,8 +20,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for v in g.vertices() {
         b.add_vertex(v.pos, v.clearance);
     }
-    for &f in g.faces() {
-        b.add_face(f);
+    for (i, &f) in g.faces().iter().enumerate() {
+        if g.has_face_radii() {
+            b.add_face_with_radii(f, g.face_radii(i as u32));
+        } else {
+            b.add_face(f);
+        }
     }
     for (k, v) in g.metadata() {
         b.set_metadata(k, v);

@@ -34,6 +34,8 @@ pub enum BuildError {
     },
     /// A face uses the same vertex twice (thesis 3.7 forbids it).
     DegenerateFace { face: u32 },
+    /// A face's own corner radius is not finite or below its vertex's clearance.
+    BadCornerRadius { face: u32, corner: u8, radius: f32 },
     /// `-bb` must be finite and positive.
     BadLeafSize(f32),
     /// Metadata keys are non-empty `[A-Za-z0-9._-]` words.
@@ -60,6 +62,14 @@ impl fmt::Display for BuildError {
             } => write!(
                 f,
                 "face {face} refers to vertex {vertex}, but there are only {vertex_count} vertices"
+            ),
+            BuildError::BadCornerRadius {
+                face,
+                corner,
+                radius,
+            } => write!(
+                f,
+                "corner {corner} of face {face} has radius {radius}: it must be finite and at least its vertex's clearance"
             ),
             BuildError::DegenerateFace { face } => {
                 write!(f, "face {face} uses the same vertex twice")
@@ -147,6 +157,8 @@ impl From<BuildError> for WriteError {
 pub struct VdgBuilder {
     vertices: Vec<Vertex>,
     faces: Vec<[u32; 3]>,
+    /// Per face its own corner radii, if given ([`Self::add_face_with_radii`]).
+    face_radii: Vec<Option<[f32; 3]>>,
     metadata: BTreeMap<String, String>,
     source_hash: u64,
     leaf_size: f32,
@@ -170,6 +182,7 @@ impl VdgBuilder {
         VdgBuilder {
             vertices: Vec::new(),
             faces: Vec::new(),
+            face_radii: Vec::new(),
             metadata,
             source_hash: 0,
             leaf_size: DEFAULT_LEAF_SIZE,
@@ -185,7 +198,33 @@ impl VdgBuilder {
     /// Adds a triangular face over three vertex indices and returns its index.
     pub fn add_face(&mut self, vertices: [u32; 3]) -> u32 {
         self.faces.push(vertices);
+        self.face_radii.push(None);
         (self.faces.len() - 1) as u32
+    }
+
+    /// Adds a face whose corner balls have radii of their own, each at least
+    /// its vertex's clearance (checked by [`Self::to_bytes`]): a vertex's
+    /// clearance must keep every face around it free, one face's corner only
+    /// that face (see [`crate::Vdg::face_radii`]). A file with such faces is
+    /// format version 3 with the `FACE_RADII` section.
+    pub fn add_face_with_radii(&mut self, vertices: [u32; 3], radii: [f32; 3]) -> u32 {
+        self.faces.push(vertices);
+        self.face_radii.push(Some(radii));
+        (self.faces.len() - 1) as u32
+    }
+
+    /// The corner radii of every face (their own or their vertices'
+    /// clearances), or nothing when no face has its own: the `FACE_RADII`
+    /// section. Call after [`Self::validate`] (indices in range).
+    fn corner_radii(&self) -> Vec<[f32; 3]> {
+        if self.face_radii.iter().all(Option::is_none) {
+            return Vec::new();
+        }
+        self.faces
+            .iter()
+            .zip(&self.face_radii)
+            .map(|(f, r)| r.unwrap_or(f.map(|v| self.vertices[v as usize].clearance)))
+            .collect()
     }
 
     /// Number of vertices added so far.
@@ -264,6 +303,17 @@ impl VdgBuilder {
             if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
                 return Err(BuildError::DegenerateFace { face: i as u32 });
             }
+            if let Some(r) = self.face_radii[i] {
+                for k in 0..3 {
+                    if !(r[k].is_finite() && r[k] >= self.vertices[f[k] as usize].clearance) {
+                        return Err(BuildError::BadCornerRadius {
+                            face: i as u32,
+                            corner: k as u8,
+                            radius: r[k],
+                        });
+                    }
+                }
+            }
         }
         for (k, v) in &self.metadata {
             if !is_metadata_key(k) {
@@ -280,7 +330,12 @@ impl VdgBuilder {
     pub fn to_bytes(&self) -> Result<Vec<u8>, BuildError> {
         self.validate()?;
         let vcount = self.vertices.len();
-        let face_boxes: Vec<Aabb> = self.faces.iter().map(|f| self.face_box(f)).collect();
+        let radii = self.corner_radii();
+        let corners =
+            |i: usize| crate::layout::corner_radii(&self.faces, &self.vertices, &radii, i);
+        let face_boxes: Vec<Aabb> = (0..self.faces.len())
+            .map(|i| self.face_box(&self.faces[i], corners(i)))
+            .collect();
         let mut volume = Aabb::EMPTY;
         for b in &face_boxes {
             volume.grow(b);
@@ -309,13 +364,16 @@ impl VdgBuilder {
 
         let (vf_offsets, vf_targets) = vertex_faces(vcount, &self.faces);
         let (vn_offsets, vn_targets) = vertex_neighbours(vcount, &self.faces);
-        let reach: Vec<Reach> = self.faces.iter().map(|f| self.face_reach(f)).collect();
+        let reach: Vec<Reach> = (0..self.faces.len())
+            .map(|i| self.face_reach(&self.faces[i], corners(i)))
+            .collect();
         let tree = build_tree(&face_boxes, &reach, volume, self.leaf_size);
         let node_bounds = node_bounds(
             &tree.nodes,
             LeafList::Wide(&tree.leaf_faces),
             &self.faces,
             &self.vertices,
+            &radii,
         );
         if tree.leaf_faces.len() >= u32::MAX as usize || tree.nodes.len() >= u32::MAX as usize {
             return Err(BuildError::TooLarge("tree entries"));
@@ -359,7 +417,7 @@ impl VdgBuilder {
                 bytemuck::cast_slice(&tree.leaf_faces),
             )
         };
-        let sections: [(u32, &[u8], u64); 11] = [
+        let mut sections: Vec<(u32, &[u8], u64)> = vec![
             (section::INFO, bytemuck::bytes_of(&info), 1),
             (
                 section::VERTICES,
@@ -404,6 +462,13 @@ impl VdgBuilder {
                 node_bounds.len() as u64,
             ),
         ];
+        if !radii.is_empty() {
+            sections.push((
+                section::FACE_RADII,
+                bytemuck::cast_slice(&radii),
+                radii.len() as u64,
+            ));
+        }
         Ok(assemble(&sections))
     }
 
@@ -420,31 +485,31 @@ impl VdgBuilder {
     /// is the convex hull of the vertex balls). Rounded outwards to f32 so
     /// every point of the volume is inside the stored box.
     /// The triangle's box and its largest vertex clearance (see [`Reach`]).
-    fn face_reach(&self, f: &[u32; 3]) -> Reach {
+    fn face_reach(&self, f: &[u32; 3], radii: [f32; 3]) -> Reach {
         let mut tri = Aabb::EMPTY;
         let mut r_max = 0.0f32;
-        for &vi in f {
+        for (&vi, &r) in f.iter().zip(&radii) {
             let v = self.vertices[vi as usize];
             tri.grow(&Aabb {
                 min: v.pos,
                 max: v.pos,
             });
-            r_max = r_max.max(v.clearance);
+            r_max = r_max.max(r);
         }
-        let balls = f.map(|vi| {
-            let v = self.vertices[vi as usize];
-            (V3::from_f32(v.pos), f64::from(v.clearance))
+        let balls = [0, 1, 2].map(|k| {
+            let v = self.vertices[f[k] as usize];
+            (V3::from_f32(v.pos), f64::from(radii[k]))
         });
         Reach { tri, r_max, balls }
     }
 
-    fn face_box(&self, f: &[u32; 3]) -> Aabb {
+    fn face_box(&self, f: &[u32; 3], radii: [f32; 3]) -> Aabb {
         let mut b = Aabb::EMPTY;
-        for &vi in f {
+        for (&vi, &r) in f.iter().zip(&radii) {
             let v = self.vertices[vi as usize];
             for i in 0..3 {
                 let c = f64::from(v.pos[i]);
-                let r = f64::from(v.clearance);
+                let r = f64::from(r);
                 b.min[i] = b.min[i].min(f32_down(c - r));
                 b.max[i] = b.max[i].max(f32_up(c + r));
             }
@@ -461,6 +526,7 @@ pub(crate) fn node_bounds(
     leaf_faces: LeafList<'_>,
     faces: &[[u32; 3]],
     vertices: &[Vertex],
+    face_radii: &[[f32; 3]],
 ) -> Vec<NodeBounds> {
     let empty = NodeBounds {
         tri_min: [0.0; 3],
@@ -480,9 +546,10 @@ pub(crate) fn node_bounds(
         };
         if node.kind == TreeNode::LEAF {
             for f in leaf_faces.range(node.a, node.b).iter() {
-                for &v in &faces[f as usize] {
+                let radii = crate::layout::corner_radii(faces, vertices, face_radii, f as usize);
+                for (&v, r) in faces[f as usize].iter().zip(radii) {
                     let v = vertices[v as usize];
-                    add(v.pos, v.pos, v.clearance);
+                    add(v.pos, v.pos, r);
                 }
             }
         } else {
@@ -937,7 +1004,8 @@ mod tests {
                     b.add_vertex(p, rng.range(0.0, 200.0) as f32)
                 })
                 .collect();
-            let reach = b.face_reach(&[vs[0], vs[1], vs[2]]);
+            let f = [vs[0], vs[1], vs[2]];
+            let reach = b.face_reach(&f, f.map(|v| b.vertices[v as usize].clearance));
             let lo = [0; 3].map(|_| rng.range(-500.0, 400.0) as f32);
             let size = [0; 3].map(|_| rng.range(10.0, 300.0) as f32);
             let cell = Aabb {

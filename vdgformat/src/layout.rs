@@ -19,7 +19,23 @@ pub const MAGIC: [u8; 8] = *b"\x89VDG\r\n\x1a\n";
 ///
 /// Version 2 added the 16-bit tree leaf faces ([`section::TREE_LEAF_FACES16`]),
 /// written instead of the 32-bit ones when every face index fits in 16 bits.
-pub const FORMAT_VERSION: u32 = 2;
+/// Version 3 added the faces' own corner radii ([`section::FACE_RADII`]).
+pub const FORMAT_VERSION: u32 = 3;
+
+/// The radii of face `f`'s corners: its own ([`section::FACE_RADII`], when
+/// the file has them) or its vertices' clearances.
+#[inline]
+pub(crate) fn corner_radii(
+    faces: &[[u32; 3]],
+    vertices: &[Vertex],
+    face_radii: &[[f32; 3]],
+    f: usize,
+) -> [f32; 3] {
+    match face_radii.get(f) {
+        Some(&r) => r,
+        None => faces[f].map(|v| vertices[v as usize].clearance),
+    }
+}
 
 /// The oldest format version the reader still opens (version 1: 32-bit leaf faces only).
 pub const OLDEST_READABLE_VERSION: u32 = 1;
@@ -104,11 +120,17 @@ pub mod section {
     /// u16 face indices referenced by the tree leaves (version 2, graphs of at
     /// most 65 536 faces): the same lists as [`TREE_LEAF_FACES`] in half the bytes.
     pub const TREE_LEAF_FACES16: u32 = 12;
+    /// `[f32; 3]` per face (version 3, optional): the radius of each corner's
+    /// ball in that face's volume, at least the corner vertex's clearance. A
+    /// vertex's clearance must hold in every face around it; a face's corner may
+    /// reach further where only that face's own volume has to stay free. Absent:
+    /// every face takes its vertices' clearances.
+    pub const FACE_RADII: u32 = 13;
 
     /// Every section id a reader knows, in file order; [`TREE_LEAF_FACES`] and
-    /// [`TREE_LEAF_FACES16`] are alternatives (exactly one is present), all
-    /// others are required.
-    pub const KNOWN: [u32; 12] = [
+    /// [`TREE_LEAF_FACES16`] are alternatives (exactly one is present),
+    /// [`FACE_RADII`] is optional, all others are required.
+    pub const KNOWN: [u32; 13] = [
         INFO,
         VERTICES,
         FACES,
@@ -121,6 +143,7 @@ pub mod section {
         METADATA,
         TREE_NODE_BOUNDS,
         TREE_LEAF_FACES16,
+        FACE_RADII,
     ];
 
     /// Element size of a known section id.
@@ -128,7 +151,7 @@ pub mod section {
         Some(match id {
             INFO => size_of::<super::Info>() as u32,
             VERTICES => size_of::<super::Vertex>() as u32,
-            FACES => 12,
+            FACES | FACE_RADII => 12,
             VERTEX_FACE_OFFSETS
             | VERTEX_FACES
             | VERTEX_NEIGHBOUR_OFFSETS
@@ -157,6 +180,7 @@ pub mod section {
             METADATA => "metadata",
             TREE_NODE_BOUNDS => "tree node bounds",
             TREE_LEAF_FACES16 => "tree leaf faces (16-bit)",
+            FACE_RADII => "face corner radii",
             _ => "unknown",
         }
     }
@@ -215,8 +239,8 @@ impl TreeNode {
 }
 
 /// Search bounds of a tree node, from the faces listed below it: the box of
-/// their triangles (vertex positions, no radii) and their largest vertex
-/// clearance. Any listed face has clearance at most
+/// their triangles (vertex positions, no radii) and their largest corner
+/// radius (the vertex clearances, or the faces' own corner radii). Any listed face has clearance at most
 /// `r_max − dist(p, [tri_min, tri_max])` at `p` — the bound that lets the
 /// nearest-face search skip subtrees for points outside the volume. A node
 /// without faces has `r_max = -1` and a zero box.

@@ -56,6 +56,8 @@ pub enum ReadError {
     NegativeClearance { vertex: u64 },
     /// A face uses the same vertex twice.
     DegenerateFace { face: u64 },
+    /// A face's own corner radius is below its vertex's clearance (or negative).
+    CornerBelowClearance { face: u64, corner: u8 },
     /// An index points past the end of what it indexes.
     IndexOutOfRange {
         what: &'static str,
@@ -156,6 +158,10 @@ impl fmt::Display for ReadError {
                 f,
                 "corrupt .vdg file: vertex {vertex} has negative clearance"
             ),
+            CornerBelowClearance { face, corner } => write!(
+                f,
+                "corrupt .vdg file: corner {corner} of face {face} has a radius below its vertex's clearance"
+            ),
             DegenerateFace { face } => {
                 write!(f, "corrupt .vdg file: face {face} uses a vertex twice")
             }
@@ -221,6 +227,8 @@ pub struct Vdg<'a> {
     pub(crate) leaf_faces: LeafList<'a>,
     pub(crate) metadata: &'a str,
     pub(crate) node_bounds: &'a [NodeBounds],
+    /// The faces' own corner radii (`FACE_RADII`), empty when the file has none.
+    pub(crate) own_radii: &'a [[f32; 3]],
 }
 
 impl fmt::Debug for Vdg<'_> {
@@ -342,7 +350,7 @@ impl fmt::Debug for VdgFile {
 struct Layout {
     /// Byte ranges by position in [`section::KNOWN`]; the absent one of the
     /// two leaf-face sections has an empty range.
-    ranges: [(usize, usize); 12],
+    ranges: [(usize, usize); 13],
     /// Whether the leaf faces are the 16-bit section.
     narrow_leaves: bool,
 }
@@ -416,6 +424,7 @@ fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
         },
         metadata: std::str::from_utf8(s(9)).unwrap_or(""),
         node_bounds: bytemuck::cast_slice(s(10)),
+        own_radii: bytemuck::cast_slice(s(12)),
     }
 }
 
@@ -489,9 +498,12 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         .collect();
     let mut layout = Layout::default();
     let mut found = [false; section::KNOWN.len()];
-    // Version 1 knew no 16-bit leaf faces: there, id 12 is an unknown section.
+    // Version 1 knew no 16-bit leaf faces and version 2 no face radii: there,
+    // ids 12 and 13 are unknown sections.
     let known = |id: u32| {
-        section::elem_size(id).is_some() && !(h.version < 2 && id == section::TREE_LEAF_FACES16)
+        section::elem_size(id).is_some()
+            && !(h.version < 2 && id == section::TREE_LEAF_FACES16)
+            && !(h.version < 3 && id == section::FACE_RADII)
     };
     for e in &entries {
         if e.offset < table_end || e.offset > len || e.byte_len > len - e.offset {
@@ -543,7 +555,10 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
             second: section::TREE_LEAF_FACES16,
         });
     }
-    if let Some(slot) = (0..found.len()).find(|&i| !found[i] && i != wide && i != narrow) {
+    let radii = slot_of(section::FACE_RADII);
+    if let Some(slot) =
+        (0..found.len()).find(|&i| !found[i] && i != wide && i != narrow && i != radii)
+    {
         return Err(MissingSection {
             id: section::KNOWN[slot],
         });
@@ -653,6 +668,26 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             return Err(DegenerateFace { face: i as u64 });
         }
     }
+    if !g.own_radii.is_empty() {
+        check_count("face corner radius count", nf, g.own_radii.len() as u64)?;
+        for (i, (f, r)) in g.faces.iter().zip(g.own_radii).enumerate() {
+            for k in 0..3 {
+                if !r[k].is_finite() {
+                    return Err(NonFinite {
+                        what: "face corner radius",
+                        index: 3 * i as u64 + k as u64,
+                    });
+                }
+                // Written so that the vertex ball stays inside every face around it.
+                if r[k] < g.vertices[f[k] as usize].clearance {
+                    return Err(CornerBelowClearance {
+                        face: i as u64,
+                        corner: k as u8,
+                    });
+                }
+            }
+        }
+    }
     check_offsets("vertex-face", g.vf_offsets, g.vf.len())?;
     check_offsets("vertex-neighbour", g.vn_offsets, g.vn.len())?;
     // vertex → faces: ascending, in range, and each face really uses the
@@ -697,7 +732,8 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
     validate_tree(g)?;
     // Node bounds steer the nearest-face search; they must be exactly what
     // the faces below each node give (the computation is deterministic).
-    let expected = crate::build::node_bounds(g.nodes, g.leaf_faces, g.faces, g.vertices);
+    let expected =
+        crate::build::node_bounds(g.nodes, g.leaf_faces, g.faces, g.vertices, g.own_radii);
     if let Some(i) = (0..expected.len()).find(|&i| expected[i] != g.node_bounds[i]) {
         return Err(BadTreeNode {
             node: i as u64,

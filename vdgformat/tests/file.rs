@@ -231,7 +231,7 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
-    for v in [0u32, 3, 0x0100_0000] {
+    for v in [0u32, 4, 0x0100_0000] {
         let mut bytes = sample().to_bytes().unwrap();
         put(&mut bytes, 16, v);
         let err = VdgFile::from_bytes(&bytes).unwrap_err();
@@ -240,12 +240,12 @@ fn unsupported_version() {
                 err,
                 ReadError::UnsupportedVersion {
                     found,
-                    supported: 2
+                    supported: 3
                 } if found == v
             ),
             "{err}"
         );
-        assert!(err.to_string().contains("supports 1 to 2"), "{err}");
+        assert!(err.to_string().contains("supports 1 to 3"), "{err}");
     }
 }
 
@@ -659,4 +659,119 @@ fn unaligned_buffer() {
         Vdg::from_aligned_bytes(&file.as_bytes()[1..]),
         Err(ReadError::UnalignedBuffer)
     ));
+}
+
+// ---- faces' own corner radii (format version 3) ------------------------------
+
+/// Two faces sharing the edge 1–2 in the plane z = 0, all vertex clearances 10;
+/// the first face's corner at vertex 0 has a radius of its own, 40.
+fn corner_pair() -> VdgBuilder {
+    let mut b = VdgBuilder::new();
+    let v = [
+        b.add_vertex([0.0, 0.0, 0.0], 10.0),
+        b.add_vertex([200.0, 0.0, 0.0], 10.0),
+        b.add_vertex([0.0, 200.0, 0.0], 10.0),
+        b.add_vertex([200.0, 200.0, 0.0], 10.0),
+    ];
+    b.add_face_with_radii([v[0], v[1], v[2]], [40.0, 10.0, 10.0]);
+    b.add_face([v[1], v[3], v[2]]);
+    b.set_leaf_size(16.0);
+    b
+}
+
+#[test]
+fn face_radii_round_trip_and_widen_only_their_face() {
+    let bytes = corner_pair().to_bytes().unwrap();
+    assert_eq!(get::<u32>(&bytes, 16), 3, "format version");
+    let file = VdgFile::from_bytes(&bytes).unwrap();
+    let g = file.graph();
+    assert!(g.has_face_radii());
+    assert_eq!(g.face_radii(0), [40.0, 10.0, 10.0]);
+    // The face without radii of its own takes its vertices' clearances.
+    assert_eq!(g.face_radii(1), [10.0; 3]);
+    assert_eq!(g.vertices()[0].clearance, 10.0);
+    // 30 above vertex 0: inside its corner ball in face 0 (clearance 10), found
+    // through the tree from scratch; the vertex ball alone would miss it.
+    let p = [0.0, 0.0, 30.0];
+    assert!(g.contains(p));
+    assert!((g.clearance(p) - 10.0).abs() < 1e-4, "{}", g.clearance(p));
+    assert_eq!(g.nearest_face(p).unwrap().face, 0);
+    // The radius falls linearly to 10 at the other corners: over the middle of
+    // the edge 0–1 it is 25, so 20 above it is inside, 30 above it not.
+    assert!(g.contains([100.0, 0.0, 20.0]) && !g.contains([100.0, 0.0, 30.0]));
+    // Face 1 keeps clearance 10 everywhere: 15 above its far corner is outside.
+    assert!(!g.contains([200.0, 200.0, 15.0]));
+    // A sight line through the raised corner ball only.
+    assert!(g.visible([-20.0, 5.0, 25.0], [20.0, 5.0, 25.0]));
+    assert!(!g.visible([-20.0, 5.0, 45.0], [20.0, 5.0, 45.0]));
+}
+
+#[test]
+fn files_without_own_radii_have_no_radii_section() {
+    let bytes = sample().to_bytes().unwrap();
+    assert!(
+        entries(&bytes)
+            .iter()
+            .all(|(_, e)| e.id != section::FACE_RADII)
+    );
+    let file = VdgFile::from_bytes(&bytes).unwrap();
+    assert!(!file.graph().has_face_radii());
+    let with = corner_pair().to_bytes().unwrap();
+    let (_, e) = section_of(&with, section::FACE_RADII);
+    assert_eq!((e.count, e.elem_size), (2, 12));
+}
+
+#[test]
+fn builder_rejects_corner_radii_below_the_vertex_clearance() {
+    for bad in [9.5, f32::NAN, f32::INFINITY] {
+        let mut b = VdgBuilder::new();
+        let v = [
+            b.add_vertex([0.0, 0.0, 0.0], 10.0),
+            b.add_vertex([1.0, 0.0, 0.0], 10.0),
+            b.add_vertex([0.0, 1.0, 0.0], 10.0),
+        ];
+        b.add_face_with_radii(v, [10.0, bad, 10.0]);
+        let err = b.to_bytes().unwrap_err();
+        assert!(
+            matches!(
+                err,
+                vdgformat::BuildError::BadCornerRadius {
+                    face: 0,
+                    corner: 1,
+                    ..
+                }
+            ),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn corner_below_clearance() {
+    let mut bytes = corner_pair().to_bytes().unwrap();
+    let at = elem_at(&bytes, section::FACE_RADII, 1);
+    put(&mut bytes, at + 8, 9.0f32);
+    vdgformat::__private::seal(&mut bytes);
+    let err = VdgFile::from_bytes(&bytes).unwrap_err();
+    assert!(
+        matches!(err, ReadError::CornerBelowClearance { face: 1, corner: 2 }),
+        "{err}"
+    );
+    assert!(!err.to_string().contains('\n'));
+    // A NaN radius is named as such.
+    let mut bytes = corner_pair().to_bytes().unwrap();
+    let at = elem_at(&bytes, section::FACE_RADII, 0);
+    put(&mut bytes, at, f32::NAN);
+    vdgformat::__private::seal(&mut bytes);
+    let err = VdgFile::from_bytes(&bytes).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ReadError::NonFinite {
+                what: "face corner radius",
+                index: 0
+            }
+        ),
+        "{err}"
+    );
 }

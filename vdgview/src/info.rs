@@ -61,6 +61,7 @@ pub fn summary(g: &Vdg<'_>) -> String {
         let _ = writeln!(s, "clearance histogram (vertices):");
         s.push_str(&histogram(&sorted));
     }
+    s.push_str(&corner_radii_line(g));
     let _ = writeln!(s, "metadata:");
     let mut any = false;
     for (k, v) in g.metadata() {
@@ -71,6 +72,29 @@ pub fn summary(g: &Vdg<'_>) -> String {
         let _ = writeln!(s, "  (none)");
     }
     s
+}
+
+/// Whether the faces carry corner radii of their own (format version 3), and how
+/// far above their vertices' clearances those reach.
+fn corner_radii_line(g: &Vdg<'_>) -> String {
+    if !g.has_face_radii() {
+        return "corner radii   the vertices' clearances (no radii of the faces' own)\n".into();
+    }
+    let (mut above, mut sum) = (0usize, 0.0f64);
+    for (f, face) in g.faces().iter().enumerate() {
+        for (&v, r) in face.iter().zip(g.face_radii(f as u32)) {
+            let up = f64::from(r) - f64::from(g.vertices()[v as usize].clearance);
+            if up > 0.0 {
+                above += 1;
+                sum += up;
+            }
+        }
+    }
+    format!(
+        "corner radii   the faces' own: {above} of {} corners above their vertex's clearance, by {:.1} on average\n",
+        3 * g.face_count(),
+        sum / above.max(1) as f64
+    )
 }
 
 /// What the recorded `-md` (metadata `md`) means for this graph, next to what it holds:
@@ -232,5 +256,21 @@ mod tests {
         );
         let s = summary(&graph("1").graph());
         assert!(s.contains("; 2 of 3 vertices below it\n"), "{s}");
+    }
+
+    #[test]
+    fn corner_radii_line_counts_corners_above_their_vertex() {
+        let mut b = VdgBuilder::new();
+        let v: Vec<u32> = [(0.0, 0.0), (100.0, 0.0), (0.0, 100.0)]
+            .iter()
+            .map(|&(x, y)| b.add_vertex([x, y, 0.0], 10.0))
+            .collect();
+        b.add_face_with_radii([v[0], v[1], v[2]], [10.0, 14.0, 12.0]);
+        let file = VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+        let s = summary(&file.graph());
+        assert!(
+            s.contains("corner radii   the faces' own: 2 of 3 corners above their vertex's clearance, by 3.0 on average"),
+            "{s}"
+        );
     }
 }

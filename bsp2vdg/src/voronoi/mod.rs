@@ -23,7 +23,8 @@
 
 mod guard;
 pub use guard::{
-    GuardMode, GuardStats, RaiseStats, guard_interpolation, guard_with, raise_to_walls,
+    CornerStats, GuardMode, GuardStats, RaiseStats, guard_interpolation, guard_with,
+    raise_face_corners, raise_to_walls,
 };
 mod polygon;
 

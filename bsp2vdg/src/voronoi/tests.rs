@@ -363,3 +363,62 @@ fn raise_to_walls_respects_a_convex_obstacle() {
     );
     assert!(worst > -15.0, "nothing given back: {worst}");
 }
+
+/// [`worst_overshoot`] with each face's own corner radii.
+fn worst_corner_overshoot(g: &Graph, radii: &[[f64; 3]], space: &dyn FreeSpace) -> f64 {
+    let mut worst = f64::NEG_INFINITY;
+    for (f, r) in g.faces.iter().zip(radii) {
+        for i in 0..=60 {
+            for j in 0..=(60 - i) {
+                let b = [i as f64 / 60.0, j as f64 / 60.0, (60 - i - j) as f64 / 60.0];
+                let q = [0, 1, 2].map(|a| {
+                    (0..3)
+                        .map(|k| b[k] * g.vertices[f[k] as usize][a])
+                        .sum::<f64>()
+                });
+                let rq: f64 = (0..3).map(|k| b[k] * r[k]).sum();
+                worst = worst.max(rq - space.wall_distance(q));
+            }
+        }
+    }
+    worst
+}
+
+#[test]
+fn face_corners_rise_where_only_their_own_face_must_stay_free() {
+    // Vertex 0 (wall distance 30) is shared by a face whose edge 0–2 passes 13.8
+    // units from the ball obstacle, where vertex 0 weighs 0.43 — that face holds
+    // its corner at vertex 0 down — and by a face that points away from the
+    // obstacle, whose own corner at vertex 0 may rise to nearly 30.
+    let graph = Graph {
+        vertices: vec![
+            [70.0, 0.0, 0.0],
+            [70.0, 60.0, 0.0],
+            [20.0, 60.0, 0.0],
+            [250.0, 80.0, 0.0],
+            [250.0, -80.0, 0.0],
+        ],
+        clearance: vec![1.0, 5.0, 5.0, 150.0, 150.0],
+        faces: vec![[0, 1, 2], [0, 3, 4]],
+    };
+    assert!(worst_overshoot(&graph, &Pillar) <= 0.0);
+    let (radii, stats) = raise_face_corners(&graph, &Pillar);
+    // Never below the vertex clearance (the reader refuses that), never into the
+    // obstacle (a grid 10 times finer than the certificate's) ...
+    for (f, r) in graph.faces.iter().zip(&radii) {
+        for k in 0..3 {
+            assert!(r[k] >= graph.clearance[f[k] as usize], "{r:?} {f:?}");
+        }
+    }
+    let worst = worst_corner_overshoot(&graph, &radii, &Pillar);
+    assert!(
+        worst <= 0.0,
+        "a ball reaches {worst} units into the obstacle"
+    );
+    // ... and the far face's corner at the shared vertex near its wall distance,
+    // far above what the near face allows its own: no vertex clearance could give
+    // both faces theirs.
+    assert!(radii[1][0] > 25.0, "far corner {}; {stats:?}", radii[1][0]);
+    assert!(radii[1][0] > radii[0][0] + 10.0, "{radii:?}");
+    assert_eq!(stats.faces, 2, "{stats:?}");
+}

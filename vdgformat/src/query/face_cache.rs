@@ -63,13 +63,14 @@ impl FaceCache {
         self.evals.resize(EVAL_SLOTS, Cell::new(None));
         self.boxes.clear();
         self.boxes.reserve(g.faces.len());
-        for f in g.faces {
-            let balls = f.map(|v| g.vertices[v as usize]);
+        for (fi, f) in g.faces.iter().enumerate() {
+            let balls = f.map(|v| g.vertices[v as usize].pos);
+            let radii = g.face_radii(fi as u32);
             let mut b = [0.0f32; 6];
             for i in 0..3 {
                 let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-                for v in &balls {
-                    let (c, r) = (f64::from(v.pos[i]), f64::from(v.clearance));
+                for (v, &r) in balls.iter().zip(&radii) {
+                    let (c, r) = (f64::from(v[i]), f64::from(r));
                     lo = lo.min(c - r);
                     hi = hi.max(c + r);
                 }

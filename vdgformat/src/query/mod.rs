@@ -109,13 +109,32 @@ impl<'a> Vdg<'a> {
         self.metadata().find(|(k, _)| *k == key).map(|(_, v)| v)
     }
 
+    /// The radii of face `face`'s corner balls: the face's own (format version
+    /// 3 files written with them; at least each vertex's clearance, where only
+    /// this face's volume had to stay free) or else its vertices' clearances.
+    /// Face volumes and every clearance query use these. Panics if `face` is
+    /// out of range.
+    ///
+    /// ```
+    /// let mut b = vdgformat::VdgBuilder::new();
+    /// let v = [b.add_vertex([0., 0., 0.], 10.), b.add_vertex([100., 0., 0.], 10.), b.add_vertex([0., 100., 0.], 10.)];
+    /// b.add_face_with_radii(v, [10.0, 10.0, 30.0]);
+    /// let file = vdgformat::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap();
+    /// let g = file.graph();
+    /// assert_eq!(g.face_radii(0), [10.0, 10.0, 30.0]);
+    /// // 25 units above the third corner: inside its face's ball of 30.
+    /// assert!(g.contains([0.0, 100.0, 25.0]));
+    /// assert_eq!(g.vertices()[2].clearance, 10.0);
+    /// ```
     #[inline]
-    pub(crate) fn ball(&self, v: u32) -> Ball {
-        let v = self.vertices[v as usize];
-        Ball {
-            c: V3::from_f32(v.pos),
-            r: f64::from(v.clearance),
-        }
+    pub fn face_radii(&self, face: u32) -> [f32; 3] {
+        crate::layout::corner_radii(self.faces, self.vertices, self.own_radii, face as usize)
+    }
+
+    /// Whether the file gives its faces their own corner radii (see
+    /// [`Self::face_radii`]).
+    pub fn has_face_radii(&self) -> bool {
+        !self.own_radii.is_empty()
     }
 
     #[inline]
@@ -135,7 +154,21 @@ impl<'a> Vdg<'a> {
     #[inline]
     pub(crate) fn face_eval(&self, f: u32) -> FaceEval {
         let [a, b, c] = self.faces[f as usize];
-        FaceEval::new(self.ball(a), self.ball(b), self.ball(c))
+        let r = self.face_radii(f).map(f64::from);
+        FaceEval::new(
+            Ball {
+                c: self.pos(a),
+                r: r[0],
+            },
+            Ball {
+                c: self.pos(b),
+                r: r[1],
+            },
+            Ball {
+                c: self.pos(c),
+                r: r[2],
+            },
+        )
     }
 
     /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
@@ -156,10 +189,11 @@ impl<'a> Vdg<'a> {
     /// outside the box); `None` when the exact value is needed.
     #[inline]
     pub(crate) fn box_bound(&self, f: u32, p: V3, floor: f64) -> Option<f64> {
-        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize]);
+        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize].pos);
+        let radii = self.face_radii(f);
         let mut d2 = 0.0;
         for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
-            let (lo, hi) = ball_box_axis(&corners, i);
+            let (lo, hi) = ball_box_axis(&corners, &radii, i);
             let e = if lo - q > q - hi { lo - q } else { q - hi };
             if e > 0.0 {
                 d2 += e * e;
@@ -180,7 +214,7 @@ impl<'a> Vdg<'a> {
     /// clearance below any margin the callers ask for.
     pub(crate) fn box_holds(&self, f: u32, p: V3) -> bool {
         let [a, b, c] = self.faces[f as usize].map(|v| self.vertices[v as usize]);
-        let r = [a.clearance, b.clearance, c.clearance].map(f64::from);
+        let r = self.face_radii(f).map(f64::from);
         for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
             let c = [a.pos[i], b.pos[i], c.pos[i]].map(f64::from);
             let (l0, l1, l2) = (c[0] - r[0], c[1] - r[1], c[2] - r[2]);
@@ -249,10 +283,10 @@ impl<'a> Vdg<'a> {
 /// `f64::min`, whose NaN rules cost more than the test itself: a NaN makes
 /// the bounds NaN and every containment test false.
 #[inline]
-fn ball_box_axis(corners: &[Vertex; 3], i: usize) -> (f64, f64) {
+fn ball_box_axis(corners: &[[f32; 3]; 3], radii: &[f32; 3], i: usize) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in corners {
-        let (c, r) = (f64::from(v.pos[i]), f64::from(v.clearance));
+    for (v, &r) in corners.iter().zip(radii) {
+        let (c, r) = (f64::from(v[i]), f64::from(r));
         let (l, h) = (c - r, c + r);
         lo = if l < lo { l } else { lo };
         hi = if h > hi { h } else { hi };

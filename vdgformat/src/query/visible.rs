@@ -186,9 +186,10 @@ impl<'a> Vdg<'a> {
         // Scaled by the length, so one multiplication by its inverse at
         // the end instead of a division per vertex.
         let mut scaled = f64::NEG_INFINITY;
-        for v in self.faces[f as usize] {
+        let radii = self.face_radii(f);
+        for (v, r) in self.faces[f as usize].into_iter().zip(radii) {
             let vx = self.vertices[v as usize];
-            let x = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) + f64::from(vx.clearance) * seg.len;
+            let x = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) + f64::from(r) * seg.len;
             scaled = if x > scaled { x } else { scaled };
         }
         let best = scaled * seg.inv_len;
