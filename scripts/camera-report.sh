@@ -9,7 +9,9 @@
 #   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
 #   OUT/summary-dtN.png        the measures per camera across all maps
 # Progress goes to the terminal.
-#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-routes N] [-out DIR]
+#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-params cam.toml] [-routes N] [-out DIR]
+# -params: camera parameters for the VDG camera (TOML, as `vdgview replay --params`), to
+# compare parameter sets on the same graphs (OUT/graphs is reused when it holds them).
 #   MAPS="a.bsp b.bsp" scripts/camera-report.sh      (only these maps)
 #   SHARED=/path/to/shared                            (default ../shared)
 #   BSP2VDG=/path/to/bsp2vdg                          (compile with another build, e.g. to
@@ -18,15 +20,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 dts="1/60 1/30"
 cameras=""
+params=""
 max_routes=8
 out=target/camera-report
 while [ $# -gt 0 ]; do
   case "$1" in
     -dt) dts=$2; shift 2 ;;
     -camera) cameras=$2; shift 2 ;;
+    -params) params=$2; shift 2 ;;
     -routes) max_routes=$2; shift 2 ;;
     -out) out=$2; shift 2 ;;
-    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-routes N] [-out DIR]" >&2; exit 2 ;;
+    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-params cam.toml] [-routes N] [-out DIR]" >&2; exit 2 ;;
   esac
 done
 shared=${SHARED:-../shared}
@@ -47,6 +51,7 @@ fi
 mkdir -p "$out/graphs" "$out/json" "$out/plots" "$out/logs"
 camera_opt=()
 [ -n "$cameras" ] && camera_opt=(--camera "$cameras")
+[ -n "$params" ] && camera_opt+=(--params "$params")
 i=0
 for m in "${maps[@]}"; do
   i=$((i + 1))

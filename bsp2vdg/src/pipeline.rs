@@ -556,17 +556,25 @@ fn later_stages(
         stats.reduce = Some(rs.0);
         let t = Instant::now();
         let mut reduced = reduced;
+        // Then each face raises its own corners on the same certificate grids: a
+        // vertex's clearance must hold in every face around it, a corner only in its
+        // face (format version 3).
+        let mut corners = None;
         if wall_raise {
-            let raise = voronoi::raise_to_walls(&mut reduced, space);
+            let (raise, radii, cs) = voronoi::raise_to_walls_and_corners(&mut reduced, space);
             log.info(format!(
-                "Raised {} vertices towards their wall distance, certified against the walls (by {:.1} units on average) [{}]",
+                "Raised {} vertices towards their wall distance, certified against the walls (by {:.1} units on average), and {} corners of {} faces above their vertex's clearance, each face certified alone (by {:.1} units on average) [{}]",
                 raise.raised,
                 raise.mean_raise,
+                cs.corners,
+                cs.faces,
+                cs.mean_raise,
                 secs(t.elapsed().as_secs_f64())
             ));
             stats
                 .seconds
                 .push(("wall_raise", t.elapsed().as_secs_f64()));
+            corners = Some(radii);
         }
         // Condition A keeps the reduced volume inside the guarded one; check it on
         // every face anyway and repair faces where it evidently failed.
@@ -587,23 +595,30 @@ fn later_stages(
             secs(t.elapsed().as_secs_f64())
         ));
         stats.seconds.push(("check", t.elapsed().as_secs_f64()));
-        // Each face raises its own corners as far as its own volume stays free: a
-        // vertex's clearance must hold in every face around it (format version 3).
-        let corners = wall_raise.then(|| {
+        // A repair changed the clearances the corners were raised from: raise them
+        // again on the repaired graph (never seen on the shared maps).
+        if corners.is_some() && (repair.lowered > 0 || repair.removed > 0) {
             let t = Instant::now();
             let (radii, cs) = voronoi::raise_face_corners(&checked, space);
             log.info(format!(
-                "Raised {} corners of {} faces above their vertex's clearance, each face certified alone (by {:.1} units on average) [{}]",
+                "Raised {} corners of {} faces again after the repair [{}]",
                 cs.corners,
                 cs.faces,
-                cs.mean_raise,
+                secs(t.elapsed().as_secs_f64())
+            ));
+            corners = Some(radii);
+        }
+        if let Some(radii) = corners.as_mut() {
+            let t = Instant::now();
+            let failed = voronoi::check_corners(&checked, radii, space);
+            log.info(format!(
+                "Corner check: {failed} faces back to their vertices' clearances [{}]",
                 secs(t.elapsed().as_secs_f64())
             ));
             stats
                 .seconds
-                .push(("corner_raise", t.elapsed().as_secs_f64()));
-            radii
-        });
+                .push(("corner_check", t.elapsed().as_secs_f64()));
+        }
         (checked, corners)
     } else {
         log.info("Reduction limit 1.0: the graph is written unreduced.");

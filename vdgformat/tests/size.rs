@@ -35,8 +35,12 @@ fn open_map_file_stays_within_100_bytes_per_face() {
     for v in g.vertices() {
         b.add_vertex(v.pos, v.clearance);
     }
-    for &f in g.faces() {
-        b.add_face(f);
+    assert!(
+        g.has_face_radii(),
+        "the fixture carries the faces' own corner radii, as bsp2vdg writes them"
+    );
+    for (i, &f) in g.faces().iter().enumerate() {
+        b.add_face_with_radii(f, g.face_radii(i as u32));
     }
     for (k, v) in g.metadata() {
         b.set_metadata(k, v);

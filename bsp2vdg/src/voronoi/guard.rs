@@ -244,6 +244,62 @@ struct SlackGrid {
 /// of the free ones between points of the volume on de_dust2. The walls, not the
 /// unreduced volume, bound what a face may hold.
 pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
+    raise_with_grids(graph, space).0
+}
+
+/// [`raise_to_walls`], then [`raise_face_corners`] on the same certificate grids
+/// (their slacks less what the vertices took): the corners cost no wall distances
+/// of their own. The corners hold for the graph as this returns it; a later change
+/// of its clearances (a repair) voids them.
+pub fn raise_to_walls_and_corners(
+    graph: &mut Graph,
+    space: &dyn FreeSpace,
+) -> (RaiseStats, Vec<[f64; 3]>, CornerStats) {
+    let (stats, grids, target) = raise_with_grids(graph, space);
+    let radii: Vec<[f64; 3]> = graph
+        .faces
+        .par_iter()
+        .zip(grids)
+        .map(|(f, g)| {
+            let c = f.map(|v| graph.clearance[v as usize]);
+            let room = f.map(|v| (target[v as usize] - graph.clearance[v as usize]).max(0.0));
+            raise_corners_on(g, c, room)
+        })
+        .collect();
+    let corners = corner_stats(graph, &radii);
+    (stats, radii, corners)
+}
+
+/// The reduction check of the corner radii: every face whose corner radii raise it
+/// and whose grid sees a ball reach into a wall (as [`guard_with`]'s repair mode
+/// looks) falls back to its vertices' clearances. Returns how many did. The
+/// certificate allows none; this is the same safety net the vertex clearances get.
+pub fn check_corners(graph: &Graph, radii: &mut [[f64; 3]], space: &dyn FreeSpace) -> usize {
+    let failed: Vec<bool> = graph
+        .faces
+        .par_iter()
+        .zip(radii.par_iter())
+        .map_init(Recent::new, |recent, (f, r)| {
+            let c = f.map(|v| graph.clearance[v as usize]);
+            *r != c && face_excess(f.map(|v| graph.vertices[v as usize]), *r, space, recent).0 > 0.0
+        })
+        .collect();
+    let mut n = 0;
+    for ((f, r), bad) in graph.faces.iter().zip(radii.iter_mut()).zip(failed) {
+        if bad {
+            *r = f.map(|v| graph.clearance[v as usize]);
+            n += 1;
+        }
+    }
+    n
+}
+
+/// [`raise_to_walls`] keeping every face's certificate grid (empty where no
+/// corner has room) and the vertices' wall distances.
+fn raise_with_grids(
+    graph: &mut Graph,
+    space: &dyn FreeSpace,
+) -> (RaiseStats, Vec<SlackGrid>, Vec<f64>) {
     let target: Vec<f64> = graph
         .vertices
         .par_iter()
@@ -254,9 +310,7 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
         .zip(&graph.clearance)
         .map(|(t, c)| (t - c).max(0.0))
         .collect();
-    // A face where no vertex has room gets no grid, and a vertex with such a face
-    // cannot rise; a face none of whose vertices can rise needs no grid either (no
-    // raise reads or changes it).
+    // A face where no vertex has room gets no grid (nothing can grow it).
     let most = |f: &[u32; 3]| f.iter().map(|&v| room[v as usize]).fold(0.0f64, f64::max);
     let mut faces_of: Vec<Vec<(u32, u8)>> = vec![Vec::new(); graph.vertices.len()];
     for (i, f) in graph.faces.iter().enumerate() {
@@ -264,20 +318,12 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
             faces_of[v as usize].push((i as u32, k as u8));
         }
     }
-    let may_rise: Vec<bool> = (0..graph.vertices.len())
-        .map(|v| {
-            room[v] > 0.0
-                && faces_of[v]
-                    .iter()
-                    .all(|&(f, _)| most(&graph.faces[f as usize]) > 0.0)
-        })
-        .collect();
     let mut grids: Vec<SlackGrid> = graph
         .faces
         .par_iter()
         .map(|f| {
             let most = most(f);
-            if most <= 0.0 || !f.iter().any(|&v| may_rise[v as usize]) {
+            if most <= 0.0 {
                 return SlackGrid {
                     weights: Vec::new(),
                     slack: Vec::new(),
@@ -312,10 +358,11 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
     order.retain(|&v| risen[v as usize] > 0.0);
     raise_round(graph, &order, &room, &faces_of, &mut grids, &mut risen, 1.0);
     let raised = risen.iter().filter(|&&r| r > 0.0).count();
-    RaiseStats {
+    let stats = RaiseStats {
         raised,
         mean_raise: risen.iter().sum::<f64>() / raised.max(1) as f64,
-    }
+    };
+    (stats, grids, target)
 }
 
 /// What [`raise_face_corners`] did.
@@ -358,9 +405,16 @@ pub fn raise_face_corners(graph: &Graph, space: &dyn FreeSpace) -> (Vec<[f64; 3]
         .par_iter()
         .map(|f| raise_corners(graph, f, &target, space))
         .collect();
+    let stats = corner_stats(graph, &radii);
+    (radii, stats)
+}
+
+/// How many corners (of how many faces) `radii` raise above their vertices'
+/// clearances, and by how much on average.
+fn corner_stats(graph: &Graph, radii: &[[f64; 3]]) -> CornerStats {
     let mut stats = CornerStats::default();
     let mut sum = 0.0;
-    for (f, r) in graph.faces.iter().zip(&radii) {
+    for (f, r) in graph.faces.iter().zip(radii) {
         let mut any = false;
         for k in 0..3 {
             let up = r[k] - graph.clearance[f[k] as usize];
@@ -373,7 +427,7 @@ pub fn raise_face_corners(graph: &Graph, space: &dyn FreeSpace) -> (Vec<[f64; 3]
         stats.faces += any as usize;
     }
     stats.mean_raise = sum / stats.corners.max(1) as f64;
-    (radii, stats)
+    stats
 }
 
 /// The corner radii of one face (see [`raise_face_corners`]).
@@ -386,8 +440,15 @@ fn raise_corners(graph: &Graph, f: &[u32; 3], target: &[f64], space: &dyn FreeSp
         return c;
     }
     let g = slack_grid(f.map(|v| graph.vertices[v as usize]), c, t, most, space);
+    raise_corners_on(g, c, room)
+}
+
+/// The corner radii of one face from clearances `c` with `room` up to the wall
+/// distance at each corner, on the face's certificate grid `g` (its slacks for
+/// the radii `c`; no nodes: the face has no room).
+fn raise_corners_on(g: SlackGrid, c: [f64; 3], room: [f64; 3]) -> [f64; 3] {
     // A face not certified as it stands may not grow.
-    if g.slack.iter().any(|&s| s < 0.0) {
+    if g.slack.is_empty() || g.slack.iter().any(|&s| s < 0.0) {
         return c;
     }
     let mut slack = g.slack;

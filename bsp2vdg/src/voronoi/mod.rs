@@ -23,8 +23,8 @@
 
 mod guard;
 pub use guard::{
-    CornerStats, GuardMode, GuardStats, RaiseStats, guard_interpolation, guard_with,
-    raise_face_corners, raise_to_walls,
+    CornerStats, GuardMode, GuardStats, RaiseStats, check_corners, guard_interpolation, guard_with,
+    raise_face_corners, raise_to_walls, raise_to_walls_and_corners,
 };
 mod polygon;
 

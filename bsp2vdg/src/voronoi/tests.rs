@@ -422,3 +422,60 @@ fn face_corners_rise_where_only_their_own_face_must_stay_free() {
     assert!(radii[1][0] > radii[0][0] + 10.0, "{radii:?}");
     assert_eq!(stats.faces, 2, "{stats:?}");
 }
+
+#[test]
+fn corner_check_puts_an_overreaching_face_back_to_its_vertex_clearances() {
+    // The near face of the test above with a corner ball that reaches into the
+    // obstacle, beside the far face raised as the certificate allows.
+    let graph = Graph {
+        vertices: vec![
+            [70.0, 0.0, 0.0],
+            [70.0, 60.0, 0.0],
+            [20.0, 60.0, 0.0],
+            [250.0, 80.0, 0.0],
+            [250.0, -80.0, 0.0],
+        ],
+        clearance: vec![1.0, 5.0, 5.0, 150.0, 150.0],
+        faces: vec![[0, 1, 2], [0, 3, 4]],
+    };
+    let (mut radii, _) = raise_face_corners(&graph, &Pillar);
+    let far = radii[1];
+    radii[0][2] = 30.0; // vertex 2 lies 23.2 units from the obstacle
+    assert!(worst_corner_overshoot(&graph, &radii, &Pillar) > 0.0);
+    assert_eq!(check_corners(&graph, &mut radii, &Pillar), 1);
+    assert_eq!(radii[0], [1.0, 5.0, 5.0]);
+    assert_eq!(radii[1], far, "a certified face keeps its corners");
+}
+
+#[test]
+fn corners_on_the_raise_grids_are_certified_and_leave_the_vertex_raise_alone() {
+    // The far vertices start near their wall distance (222.5; 210 between them), so the vertex raise
+    // leaves the far face slack for its corner at the shared vertex.
+    let graph = Graph {
+        vertices: vec![
+            [70.0, 0.0, 0.0],
+            [70.0, 60.0, 0.0],
+            [20.0, 60.0, 0.0],
+            [250.0, 80.0, 0.0],
+            [250.0, -80.0, 0.0],
+        ],
+        clearance: vec![1.0, 5.0, 5.0, 205.0, 205.0],
+        faces: vec![[0, 1, 2], [0, 3, 4]],
+    };
+    let mut alone = graph.clone();
+    raise_to_walls(&mut alone, &Pillar);
+    let mut both = graph.clone();
+    let (_, radii, stats) = raise_to_walls_and_corners(&mut both, &Pillar);
+    assert_eq!(alone.clearance, both.clearance);
+    for (f, r) in both.faces.iter().zip(&radii) {
+        for k in 0..3 {
+            assert!(r[k] >= both.clearance[f[k] as usize], "{r:?}");
+        }
+    }
+    let worst = worst_corner_overshoot(&both, &radii, &Pillar);
+    assert!(
+        worst <= 0.0,
+        "a ball reaches {worst} units into the obstacle"
+    );
+    assert!(stats.corners > 0, "{stats:?}");
+}
