@@ -266,22 +266,12 @@ fn guard_keeps_interpolated_balls_off_a_convex_obstacle() {
 /// The largest `r − d` over a dense grid of every face: positive when a ball of the
 /// interpolated volume reaches into a wall.
 fn worst_overshoot(g: &Graph, space: &dyn FreeSpace) -> f64 {
-    let mut worst = f64::NEG_INFINITY;
-    for f in &g.faces {
-        for i in 0..=60 {
-            for j in 0..=(60 - i) {
-                let b = [i as f64 / 60.0, j as f64 / 60.0, (60 - i - j) as f64 / 60.0];
-                let q = [0, 1, 2].map(|a| {
-                    (0..3)
-                        .map(|k| b[k] * g.vertices[f[k] as usize][a])
-                        .sum::<f64>()
-                });
-                let r: f64 = (0..3).map(|k| b[k] * g.clearance[f[k] as usize]).sum();
-                worst = worst.max(r - space.wall_distance(q));
-            }
-        }
-    }
-    worst
+    let radii: Vec<[f64; 3]> = g
+        .faces
+        .iter()
+        .map(|f| f.map(|v| g.clearance[v as usize]))
+        .collect();
+    worst_corner_overshoot(g, &radii, space)
 }
 
 /// Whether every point of the segment (every unit) lies in the graph's volume.
@@ -364,6 +354,39 @@ fn raise_to_walls_respects_a_convex_obstacle() {
     assert!(worst > -15.0, "nothing given back: {worst}");
 }
 
+/// Two faces around the ball obstacle sharing vertex 0 (wall distance 30): the
+/// first's edge 0–2 passes 13.8 units from the obstacle, where vertex 0 weighs
+/// 0.43; the second points away from it, to vertices of clearance `far` (wall
+/// distance 222.5, 210 between them).
+fn shared_vertex_faces(far: f64) -> Graph {
+    Graph {
+        vertices: vec![
+            [70.0, 0.0, 0.0],
+            [70.0, 60.0, 0.0],
+            [20.0, 60.0, 0.0],
+            [250.0, 80.0, 0.0],
+            [250.0, -80.0, 0.0],
+        ],
+        clearance: vec![1.0, 5.0, 5.0, far, far],
+        faces: vec![[0, 1, 2], [0, 3, 4]],
+    }
+}
+
+/// Corner radii never below their vertex's clearance (the reader refuses that) and
+/// never into the ball obstacle (on a grid 10 times finer than the certificate's).
+fn assert_corners_certified(graph: &Graph, radii: &[[f64; 3]]) {
+    for (f, r) in graph.faces.iter().zip(radii) {
+        for k in 0..3 {
+            assert!(r[k] >= graph.clearance[f[k] as usize], "{r:?} {f:?}");
+        }
+    }
+    let worst = worst_corner_overshoot(graph, radii, &Pillar);
+    assert!(
+        worst <= 0.0,
+        "a ball reaches {worst} units into the obstacle"
+    );
+}
+
 /// [`worst_overshoot`] with each face's own corner radii.
 fn worst_corner_overshoot(g: &Graph, radii: &[[f64; 3]], space: &dyn FreeSpace) -> f64 {
     let mut worst = f64::NEG_INFINITY;
@@ -390,32 +413,11 @@ fn face_corners_rise_where_only_their_own_face_must_stay_free() {
     // units from the ball obstacle, where vertex 0 weighs 0.43 — that face holds
     // its corner at vertex 0 down — and by a face that points away from the
     // obstacle, whose own corner at vertex 0 may rise to nearly 30.
-    let graph = Graph {
-        vertices: vec![
-            [70.0, 0.0, 0.0],
-            [70.0, 60.0, 0.0],
-            [20.0, 60.0, 0.0],
-            [250.0, 80.0, 0.0],
-            [250.0, -80.0, 0.0],
-        ],
-        clearance: vec![1.0, 5.0, 5.0, 150.0, 150.0],
-        faces: vec![[0, 1, 2], [0, 3, 4]],
-    };
+    let graph = shared_vertex_faces(150.0);
     assert!(worst_overshoot(&graph, &Pillar) <= 0.0);
     let (radii, stats) = raise_face_corners(&graph, &Pillar);
-    // Never below the vertex clearance (the reader refuses that), never into the
-    // obstacle (a grid 10 times finer than the certificate's) ...
-    for (f, r) in graph.faces.iter().zip(&radii) {
-        for k in 0..3 {
-            assert!(r[k] >= graph.clearance[f[k] as usize], "{r:?} {f:?}");
-        }
-    }
-    let worst = worst_corner_overshoot(&graph, &radii, &Pillar);
-    assert!(
-        worst <= 0.0,
-        "a ball reaches {worst} units into the obstacle"
-    );
-    // ... and the far face's corner at the shared vertex near its wall distance,
+    assert_corners_certified(&graph, &radii);
+    // And the far face's corner at the shared vertex near its wall distance,
     // far above what the near face allows its own: no vertex clearance could give
     // both faces theirs.
     assert!(radii[1][0] > 25.0, "far corner {}; {stats:?}", radii[1][0]);
@@ -427,17 +429,7 @@ fn face_corners_rise_where_only_their_own_face_must_stay_free() {
 fn corner_check_puts_an_overreaching_face_back_to_its_vertex_clearances() {
     // The near face of the test above with a corner ball that reaches into the
     // obstacle, beside the far face raised as the certificate allows.
-    let graph = Graph {
-        vertices: vec![
-            [70.0, 0.0, 0.0],
-            [70.0, 60.0, 0.0],
-            [20.0, 60.0, 0.0],
-            [250.0, 80.0, 0.0],
-            [250.0, -80.0, 0.0],
-        ],
-        clearance: vec![1.0, 5.0, 5.0, 150.0, 150.0],
-        faces: vec![[0, 1, 2], [0, 3, 4]],
-    };
+    let graph = shared_vertex_faces(150.0);
     let (mut radii, _) = raise_face_corners(&graph, &Pillar);
     let far = radii[1];
     radii[0][2] = 30.0; // vertex 2 lies 23.2 units from the obstacle
@@ -449,33 +441,14 @@ fn corner_check_puts_an_overreaching_face_back_to_its_vertex_clearances() {
 
 #[test]
 fn corners_on_the_raise_grids_are_certified_and_leave_the_vertex_raise_alone() {
-    // The far vertices start near their wall distance (222.5; 210 between them), so the vertex raise
-    // leaves the far face slack for its corner at the shared vertex.
-    let graph = Graph {
-        vertices: vec![
-            [70.0, 0.0, 0.0],
-            [70.0, 60.0, 0.0],
-            [20.0, 60.0, 0.0],
-            [250.0, 80.0, 0.0],
-            [250.0, -80.0, 0.0],
-        ],
-        clearance: vec![1.0, 5.0, 5.0, 205.0, 205.0],
-        faces: vec![[0, 1, 2], [0, 3, 4]],
-    };
+    // The far vertices start near their wall distance, so the vertex raise leaves
+    // the far face slack for its corner at the shared vertex.
+    let graph = shared_vertex_faces(205.0);
     let mut alone = graph.clone();
     raise_to_walls(&mut alone, &Pillar);
     let mut both = graph.clone();
     let (_, radii, stats) = raise_to_walls_and_corners(&mut both, &Pillar);
     assert_eq!(alone.clearance, both.clearance);
-    for (f, r) in both.faces.iter().zip(&radii) {
-        for k in 0..3 {
-            assert!(r[k] >= both.clearance[f[k] as usize], "{r:?}");
-        }
-    }
-    let worst = worst_corner_overshoot(&both, &radii, &Pillar);
-    assert!(
-        worst <= 0.0,
-        "a ball reaches {worst} units into the obstacle"
-    );
+    assert_corners_certified(&both, &radii);
     assert!(stats.corners > 0, "{stats:?}");
 }
