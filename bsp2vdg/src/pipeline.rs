@@ -559,8 +559,7 @@ fn later_stages(
         // Then each face raises its own corners on the same certificate grids: a
         // vertex's clearance must hold in every face around it, a corner only in its
         // face (format version 3).
-        let mut corners = None;
-        if wall_raise {
+        let mut corners = wall_raise.then(|| {
             let (raise, radii, cs) = voronoi::raise_to_walls_and_corners(&mut reduced, space);
             log.info(format!(
                 "Raised {} vertices towards their wall distance, certified against the walls (by {:.1} units on average), and {} corners of {} faces above their vertex's clearance, each face certified alone (by {:.1} units on average) [{}]",
@@ -574,8 +573,8 @@ fn later_stages(
             stats
                 .seconds
                 .push(("wall_raise", t.elapsed().as_secs_f64()));
-            corners = Some(radii);
-        }
+            radii
+        });
         // Condition A keeps the reduced volume inside the guarded one; check it on
         // every face anyway and repair faces where it evidently failed.
         let t = Instant::now();
@@ -595,19 +594,9 @@ fn later_stages(
             secs(t.elapsed().as_secs_f64())
         ));
         stats.seconds.push(("check", t.elapsed().as_secs_f64()));
-        // A repair changed the clearances the corners were raised from: raise them
-        // again on the repaired graph (never seen on the shared maps).
-        if corners.is_some() && (repair.lowered > 0 || repair.removed > 0) {
-            let t = Instant::now();
-            let (radii, cs) = voronoi::raise_face_corners(&checked, space);
-            log.info(format!(
-                "Raised {} corners of {} faces again after the repair [{}]",
-                cs.corners,
-                cs.faces,
-                secs(t.elapsed().as_secs_f64())
-            ));
-            corners = Some(radii);
-        }
+        // The repair keeps every face and only lowers clearances, so the corners stay
+        // above them; a face whose volume it found reaching a wall is the corner
+        // check's to put back.
         if let Some(radii) = corners.as_mut() {
             let t = Instant::now();
             let failed = voronoi::check_corners(&checked, radii, space);
@@ -645,7 +634,8 @@ fn later_stages(
 }
 
 /// Writes the graph with its build parameters and the source map's name and hash.
-/// `corners`: the faces' own corner radii, if raised ([`voronoi::raise_face_corners`]).
+/// `corners`: the faces' own corner radii, one per face, if raised
+/// ([`voronoi::raise_to_walls_and_corners`]).
 fn write_vdg(
     map: &Path,
     options: &CompileOptions,
@@ -665,6 +655,7 @@ fn write_vdg(
     match corners {
         // Rounded as the vertex clearances are, so a corner never falls below its vertex's.
         Some(radii) => {
+            debug_assert_eq!(radii.len(), graph.faces.len());
             for (f, r) in graph.faces.iter().zip(radii) {
                 b.add_face_with_radii(*f, r.map(|x| x as f32));
             }

@@ -22,21 +22,6 @@ pub const MAGIC: [u8; 8] = *b"\x89VDG\r\n\x1a\n";
 /// Version 3 added the faces' own corner radii ([`section::FACE_RADII`]).
 pub const FORMAT_VERSION: u32 = 3;
 
-/// The radii of face `f`'s corners: its own ([`section::FACE_RADII`], when
-/// the file has them) or its vertices' clearances.
-#[inline]
-pub(crate) fn corner_radii(
-    faces: &[[u32; 3]],
-    vertices: &[Vertex],
-    face_radii: &[[f32; 3]],
-    f: usize,
-) -> [f32; 3] {
-    match face_radii.get(f) {
-        Some(&r) => r,
-        None => faces[f].map(|v| vertices[v as usize].clearance),
-    }
-}
-
 /// The oldest format version the reader still opens (version 1: 32-bit leaf faces only).
 pub const OLDEST_READABLE_VERSION: u32 = 1;
 
@@ -218,6 +203,21 @@ pub struct Info {
 pub struct Vertex {
     pub pos: [f32; 3],
     pub clearance: f32,
+}
+
+/// The radii of face `f`'s corners: its own ([`section::FACE_RADII`], when
+/// the file has them) or its vertices' clearances.
+#[inline]
+pub(crate) fn corner_radii(
+    faces: &[[u32; 3]],
+    vertices: &[Vertex],
+    face_radii: &[[f32; 3]],
+    f: usize,
+) -> [f32; 3] {
+    match face_radii.get(f) {
+        Some(&r) => r,
+        None => faces[f].map(|v| vertices[v as usize].clearance),
+    }
 }
 
 /// Node of the BBox (kd) tree. Inner nodes split their cell at `split` on

@@ -247,10 +247,30 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
     raise_with_grids(graph, space).0
 }
 
-/// [`raise_to_walls`], then [`raise_face_corners`] on the same certificate grids
-/// (their slacks less what the vertices took): the corners cost no wall distances
-/// of their own. The corners hold for the graph as this returns it; a later change
-/// of its clearances (a repair) voids them.
+/// [`raise_to_walls`], then each face's own corner radii (format version 3,
+/// `FACE_RADII`): starting from the raised vertex clearances, each corner rises towards its vertex's wall distance as
+/// far as that face's certificate alone allows — the certificate of
+/// [`raise_to_walls`] (a barycentric grid of spacing ≤ [`RAISE_CELL`] whose every
+/// node keeps `d − r ≥ h²/(6 d_low)`), on one face instead of all faces around a
+/// vertex.
+///
+/// Why (issue 14): a vertex's clearance must keep every face around it free, so the
+/// face that bends closest to a wall holds the vertex down for all the others; on
+/// de_dust2 a tenth of the reduced vertices stay 12 units or more below their wall
+/// distance after [`raise_to_walls`]. A face volume only depends on its own three
+/// corner radii, so each face may raise its corners on its own: the volume is
+/// still the union of certified-free face volumes, and sight lines that graze the
+/// walls stay in it (de_dust2, 2·10⁵ check samples: Visible's false negatives
+/// inside 3.05 → 1.64 %; c1a1b 8.0 → 4.8 %). Per face two rounds, largest room
+/// first, half the allowance and then the rest (as [`raise_to_walls`] shares a
+/// face's slack between its corners). Corners never fall below the vertex
+/// clearance, which the runtime reader checks. The corners are raised on the
+/// vertex raise's own certificate grids (their slacks less what the vertices
+/// took), so they ask no wall distance of their own (on grids of their own they
+/// cost de_cbble `-sd 18.5` 1.5 s). A later lowering of vertex clearances (the
+/// reduction check's repair) leaves them certified and above the clearances; the
+/// faces whose volume it found reaching a wall are [`check_corners`]' to catch.
+/// The result does not depend on the thread count.
 pub fn raise_to_walls_and_corners(
     graph: &mut Graph,
     space: &dyn FreeSpace,
@@ -365,7 +385,7 @@ fn raise_with_grids(
     (stats, grids, target)
 }
 
-/// What [`raise_face_corners`] did.
+/// What [`raise_to_walls_and_corners`] did to the corners.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct CornerStats {
     /// Faces with at least one corner above its vertex's clearance.
@@ -373,40 +393,6 @@ pub struct CornerStats {
     /// Corners raised, and their mean raise (units).
     pub corners: usize,
     pub mean_raise: f64,
-}
-
-/// Each face's own corner radii (format version 3, `FACE_RADII`): starting from
-/// the vertex clearances, each corner rises towards its vertex's wall distance as
-/// far as that face's certificate alone allows — the certificate of
-/// [`raise_to_walls`] (a barycentric grid of spacing ≤ [`RAISE_CELL`] whose every
-/// node keeps `d − r ≥ h²/(6 d_low)`), on one face instead of all faces around a
-/// vertex.
-///
-/// Why (issue 14): a vertex's clearance must keep every face around it free, so the
-/// face that bends closest to a wall holds the vertex down for all the others; on
-/// de_dust2 a tenth of the reduced vertices stay 12 units or more below their wall
-/// distance after [`raise_to_walls`]. A face volume only depends on its own three
-/// corner radii, so each face may raise its corners on its own: the volume is
-/// still the union of certified-free face volumes, and sight lines that graze the
-/// walls stay in it (de_dust2, 2·10⁵ check samples: Visible's false negatives
-/// inside 3.05 → 1.64 %; c1a1b 8.0 → 4.8 %). Per face two rounds, largest room
-/// first, half the allowance and then the rest (as [`raise_to_walls`] shares a
-/// face's slack between its corners). Corners never fall below the vertex
-/// clearance, which the runtime reader checks. The result does not depend on
-/// the thread count.
-pub fn raise_face_corners(graph: &Graph, space: &dyn FreeSpace) -> (Vec<[f64; 3]>, CornerStats) {
-    let target: Vec<f64> = graph
-        .vertices
-        .par_iter()
-        .map(|&p| space.wall_distance(p))
-        .collect();
-    let radii: Vec<[f64; 3]> = graph
-        .faces
-        .par_iter()
-        .map(|f| raise_corners(graph, f, &target, space))
-        .collect();
-    let stats = corner_stats(graph, &radii);
-    (radii, stats)
 }
 
 /// How many corners (of how many faces) `radii` raise above their vertices'
@@ -428,19 +414,6 @@ fn corner_stats(graph: &Graph, radii: &[[f64; 3]]) -> CornerStats {
     }
     stats.mean_raise = sum / stats.corners.max(1) as f64;
     stats
-}
-
-/// The corner radii of one face (see [`raise_face_corners`]).
-fn raise_corners(graph: &Graph, f: &[u32; 3], target: &[f64], space: &dyn FreeSpace) -> [f64; 3] {
-    let c = f.map(|v| graph.clearance[v as usize]);
-    let t = f.map(|v| target[v as usize]);
-    let room = [0, 1, 2].map(|k| (t[k] - c[k]).max(0.0));
-    let most = room.iter().copied().fold(0.0, f64::max);
-    if most <= 0.0 {
-        return c;
-    }
-    let g = slack_grid(f.map(|v| graph.vertices[v as usize]), c, t, most, space);
-    raise_corners_on(g, c, room)
 }
 
 /// The corner radii of one face from clearances `c` with `room` up to the wall

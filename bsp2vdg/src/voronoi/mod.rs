@@ -24,7 +24,7 @@
 mod guard;
 pub use guard::{
     CornerStats, GuardMode, GuardStats, RaiseStats, check_corners, guard_interpolation, guard_with,
-    raise_face_corners, raise_to_walls, raise_to_walls_and_corners,
+    raise_to_walls, raise_to_walls_and_corners,
 };
 mod polygon;
 
