@@ -275,7 +275,7 @@ fn measure_leak(vdg: &Vdg<'_>, oracle: &Oracle, options: &CheckOptions) -> (usiz
                 .filter(|_| {
                     let x = rng.next_f64() * total;
                     let k = cumulative.partition_point(|&w| w <= x).min(faces.len() - 1);
-                    let [a, b, c] = faces[k].map(|i| verts[i as usize]);
+                    let [a, b, c] = faces.get(k as u32).map(|i| verts[i as usize]);
                     let radii = vdg.face_radii(k as u32).map(f64::from);
                     let (mut u, mut v) = (rng.next_f64(), rng.next_f64());
                     if u + v > 1.0 {

@@ -255,7 +255,7 @@ fn main() {
     let vpairs: Vec<(u32, u32)> = pairs
         .iter()
         .map(|&(p, q)| {
-            let f = |x| g.faces()[g.nearest_face(x).expect("faces").face as usize][0];
+            let f = |x| g.face(g.nearest_face(x).expect("faces").face)[0];
             (f(p), f(q))
         })
         .collect();

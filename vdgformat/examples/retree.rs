@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for v in g.vertices() {
         b.add_vertex(v.pos, v.clearance);
     }
-    for (i, &f) in g.faces().iter().enumerate() {
+    for (i, f) in g.faces().iter().enumerate() {
         if g.has_face_radii() {
             b.add_face_with_radii(f, g.face_radii(i as u32));
         } else {

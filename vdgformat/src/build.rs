@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 
 use crate::geom::{Aabb, V3};
 use crate::hash::xxh64;
+use crate::index::{FaceList, IndexList};
 use crate::layout::{
     CHECKSUM_END, CHECKSUM_OFFSET, FORMAT_VERSION, Header, Info, MAGIC, MAX_BUILD_DEPTH,
-    MAX_FACES_FOR_NARROW_LEAVES, NodeBounds, SECTION_ALIGN, SectionEntry, TreeNode, Vertex,
-    section,
+    MAX_FACES_FOR_NARROW_LEAVES, MAX_VERTICES_FOR_NARROW_INDICES, NodeBounds, SECTION_ALIGN,
+    SectionEntry, TreeNode, Vertex, section,
 };
-use crate::read::LeafList;
 
 /// Default minimum leaf extent of the BBox tree (thesis 6.1.6, `-bb`).
 pub const DEFAULT_LEAF_SIZE: f32 = 256.0;
@@ -331,8 +331,9 @@ impl VdgBuilder {
         self.validate()?;
         let vcount = self.vertices.len();
         let radii = self.corner_radii();
-        let corners =
-            |i: usize| crate::layout::corner_radii(&self.faces, &self.vertices, &radii, i);
+        let corners = |i: usize| {
+            crate::layout::corner_radii(FaceList::wide(&self.faces), &self.vertices, &radii, i)
+        };
         let face_boxes: Vec<Aabb> = (0..self.faces.len())
             .map(|i| self.face_box(&self.faces[i], corners(i)))
             .collect();
@@ -370,8 +371,8 @@ impl VdgBuilder {
         let tree = build_tree(&face_boxes, &reach, volume, self.leaf_size);
         let node_bounds = node_bounds(
             &tree.nodes,
-            LeafList::Wide(&tree.leaf_faces),
-            &self.faces,
+            IndexList::wide(&tree.leaf_faces),
+            FaceList::wide(&self.faces),
             &self.vertices,
             &radii,
         );
@@ -403,20 +404,67 @@ impl VdgBuilder {
             meta.push('\n');
         }
 
-        // 16-bit leaf entries whenever every face index fits (version 2): the
-        // leaf lists are most of a reduced graph's tree, and half of them is
-        // the difference between ~75 and ~100 bytes per face on open maps.
-        let narrow: Vec<u16>;
-        let (leaf_id, leaf_bytes): (u32, &[u8]) = if self.faces.len() <= MAX_FACES_FOR_NARROW_LEAVES
-        {
-            narrow = tree.leaf_faces.iter().map(|&f| f as u16).collect();
-            (section::TREE_LEAF_FACES16, bytemuck::cast_slice(&narrow))
-        } else {
-            (
-                section::TREE_LEAF_FACES,
-                bytemuck::cast_slice(&tree.leaf_faces),
-            )
+        // 16-bit indices wherever every index fits (leaf faces since version
+        // 2, the rest since version 4): indices are most of a reduced graph's
+        // bytes, and half of them is the difference between ~75 and ~100
+        // bytes per face on open maps, or on tiny maps between a file the
+        // fixed header dominates and one it does not.
+        let narrow_faces = self.faces.len() <= MAX_FACES_FOR_NARROW_LEAVES;
+        let narrow_vertices = vcount <= MAX_VERTICES_FOR_NARROW_INDICES;
+        let (faces16, vf16, vn16, leaves16): (Vec<[u16; 3]>, Vec<u16>, Vec<u16>, Vec<u16>);
+        let narrowed = |wide: &[u32], narrow: bool, out: &mut Vec<u16>| {
+            if narrow {
+                *out = wide.iter().map(|&i| i as u16).collect();
+            }
         };
+        (faces16, vf16, vn16, leaves16) = {
+            let (mut vf, mut vn, mut leaves) = (Vec::new(), Vec::new(), Vec::new());
+            narrowed(&vf_targets, narrow_faces, &mut vf);
+            narrowed(&vn_targets, narrow_vertices, &mut vn);
+            narrowed(&tree.leaf_faces, narrow_faces, &mut leaves);
+            let faces = if narrow_vertices {
+                self.faces.iter().map(|f| f.map(|v| v as u16)).collect()
+            } else {
+                Vec::new()
+            };
+            (faces, vf, vn, leaves)
+        };
+        fn pick<'b>(
+            narrow: bool,
+            ids: (u32, u32),
+            wide: &'b [u8],
+            short: &'b [u8],
+        ) -> (u32, &'b [u8]) {
+            if narrow {
+                (ids.1, short)
+            } else {
+                (ids.0, wide)
+            }
+        }
+        let (faces_id, faces_bytes) = pick(
+            narrow_vertices,
+            (section::FACES, section::FACES16),
+            bytemuck::cast_slice(&self.faces),
+            bytemuck::cast_slice(&faces16),
+        );
+        let (vf_id, vf_bytes) = pick(
+            narrow_faces,
+            (section::VERTEX_FACES, section::VERTEX_FACES16),
+            bytemuck::cast_slice(&vf_targets),
+            bytemuck::cast_slice(&vf16),
+        );
+        let (vn_id, vn_bytes) = pick(
+            narrow_vertices,
+            (section::VERTEX_NEIGHBOURS, section::VERTEX_NEIGHBOURS16),
+            bytemuck::cast_slice(&vn_targets),
+            bytemuck::cast_slice(&vn16),
+        );
+        let (leaf_id, leaf_bytes) = pick(
+            narrow_faces,
+            (section::TREE_LEAF_FACES, section::TREE_LEAF_FACES16),
+            bytemuck::cast_slice(&tree.leaf_faces),
+            bytemuck::cast_slice(&leaves16),
+        );
         let mut sections: Vec<(u32, &[u8], u64)> = vec![
             (section::INFO, bytemuck::bytes_of(&info), 1),
             (
@@ -424,31 +472,19 @@ impl VdgBuilder {
                 bytemuck::cast_slice(&self.vertices),
                 vcount as u64,
             ),
-            (
-                section::FACES,
-                bytemuck::cast_slice(&self.faces),
-                self.faces.len() as u64,
-            ),
+            (faces_id, faces_bytes, self.faces.len() as u64),
             (
                 section::VERTEX_FACE_OFFSETS,
                 bytemuck::cast_slice(&vf_offsets),
                 vf_offsets.len() as u64,
             ),
-            (
-                section::VERTEX_FACES,
-                bytemuck::cast_slice(&vf_targets),
-                vf_targets.len() as u64,
-            ),
+            (vf_id, vf_bytes, vf_targets.len() as u64),
             (
                 section::VERTEX_NEIGHBOUR_OFFSETS,
                 bytemuck::cast_slice(&vn_offsets),
                 vn_offsets.len() as u64,
             ),
-            (
-                section::VERTEX_NEIGHBOURS,
-                bytemuck::cast_slice(&vn_targets),
-                vn_targets.len() as u64,
-            ),
+            (vn_id, vn_bytes, vn_targets.len() as u64),
             (
                 section::TREE_NODES,
                 bytemuck::cast_slice(&tree.nodes),
@@ -523,8 +559,8 @@ impl VdgBuilder {
 /// reader, which recomputes them to validate the stored ones.
 pub(crate) fn node_bounds(
     nodes: &[TreeNode],
-    leaf_faces: LeafList<'_>,
-    faces: &[[u32; 3]],
+    leaf_faces: IndexList<'_>,
+    faces: FaceList<'_>,
     vertices: &[Vertex],
     face_radii: &[[f32; 3]],
 ) -> Vec<NodeBounds> {
@@ -547,7 +583,7 @@ pub(crate) fn node_bounds(
         if node.kind == TreeNode::LEAF {
             for f in leaf_faces.range(node.a, node.b).iter() {
                 let radii = crate::layout::corner_radii(faces, vertices, face_radii, f as usize);
-                for (&v, r) in faces[f as usize].iter().zip(radii) {
+                for (v, r) in faces.get(f).into_iter().zip(radii) {
                     let v = vertices[v as usize];
                     add(v.pos, v.pos, r);
                 }

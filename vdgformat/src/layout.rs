@@ -20,13 +20,22 @@ pub const MAGIC: [u8; 8] = *b"\x89VDG\r\n\x1a\n";
 /// Version 2 added the 16-bit tree leaf faces ([`section::TREE_LEAF_FACES16`]),
 /// written instead of the 32-bit ones when every face index fits in 16 bits.
 /// Version 3 added the faces' own corner radii ([`section::FACE_RADII`]).
-pub const FORMAT_VERSION: u32 = 3;
+/// Version 4 added 16-bit faces, vertex faces and vertex neighbours
+/// ([`section::FACES16`], [`section::VERTEX_FACES16`],
+/// [`section::VERTEX_NEIGHBOURS16`]), written instead of the 32-bit ones when
+/// every index fits in 16 bits.
+pub const FORMAT_VERSION: u32 = 4;
 
 /// The oldest format version the reader still opens (version 1: 32-bit leaf faces only).
 pub const OLDEST_READABLE_VERSION: u32 = 1;
 
-/// Graphs with at most this many faces get 16-bit tree leaf faces.
+/// Graphs with at most this many faces get 16-bit tree leaf faces and
+/// 16-bit vertex faces.
 pub const MAX_FACES_FOR_NARROW_LEAVES: usize = 1 << 16;
+
+/// Graphs with at most this many vertices get 16-bit faces and vertex
+/// neighbours.
+pub const MAX_VERTICES_FOR_NARROW_INDICES: usize = 1 << 16;
 
 /// Every section starts at a multiple of this many bytes.
 pub const SECTION_ALIGN: u64 = 16;
@@ -111,11 +120,39 @@ pub mod section {
     /// reach further where only that face's own volume has to stay free. Absent:
     /// every face takes its vertices' clearances.
     pub const FACE_RADII: u32 = 13;
+    /// Faces as `[u16; 3]` vertex indices (version 4, graphs of at most 65 536
+    /// vertices): [`FACES`] in half the bytes.
+    pub const FACES16: u32 = 14;
+    /// u16 face indices of vertex → faces (version 4, graphs of at most 65 536
+    /// faces): [`VERTEX_FACES`] in half the bytes.
+    pub const VERTEX_FACES16: u32 = 15;
+    /// u16 vertex indices of vertex → vertices (version 4, graphs of at most
+    /// 65 536 vertices): [`VERTEX_NEIGHBOURS`] in half the bytes.
+    pub const VERTEX_NEIGHBOURS16: u32 = 16;
 
-    /// Every section id a reader knows, in file order; [`TREE_LEAF_FACES`] and
-    /// [`TREE_LEAF_FACES16`] are alternatives (exactly one is present),
+    /// The 32- and 16-bit forms of the same list: a file holds exactly one of
+    /// each pair.
+    pub const ALTERNATIVES: [(u32, u32); 4] = [
+        (FACES, FACES16),
+        (VERTEX_FACES, VERTEX_FACES16),
+        (VERTEX_NEIGHBOURS, VERTEX_NEIGHBOURS16),
+        (TREE_LEAF_FACES, TREE_LEAF_FACES16),
+    ];
+
+    /// The format version that introduced a known section id.
+    pub fn since_version(id: u32) -> u32 {
+        match id {
+            TREE_LEAF_FACES16 => 2,
+            FACE_RADII => 3,
+            FACES16 | VERTEX_FACES16 | VERTEX_NEIGHBOURS16 => 4,
+            _ => 1,
+        }
+    }
+
+    /// Every section id a reader knows, in file order; the pairs in
+    /// [`ALTERNATIVES`] are alternatives (exactly one of each is present),
     /// [`FACE_RADII`] is optional, all others are required.
-    pub const KNOWN: [u32; 13] = [
+    pub const KNOWN: [u32; 16] = [
         INFO,
         VERTICES,
         FACES,
@@ -129,6 +166,9 @@ pub mod section {
         TREE_NODE_BOUNDS,
         TREE_LEAF_FACES16,
         FACE_RADII,
+        FACES16,
+        VERTEX_FACES16,
+        VERTEX_NEIGHBOURS16,
     ];
 
     /// Element size of a known section id.
@@ -145,7 +185,8 @@ pub mod section {
             TREE_NODES => size_of::<super::TreeNode>() as u32,
             METADATA => 1,
             TREE_NODE_BOUNDS => size_of::<super::NodeBounds>() as u32,
-            TREE_LEAF_FACES16 => 2,
+            TREE_LEAF_FACES16 | VERTEX_FACES16 | VERTEX_NEIGHBOURS16 => 2,
+            FACES16 => 6,
             _ => return None,
         })
     }
@@ -166,6 +207,9 @@ pub mod section {
             TREE_NODE_BOUNDS => "tree node bounds",
             TREE_LEAF_FACES16 => "tree leaf faces (16-bit)",
             FACE_RADII => "face corner radii",
+            FACES16 => "faces (16-bit)",
+            VERTEX_FACES16 => "vertex faces (16-bit)",
+            VERTEX_NEIGHBOURS16 => "vertex neighbours (16-bit)",
             _ => "unknown",
         }
     }
@@ -209,14 +253,14 @@ pub struct Vertex {
 /// the file has them) or its vertices' clearances.
 #[inline]
 pub(crate) fn corner_radii(
-    faces: &[[u32; 3]],
+    faces: crate::index::FaceList<'_>,
     vertices: &[Vertex],
     face_radii: &[[f32; 3]],
     f: usize,
 ) -> [f32; 3] {
     match face_radii.get(f) {
         Some(&r) => r,
-        None => faces[f].map(|v| vertices[v as usize].clearance),
+        None => faces.get(f as u32).map(|v| vertices[v as usize].clearance),
     }
 }
 

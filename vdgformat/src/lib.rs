@@ -54,12 +54,14 @@ mod build;
 pub mod camera;
 mod geom;
 mod hash;
+mod index;
 pub mod layout;
 pub mod query;
 mod read;
 
 pub use build::{BuildError, DEFAULT_LEAF_SIZE, VdgBuilder, WriteError};
 pub use hash::xxh64;
+pub use index::{FaceIter, FaceList, IndexIter, IndexList};
 pub use query::{Advance, CoverBudget, CoverHint, DistanceField, FaceHit, VdgPath};
 pub use read::{ReadError, Vdg, VdgFile};
 

@@ -4,6 +4,7 @@ use std::fmt;
 use std::path::Path;
 
 use crate::hash::xxh64;
+use crate::index::{FaceList, IndexList};
 use crate::layout::{
     CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, NodeBounds,
     OLDEST_READABLE_VERSION, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
@@ -218,13 +219,13 @@ impl From<std::io::Error> for ReadError {
 pub struct Vdg<'a> {
     pub(crate) info: &'a Info,
     pub(crate) vertices: &'a [Vertex],
-    pub(crate) faces: &'a [[u32; 3]],
+    pub(crate) faces: FaceList<'a>,
     pub(crate) vf_offsets: &'a [u32],
-    pub(crate) vf: &'a [u32],
+    pub(crate) vf: IndexList<'a>,
     pub(crate) vn_offsets: &'a [u32],
-    pub(crate) vn: &'a [u32],
+    pub(crate) vn: IndexList<'a>,
     pub(crate) nodes: &'a [TreeNode],
-    pub(crate) leaf_faces: LeafList<'a>,
+    pub(crate) leaf_faces: IndexList<'a>,
     pub(crate) metadata: &'a str,
     pub(crate) node_bounds: &'a [NodeBounds],
     /// The faces' own corner radii (`FACE_RADII`), empty when the file has none.
@@ -240,67 +241,6 @@ impl fmt::Debug for Vdg<'_> {
             .field("leaf_entries", &self.leaf_faces.len())
             .field("leaf_size", &self.info.leaf_size)
             .finish()
-    }
-}
-
-/// The tree's leaf-face entries as stored: 32-bit, or 16-bit in version-2
-/// files of at most 65 536 faces. Iterating yields face indices as `u32`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) enum LeafList<'a> {
-    Wide(&'a [u32]),
-    Narrow(&'a [u16]),
-}
-
-impl<'a> LeafList<'a> {
-    pub(crate) fn len(&self) -> usize {
-        match self {
-            LeafList::Wide(s) => s.len(),
-            LeafList::Narrow(s) => s.len(),
-        }
-    }
-
-    /// Entries `start .. start + count` (a leaf's list). Panics when out of
-    /// range, which validation rules out for every leaf.
-    #[inline]
-    pub(crate) fn range(&self, start: u32, count: u32) -> LeafList<'a> {
-        let r = start as usize..start as usize + count as usize;
-        match self {
-            LeafList::Wide(s) => LeafList::Wide(&s[r]),
-            LeafList::Narrow(s) => LeafList::Narrow(&s[r]),
-        }
-    }
-
-    #[inline]
-    pub(crate) fn iter(&self) -> LeafIter<'a> {
-        match *self {
-            LeafList::Wide(s) => LeafIter::Wide(s.iter()),
-            LeafList::Narrow(s) => LeafIter::Narrow(s.iter()),
-        }
-    }
-}
-
-/// Iterator over a [`LeafList`]'s face indices.
-#[derive(Clone, Debug)]
-pub(crate) enum LeafIter<'a> {
-    Wide(std::slice::Iter<'a, u32>),
-    Narrow(std::slice::Iter<'a, u16>),
-}
-
-impl Iterator for LeafIter<'_> {
-    type Item = u32;
-    #[inline]
-    fn next(&mut self) -> Option<u32> {
-        match self {
-            LeafIter::Wide(i) => i.next().copied(),
-            LeafIter::Narrow(i) => i.next().map(|&f| u32::from(f)),
-        }
-    }
-    #[inline]
-    fn size_hint(&self) -> (usize, Option<usize>) {
-        match self {
-            LeafIter::Wide(i) => i.size_hint(),
-            LeafIter::Narrow(i) => i.size_hint(),
-        }
     }
 }
 
@@ -348,11 +288,11 @@ impl fmt::Debug for VdgFile {
 /// Validated byte ranges of the sections.
 #[derive(Clone, Copy, Debug, Default)]
 struct Layout {
-    /// Byte ranges by position in [`section::KNOWN`]; the absent one of the
-    /// two leaf-face sections has an empty range.
-    ranges: [(usize, usize); 13],
-    /// Whether the leaf faces are the 16-bit section.
-    narrow_leaves: bool,
+    /// Byte ranges by position in [`section::KNOWN`]; the absent one of
+    /// each pair of [`section::ALTERNATIVES`] has an empty range.
+    ranges: [(usize, usize); section::KNOWN.len()],
+    /// Whether each pair of [`section::ALTERNATIVES`] is stored 16-bit.
+    narrow: [bool; section::ALTERNATIVES.len()],
 }
 
 impl VdgFile {
@@ -407,25 +347,45 @@ impl<'a> Vdg<'a> {
 }
 
 fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
-    let s = |i: usize| &bytes[l.ranges[i].0..l.ranges[i].1];
-    Vdg {
-        info: bytemuck::from_bytes(s(0)),
-        vertices: bytemuck::cast_slice(s(1)),
-        faces: bytemuck::cast_slice(s(2)),
-        vf_offsets: bytemuck::cast_slice(s(3)),
-        vf: bytemuck::cast_slice(s(4)),
-        vn_offsets: bytemuck::cast_slice(s(5)),
-        vn: bytemuck::cast_slice(s(6)),
-        nodes: bytemuck::cast_slice(s(7)),
-        leaf_faces: if l.narrow_leaves {
-            LeafList::Narrow(bytemuck::cast_slice(s(11)))
+    let s = |id: u32| {
+        let r = l.ranges[slot_of(id)];
+        &bytes[r.0..r.1]
+    };
+    // The stored one of pair `k` of the alternatives, 32- or 16-bit.
+    let list = |k: usize| {
+        let (wide, narrow) = section::ALTERNATIVES[k];
+        if l.narrow[k] {
+            IndexList::narrow(bytemuck::cast_slice(s(narrow)))
         } else {
-            LeafList::Wide(bytemuck::cast_slice(s(8)))
+            IndexList::wide(bytemuck::cast_slice(s(wide)))
+        }
+    };
+    Vdg {
+        info: bytemuck::from_bytes(s(section::INFO)),
+        vertices: bytemuck::cast_slice(s(section::VERTICES)),
+        faces: if l.narrow[0] {
+            FaceList::narrow(bytemuck::cast_slice(s(section::FACES16)))
+        } else {
+            FaceList::wide(bytemuck::cast_slice(s(section::FACES)))
         },
-        metadata: std::str::from_utf8(s(9)).unwrap_or(""),
-        node_bounds: bytemuck::cast_slice(s(10)),
-        own_radii: bytemuck::cast_slice(s(12)),
+        vf_offsets: bytemuck::cast_slice(s(section::VERTEX_FACE_OFFSETS)),
+        vf: list(1),
+        vn_offsets: bytemuck::cast_slice(s(section::VERTEX_NEIGHBOUR_OFFSETS)),
+        vn: list(2),
+        nodes: bytemuck::cast_slice(s(section::TREE_NODES)),
+        leaf_faces: list(3),
+        metadata: std::str::from_utf8(s(section::METADATA)).unwrap_or(""),
+        node_bounds: bytemuck::cast_slice(s(section::TREE_NODE_BOUNDS)),
+        own_radii: bytemuck::cast_slice(s(section::FACE_RADII)),
     }
+}
+
+/// Position of a known section id in [`section::KNOWN`].
+fn slot_of(id: u32) -> usize {
+    section::KNOWN
+        .iter()
+        .position(|&k| k == id)
+        .expect("a known section id")
 }
 
 fn read_pod<T: bytemuck::Pod>(bytes: &[u8], at: usize) -> T {
@@ -498,13 +458,10 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         .collect();
     let mut layout = Layout::default();
     let mut found = [false; section::KNOWN.len()];
-    // Version 1 knew no 16-bit leaf faces and version 2 no face radii: there,
-    // ids 12 and 13 are unknown sections.
-    let known = |id: u32| {
-        section::elem_size(id).is_some()
-            && !(h.version < 2 && id == section::TREE_LEAF_FACES16)
-            && !(h.version < 3 && id == section::FACE_RADII)
-    };
+    // Ids newer than the file's version are unknown sections there (version
+    // 1 knew no 16-bit leaf faces, version 2 no face radii, ...).
+    let known =
+        |id: u32| section::elem_size(id).is_some() && section::since_version(id) <= h.version;
     for e in &entries {
         if e.offset < table_end || e.offset > len || e.byte_len > len - e.offset {
             return Err(SectionOutOfBounds { id: e.id });
@@ -539,36 +496,34 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
             });
         }
     }
-    let slot_of = |id: u32| {
-        section::KNOWN
-            .iter()
-            .position(|&k| k == id)
-            .expect("listed")
-    };
-    let (wide, narrow) = (
-        slot_of(section::TREE_LEAF_FACES),
-        slot_of(section::TREE_LEAF_FACES16),
-    );
-    if found[wide] && found[narrow] {
-        return Err(ConflictingSections {
-            first: section::TREE_LEAF_FACES,
-            second: section::TREE_LEAF_FACES16,
-        });
+    for (k, &(wide, narrow)) in section::ALTERNATIVES.iter().enumerate() {
+        match (found[slot_of(wide)], found[slot_of(narrow)]) {
+            (true, true) => {
+                return Err(ConflictingSections {
+                    first: wide,
+                    second: narrow,
+                });
+            }
+            (_, n) => layout.narrow[k] = n,
+        }
     }
-    let radii = slot_of(section::FACE_RADII);
-    if let Some(slot) =
-        (0..found.len()).find(|&i| !found[i] && i != wide && i != narrow && i != radii)
-    {
+    let optional = |id: u32| {
+        id == section::FACE_RADII
+            || section::ALTERNATIVES
+                .iter()
+                .any(|&(w, n)| id == w || id == n)
+    };
+    if let Some(slot) = (0..found.len()).find(|&i| !found[i] && !optional(section::KNOWN[i])) {
         return Err(MissingSection {
             id: section::KNOWN[slot],
         });
     }
-    if !found[wide] && !found[narrow] {
-        return Err(MissingSection {
-            id: section::TREE_LEAF_FACES,
-        });
+    if let Some(&(wide, _)) = section::ALTERNATIVES
+        .iter()
+        .find(|&&(w, n)| !found[slot_of(w)] && !found[slot_of(n)])
+    {
+        return Err(MissingSection { id: wide });
     }
-    layout.narrow_leaves = found[narrow];
     if layout.ranges[0].1 - layout.ranges[0].0 != size_of::<Info>() {
         return Err(CountMismatch {
             what: "info record count",
@@ -654,7 +609,7 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
         }
     }
     for (i, f) in g.faces.iter().enumerate() {
-        for &v in f {
+        for v in f {
             if u64::from(v) >= nv {
                 return Err(IndexOutOfRange {
                     what: "face vertex",
@@ -694,8 +649,8 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
     // vertex. With 3·F entries, no duplicates and 3 distinct vertices per
     // face, this makes the lists exactly the incidence relation.
     for v in 0..nv as usize {
-        let row = &g.vf[g.vf_offsets[v] as usize..g.vf_offsets[v + 1] as usize];
-        for (k, &f) in row.iter().enumerate() {
+        let row = g.vf.between(g.vf_offsets[v], g.vf_offsets[v + 1]);
+        for (k, f) in row.iter().enumerate() {
             if u64::from(f) >= nf {
                 return Err(IndexOutOfRange {
                     what: "vertex-face",
@@ -704,15 +659,15 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
                     limit: nf,
                 });
             }
-            if (k > 0 && row[k - 1] >= f) || !g.faces[f as usize].contains(&(v as u32)) {
+            if (k > 0 && row.get(k - 1) >= f) || !g.faces.get(f).contains(&(v as u32)) {
                 return Err(InconsistentAdjacency {
                     what: "vertex-face",
                     vertex: v as u64,
                 });
             }
         }
-        let row = &g.vn[g.vn_offsets[v] as usize..g.vn_offsets[v + 1] as usize];
-        for (k, &w) in row.iter().enumerate() {
+        let row = g.vn.between(g.vn_offsets[v], g.vn_offsets[v + 1]);
+        for (k, w) in row.iter().enumerate() {
             if u64::from(w) >= nv {
                 return Err(IndexOutOfRange {
                     what: "vertex-neighbour",
@@ -721,7 +676,7 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
                     limit: nv,
                 });
             }
-            if (k > 0 && row[k - 1] >= w) || w as usize == v {
+            if (k > 0 && row.get(k - 1) >= w) || w as usize == v {
                 return Err(InconsistentAdjacency {
                     what: "vertex-neighbour",
                     vertex: v as u64,
@@ -740,7 +695,8 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             reason: "stored search bounds do not match the node's faces",
         });
     }
-    let meta = &bytes[layout.ranges[9].0..layout.ranges[9].1];
+    let meta = layout.ranges[slot_of(section::METADATA)];
+    let meta = &bytes[meta.0..meta.1];
     validate_metadata(meta)?;
     Ok(())
 }

@@ -43,7 +43,7 @@ fn round_trip_preserves_everything() {
         again.add_vertex(v.pos, v.clearance);
     }
     for f in g.faces() {
-        again.add_face(*f);
+        again.add_face(f);
     }
     for (k, v) in g.metadata() {
         again.set_metadata(k, v);
@@ -54,10 +54,10 @@ fn round_trip_preserves_everything() {
     assert_eq!(again.to_bytes().unwrap(), bytes);
     // Adjacency is the face incidence.
     for (fi, f) in g.faces().iter().enumerate() {
-        for &v in f {
-            assert!(g.vertex_faces(v).contains(&(fi as u32)));
-            for &w in f {
-                assert_eq!(v == w, !g.vertex_neighbours(v).contains(&w));
+        for v in f {
+            assert!(g.vertex_faces(v).contains(fi as u32));
+            for w in f {
+                assert_eq!(v == w, !g.vertex_neighbours(v).contains(w));
             }
         }
     }
@@ -231,7 +231,7 @@ fn bad_magic() {
 
 #[test]
 fn unsupported_version() {
-    for v in [0u32, 4, 0x0100_0000] {
+    for v in [0u32, 5, 0x0100_0000] {
         let mut bytes = sample().to_bytes().unwrap();
         put(&mut bytes, 16, v);
         let err = VdgFile::from_bytes(&bytes).unwrap_err();
@@ -240,12 +240,12 @@ fn unsupported_version() {
                 err,
                 ReadError::UnsupportedVersion {
                     found,
-                    supported: 3
+                    supported: 4
                 } if found == v
             ),
             "{err}"
         );
-        assert!(err.to_string().contains("supports 1 to 3"), "{err}");
+        assert!(err.to_string().contains("supports 1 to 4"), "{err}");
     }
 }
 
@@ -285,16 +285,21 @@ fn section_table_out_of_bounds() {
 #[test]
 fn section_out_of_bounds() {
     let err = corrupt(|b| {
-        let (at, e) = section_of(b, section::FACES);
+        let (at, e) = section_of(b, section::FACES16);
         put(b, at + 8, e.offset + 1_000_000 * 16);
     });
     assert!(
-        matches!(err, ReadError::SectionOutOfBounds { id: section::FACES }),
+        matches!(
+            err,
+            ReadError::SectionOutOfBounds {
+                id: section::FACES16
+            }
+        ),
         "{err}"
     );
     // Pointing into the header is out of bounds too.
     let err = corrupt(|b| {
-        let (at, _) = section_of(b, section::FACES);
+        let (at, _) = section_of(b, section::FACES16);
         put(b, at + 8, 16u64);
     });
     assert!(matches!(err, ReadError::SectionOutOfBounds { .. }), "{err}");
@@ -322,7 +327,7 @@ fn section_misaligned() {
 fn section_overlap() {
     let err = corrupt(|b| {
         let (_, v) = section_of(b, section::VERTICES);
-        let (at, _) = section_of(b, section::FACES);
+        let (at, _) = section_of(b, section::FACES16);
         put(b, at + 8, v.offset + 16);
     });
     assert!(matches!(err, ReadError::SectionOverlap { .. }), "{err}");
@@ -331,11 +336,16 @@ fn section_overlap() {
 #[test]
 fn section_size_mismatch() {
     let err = corrupt(|b| {
-        let (at, _) = section_of(b, section::FACES);
+        let (at, _) = section_of(b, section::FACES16);
         put(b, at + 4, 16u32);
     });
     assert!(
-        matches!(err, ReadError::SectionSizeMismatch { id: section::FACES }),
+        matches!(
+            err,
+            ReadError::SectionSizeMismatch {
+                id: section::FACES16
+            }
+        ),
         "{err}"
     );
     let err = corrupt(|b| {
@@ -351,14 +361,14 @@ fn section_size_mismatch() {
 #[test]
 fn duplicate_section() {
     let err = corrupt(|b| {
-        let (at, _) = section_of(b, section::VERTEX_NEIGHBOURS);
-        put(b, at, section::VERTEX_FACES);
+        let (at, _) = section_of(b, section::VERTEX_NEIGHBOURS16);
+        put(b, at, section::VERTEX_FACES16);
     });
     assert!(
         matches!(
             err,
             ReadError::DuplicateSection {
-                id: section::VERTEX_FACES
+                id: section::VERTEX_FACES16
             }
         ),
         "{err}"
@@ -383,22 +393,25 @@ fn missing_section() {
 }
 
 #[test]
-fn leaf_faces_are_one_of_two_sections() {
-    // Both the 32- and the 16-bit leaf faces: a section of 4-byte elements renamed.
-    let err = corrupt(|b| {
-        let (at, _) = section_of(b, section::VERTEX_NEIGHBOURS);
-        put(b, at, section::TREE_LEAF_FACES);
-    });
-    assert!(
-        matches!(
-            err,
-            ReadError::ConflictingSections {
-                first: section::TREE_LEAF_FACES,
-                second: section::TREE_LEAF_FACES16
-            }
-        ),
-        "{err}"
-    );
+fn index_lists_are_one_of_two_sections() {
+    // Both the 32- and the 16-bit form: a section of 4-byte elements renamed.
+    for (wide, narrow) in [
+        (section::TREE_LEAF_FACES, section::TREE_LEAF_FACES16),
+        (section::VERTEX_FACES, section::VERTEX_FACES16),
+        (section::VERTEX_NEIGHBOURS, section::VERTEX_NEIGHBOURS16),
+    ] {
+        let err = corrupt(|b| {
+            let (at, _) = section_of(b, section::VERTEX_FACE_OFFSETS);
+            put(b, at, wide);
+        });
+        assert!(
+            matches!(
+                err,
+                ReadError::ConflictingSections { first, second } if (first, second) == (wide, narrow)
+            ),
+            "{err}"
+        );
+    }
     // Neither.
     let err = corrupt(|b| {
         let (at, _) = section_of(b, section::TREE_LEAF_FACES16);
@@ -413,15 +426,21 @@ fn leaf_faces_are_one_of_two_sections() {
         ),
         "{err}"
     );
-    // Version 1 knew no 16-bit leaf faces: there the section is an unknown one.
-    let err = corrupt(|b| put(b, 16, 1u32));
+    // Version 1 knew no 16-bit lists and version 3 no 16-bit faces: there
+    // those sections are unknown ones.
+    for (version, missing) in [(1u32, section::FACES), (3, section::FACES)] {
+        let err = corrupt(|b| put(b, 16, version));
+        assert!(
+            matches!(err, ReadError::MissingSection { id } if id == missing),
+            "{err}"
+        );
+    }
+    let err = corrupt(|b| {
+        let (at, _) = section_of(b, section::FACES16);
+        put(b, at, 99u32);
+    });
     assert!(
-        matches!(
-            err,
-            ReadError::MissingSection {
-                id: section::TREE_LEAF_FACES
-            }
-        ),
+        matches!(err, ReadError::MissingSection { id: section::FACES }),
         "{err}"
     );
 }
@@ -439,18 +458,28 @@ fn strip(n: usize) -> VdgBuilder {
 }
 
 #[test]
-fn leaf_faces_are_16_bit_exactly_when_every_face_index_fits() {
+fn indices_are_16_bit_exactly_when_every_index_fits() {
     let has = |bytes: &[u8], id| entries(bytes).iter().any(|(_, e)| e.id == id);
-    let narrow = strip(32_768).to_bytes().unwrap(); // 65 536 faces
-    assert!(has(&narrow, section::TREE_LEAF_FACES16) && !has(&narrow, section::TREE_LEAF_FACES));
-    let wide = strip(32_769).to_bytes().unwrap(); // 65 538 faces
-    assert!(has(&wide, section::TREE_LEAF_FACES) && !has(&wide, section::TREE_LEAF_FACES16));
-    // Both answer like the faces themselves; face 65 537 is found through the tree.
-    for bytes in [&narrow, &wide] {
+    // Which of each pair a file holds: true for the 16-bit one.
+    let widths = |bytes: &[u8]| {
+        section::ALTERNATIVES.map(|(w, n)| {
+            assert!(has(bytes, w) != has(bytes, n), "exactly one of {w} and {n}");
+            has(bytes, n)
+        })
+    };
+    // Pairs: faces, vertex faces, vertex neighbours, leaf faces.
+    let all = strip(32_767).to_bytes().unwrap(); // 65 536 vertices, 65 534 faces
+    assert_eq!(widths(&all), [true; 4]);
+    let narrow = strip(32_768).to_bytes().unwrap(); // 65 538 vertices, 65 536 faces
+    assert_eq!(widths(&narrow), [false, true, false, true]);
+    let wide = strip(32_769).to_bytes().unwrap(); // 65 540 vertices, 65 538 faces
+    assert_eq!(widths(&wide), [false; 4]);
+    // All answer like the faces themselves; the last face is found through the tree.
+    for bytes in [&all, &narrow, &wide] {
         let file = VdgFile::from_bytes(bytes).unwrap();
         let g = file.graph();
         let last = g.face_count() as u32 - 1;
-        let f = g.faces()[last as usize];
+        let f = g.face(last);
         let c = [0, 1, 2].map(|k| {
             f.iter()
                 .map(|&v| g.vertices()[v as usize].pos[k])
@@ -516,8 +545,8 @@ fn negative_clearance() {
 #[test]
 fn degenerate_face() {
     let err = corrupt(|b| {
-        let at = elem_at(b, section::FACES, 3);
-        let f: [u32; 3] = get(b, at);
+        let at = elem_at(b, section::FACES16, 3);
+        let f: [u16; 3] = get(b, at);
         put(b, at, [f[0], f[0], f[2]]);
     });
     assert!(
@@ -529,8 +558,8 @@ fn degenerate_face() {
 #[test]
 fn index_out_of_range() {
     let err = corrupt(|b| {
-        let at = elem_at(b, section::FACES, 3);
-        put(b, at + 4, 300u32);
+        let at = elem_at(b, section::FACES16, 3);
+        put(b, at + 2, 300u16);
     });
     assert!(
         matches!(
@@ -576,9 +605,9 @@ fn bad_offsets() {
 fn inconsistent_adjacency() {
     // A face listed under a vertex it does not use.
     let err = corrupt(|b| {
-        let at = elem_at(b, section::VERTEX_FACES, 0);
-        let f: u32 = get(b, at);
-        put(b, at, if f == 0 { 1u32 } else { 0u32 });
+        let at = elem_at(b, section::VERTEX_FACES16, 0);
+        let f: u16 = get(b, at);
+        put(b, at, if f == 0 { 1u16 } else { 0u16 });
     });
     assert!(
         matches!(err, ReadError::InconsistentAdjacency { .. }),
@@ -682,7 +711,7 @@ fn corner_pair() -> VdgBuilder {
 #[test]
 fn face_radii_round_trip_and_widen_only_their_face() {
     let bytes = corner_pair().to_bytes().unwrap();
-    assert_eq!(get::<u32>(&bytes, 16), 3, "format version");
+    assert_eq!(get::<u32>(&bytes, 16), 4, "format version");
     let file = VdgFile::from_bytes(&bytes).unwrap();
     let g = file.graph();
     assert!(g.has_face_radii());

@@ -66,7 +66,7 @@ fn face_clearance_matches_brute_force_sampling() {
     let mut worst = 0.0f64;
     for k in 0..400 {
         let f = (k % g.face_count()) as u32;
-        let tri = g.faces()[f as usize].map(|v| {
+        let tri = g.face(f).map(|v| {
             let v = g.vertices()[v as usize];
             [
                 f64::from(v.pos[0]),
@@ -410,7 +410,7 @@ fn astar_equals_dijkstra_on_random_graphs() {
                     // The path uses graph edges and its length adds up.
                     let mut len = 0.0f64;
                     for w2 in path.vertices.windows(2) {
-                        assert!(g.vertex_neighbours(w2[0]).contains(&w2[1]));
+                        assert!(g.vertex_neighbours(w2[0]).contains(w2[1]));
                         let (p, q) = (
                             g.vertices()[w2[0] as usize].pos,
                             g.vertices()[w2[1] as usize].pos,
@@ -441,8 +441,8 @@ fn vdistance_enters_and_leaves_at_face_vertices() {
     assert!(path.length <= 625.0 + 2.0 * 16.0 + 1e-3, "{}", path.length);
     let fs = g.nearest_face(p).unwrap().face;
     let fg = g.nearest_face(q).unwrap().face;
-    assert!(g.faces()[fs as usize].contains(&path.vertices[0]));
-    assert!(g.faces()[fg as usize].contains(path.vertices.last().unwrap()));
+    assert!(g.face(fs).contains(&path.vertices[0]));
+    assert!(g.face(fg).contains(path.vertices.last().unwrap()));
     // Same face: the straight distance.
     assert_eq!(g.vdistance([1.0, 1.0, 0.0], [4.0, 5.0, 0.0]), Some(5.0));
 }
@@ -465,7 +465,7 @@ fn reachable_vertices_have_free_straight_lines() {
         }
         let r = g.reachable(p, hit.face);
         // The face's own vertices are always reachable inside its volume.
-        for v in g.faces()[hit.face as usize] {
+        for v in g.face(hit.face) {
             assert!(r.contains(&v));
         }
         for &v in &r {

@@ -39,7 +39,7 @@ fn open_map_file_stays_within_100_bytes_per_face() {
         g.has_face_radii(),
         "the fixture carries the faces' own corner radii, as bsp2vdg writes them"
     );
-    for (i, &f) in g.faces().iter().enumerate() {
+    for (i, f) in g.faces().iter().enumerate() {
         b.add_face_with_radii(f, g.face_radii(i as u32));
     }
     for (k, v) in g.metadata() {
@@ -71,4 +71,43 @@ fn open_map_file_stays_within_100_bytes_per_face() {
             "at {p:?}"
         );
     }
+}
+
+/// The same bound on the smallest graphs the shared maps give (the qbsp
+/// examples reduce to 20–25 faces), where the fixed part of the file —
+/// header, section table, info record and the metadata `bsp2vdg` writes —
+/// weighs most: 20 faces with their own corner radii and the fixture's
+/// metadata.
+#[test]
+fn a_tiny_graph_stays_within_100_bytes_per_face() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/graphs/open_field.vdg");
+    let fixture = VdgFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let grid = common::grid(5, 2, 40.0, |x, _| x * 0.1, |_, _| 20.0, |_, _| true);
+    let plain = VdgFile::from_bytes(&grid.to_bytes().unwrap()).unwrap();
+    let faces = plain.graph().faces().to_vec();
+    assert_eq!(faces.len(), 20);
+    let mut tiny = VdgBuilder::new();
+    for v in plain.graph().vertices() {
+        tiny.add_vertex(v.pos, v.clearance);
+    }
+    for f in &faces {
+        tiny.add_face_with_radii(*f, [21.0, 22.0, 23.0]);
+    }
+    for (k, v) in fixture.graph().metadata() {
+        tiny.set_metadata(k, v);
+    }
+    let bytes = tiny.to_bytes().expect("valid graph");
+    let per_face = bytes.len() as f64 / faces.len() as f64;
+    println!(
+        "tiny: {} faces, {} bytes, {per_face:.1} bytes per face",
+        faces.len(),
+        bytes.len()
+    );
+    assert!(
+        per_face <= MAX_BYTES_PER_FACE,
+        "{per_face:.1} bytes per face on a 20-face graph (bound {MAX_BYTES_PER_FACE})"
+    );
+    let file = VdgFile::from_bytes(&bytes).expect("valid file");
+    assert_eq!(file.graph().faces().to_vec(), faces);
+    assert_eq!(file.graph().face_radii(7), [21.0, 22.0, 23.0]);
 }

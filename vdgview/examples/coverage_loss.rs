@@ -76,7 +76,7 @@ fn main() -> anyhow::Result<()> {
         b.add_vertex(v.pos, o);
     }
     for f in red.faces() {
-        b.add_face(*f);
+        b.add_face(f);
     }
     let raised_file = vdgformat::VdgFile::from_bytes(&b.to_bytes()?)?;
     let raised = raised_file.graph();

@@ -91,7 +91,7 @@ fn an_inflated_graph_is_caught_leaking() {
         b.add_vertex(v.pos, v.clearance * 3.0);
     }
     for f in g.faces() {
-        b.add_face(*f);
+        b.add_face(f);
     }
     let bytes = b.to_bytes().unwrap();
     let inflated = vdgformat::VdgFile::from_bytes(&bytes).unwrap();

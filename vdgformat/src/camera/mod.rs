@@ -1261,7 +1261,7 @@ impl Camera {
             };
             let pv = g.pos(v);
             let mut next: Option<(f32, u32, f64)> = None;
-            for &u in g.vertex_neighbours(v) {
+            for u in g.vertex_neighbours(v) {
                 let Some(du) = self.field.settled_distance(u) else {
                     continue;
                 };
@@ -1294,7 +1294,7 @@ impl Camera {
             let ok = if self.params.vertex_tests == 0 {
                 self.sees(
                     g,
-                    g.vertex_faces(v)[0],
+                    g.vertex_faces(v).get(0),
                     g.pos(v),
                     scene,
                     Some(Slot::Vertex(v)),
@@ -1308,7 +1308,7 @@ impl Camera {
                     sc.fresh_left -= 1;
                     let ok = self.sees(
                         g,
-                        g.vertex_faces(v)[0],
+                        g.vertex_faces(v).get(0),
                         g.pos(v),
                         scene,
                         Some(Slot::Vertex(v)),
@@ -1333,7 +1333,7 @@ impl Camera {
     fn vertex_vd(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> f64 {
         if sc.vd[i].is_nan() {
             let v = sc.reach[i];
-            sc.vd[i] = self.vdistance(g, scene, g.vertex_faces(v)[0], g.pos(v));
+            sc.vd[i] = self.vdistance(g, scene, g.vertex_faces(v).get(0), g.pos(v));
         }
         sc.vd[i]
     }
@@ -1569,7 +1569,7 @@ fn inward_normal(g: &Vdg<'_>, f: u32, p: V3) -> Option<V3> {
 }
 
 fn anchor(g: &Vdg<'_>, face: u32, t: V3) -> V3 {
-    let [a, b, c] = g.faces[face as usize].map(|v| g.pos(v));
+    let [a, b, c] = g.faces.get(face).map(|v| g.pos(v));
     let centroid = (a + b + c) * (1.0 / 3.0);
     V3::from_f32(g.trace(face, centroid.to_f32(), t.to_f32()))
 }

@@ -204,7 +204,7 @@ mod tests {
         let (mut seen, mut blocked) = (0, 0);
         for _ in 0..3000 {
             let f = rng.below(g.face_count()) as u32;
-            let [a, b, c] = g.faces[f as usize].map(|v| g.pos(v));
+            let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
             let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
             let s = (a + (b - a) * u + (c - a) * w + V3(0.0, 0.0, rng.range(-2.0, 2.0))).to_f32();
             let e = [

@@ -164,7 +164,7 @@ impl DistanceField {
         self.frontier = 0.0;
         self.settled = 0;
         self.active = true;
-        for v in g.faces[face as usize] {
+        for v in g.faces.get(face) {
             let d = (g.pos(v) - self.source).norm() as f32;
             self.relax(g, v, d);
         }
@@ -249,7 +249,7 @@ impl DistanceField {
             self.stamp[u as usize] |= 1;
             self.settled += 1;
             self.frontier = f;
-            for &w in g.vertex_neighbours(u) {
+            for w in g.vertex_neighbours(u) {
                 if !self.is_settled(w) && g.vertices[w as usize].clearance >= self.min_clearance {
                     let pw = g.pos(w);
                     let dw = d + (pw - pu).norm() as f32;
@@ -303,7 +303,7 @@ impl DistanceField {
             return (q - self.source).norm() as f32;
         }
         let mut best = f32::INFINITY;
-        for v in g.faces[face as usize] {
+        for v in g.faces.get(face) {
             let d = self.vertex_distance(g, v) + (g.pos(v) - q).norm() as f32;
             best = best.min(d);
         }
@@ -339,7 +339,7 @@ mod tests {
         let src = [12.0, 10.0, 1.0];
         field.reset(&g, 0, src);
         for f in 0..g.face_count() as u32 {
-            let [a, b, c] = g.faces()[f as usize].map(|v| g.vertices()[v as usize].pos);
+            let [a, b, c] = g.face(f).map(|v| g.vertices()[v as usize].pos);
             let p = [0, 1, 2].map(|i| (a[i] + b[i] + c[i]) / 3.0);
             let want = g.path_between_faces(f, p, 0, src).unwrap().length;
             let got = field.vdistance(&g, f, p);
@@ -357,7 +357,7 @@ mod tests {
         let g = file.graph();
         let src = [12.0, 10.0, 1.0];
         let far = g.face_count() as u32 - 1;
-        let [a, b, c] = g.faces()[far as usize].map(|v| g.vertices()[v as usize].pos);
+        let [a, b, c] = g.face(far).map(|v| g.vertices()[v as usize].pos);
         let near = [0, 1, 2].map(|i| (a[i] + b[i] + c[i]) / 3.0);
         let mut plain = DistanceField::new();
         plain.reset(&g, 0, src);
@@ -374,7 +374,7 @@ mod tests {
             plain.settled
         );
         for f in 0..g.face_count() as u32 {
-            let p = g.vertices()[g.faces()[f as usize][0] as usize].pos;
+            let p = g.vertices()[g.face(f)[0] as usize].pos;
             let (x, y) = (plain.vdistance(&g, f, p), steered.vdistance(&g, f, p));
             assert!((x - y).abs() < 1e-2, "face {f}: {x} vs {y}");
         }
@@ -441,7 +441,7 @@ mod tests {
         field.set_budget(10);
         field.reset(&g, 0, [10.0, 5.0, 0.0]);
         let cap = field.heap.capacity();
-        let far = g.faces()[g.face_count() - 1][2];
+        let far = g.face(g.face_count() as u32 - 1)[2];
         let exact = g.vertex_path(0, far).unwrap().length;
         let d = field.vertex_distance(&g, far);
         assert!(field.exhausted());

@@ -19,8 +19,9 @@ pub use visible::{Advance, CoverBudget, CoverHint};
 use std::collections::BinaryHeap;
 
 use crate::geom::{Aabb, Ball, FaceEval, V3};
+use crate::index::{FaceList, IndexList};
 use crate::layout::{Info, TreeNode, Vertex};
-use crate::read::{LeafList, Vdg};
+use crate::read::Vdg;
 
 /// Best-first search entry, ordered by `key` (largest first).
 struct Candidate {
@@ -77,21 +78,29 @@ impl<'a> Vdg<'a> {
         self.vertices
     }
 
-    /// All faces (three vertex indices each).
-    pub fn faces(&self) -> &'a [[u32; 3]] {
+    /// All faces (three vertex indices each), as stored (16- or 32-bit).
+    pub fn faces(&self) -> FaceList<'a> {
         self.faces
     }
 
+    /// The three vertex indices of face `f`. Panics if `f` is out of range.
+    #[inline]
+    pub fn face(&self, f: u32) -> [u32; 3] {
+        self.faces.get(f)
+    }
+
     /// Faces using vertex `v`, ascending. Panics if `v` is out of range.
-    pub fn vertex_faces(&self, v: u32) -> &'a [u32] {
+    #[inline]
+    pub fn vertex_faces(&self, v: u32) -> IndexList<'a> {
         let v = v as usize;
-        &self.vf[self.vf_offsets[v] as usize..self.vf_offsets[v + 1] as usize]
+        self.vf.between(self.vf_offsets[v], self.vf_offsets[v + 1])
     }
 
     /// Vertices sharing a face with `v`, ascending. Panics if `v` is out of range.
-    pub fn vertex_neighbours(&self, v: u32) -> &'a [u32] {
+    #[inline]
+    pub fn vertex_neighbours(&self, v: u32) -> IndexList<'a> {
         let v = v as usize;
-        &self.vn[self.vn_offsets[v] as usize..self.vn_offsets[v + 1] as usize]
+        self.vn.between(self.vn_offsets[v], self.vn_offsets[v + 1])
     }
 
     /// XXH64 of the source map (0 when the producer did not record it).
@@ -153,7 +162,7 @@ impl<'a> Vdg<'a> {
     /// of a line in closed form.
     #[inline]
     pub(crate) fn face_eval(&self, f: u32) -> FaceEval {
-        let [a, b, c] = self.faces[f as usize];
+        let [a, b, c] = self.faces.get(f);
         let r = self.face_radii(f).map(f64::from);
         FaceEval::new(
             Ball {
@@ -189,7 +198,7 @@ impl<'a> Vdg<'a> {
     /// outside the box); `None` when the exact value is needed.
     #[inline]
     pub(crate) fn box_bound(&self, f: u32, p: V3, floor: f64) -> Option<f64> {
-        let corners = self.faces[f as usize].map(|v| self.vertices[v as usize].pos);
+        let corners = self.faces.get(f).map(|v| self.vertices[v as usize].pos);
         let radii = self.face_radii(f);
         let mut d2 = 0.0;
         for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
@@ -213,7 +222,7 @@ impl<'a> Vdg<'a> {
     /// above the rounding of an evaluation, so a face it rules out has a
     /// clearance below any margin the callers ask for.
     pub(crate) fn box_holds(&self, f: u32, p: V3) -> bool {
-        let [a, b, c] = self.faces[f as usize].map(|v| self.vertices[v as usize]);
+        let [a, b, c] = self.faces.get(f).map(|v| self.vertices[v as usize]);
         let r = self.face_radii(f).map(f64::from);
         for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
             let c = [a.pos[i], b.pos[i], c.pos[i]].map(f64::from);
@@ -238,8 +247,8 @@ impl<'a> Vdg<'a> {
     #[inline]
     pub(crate) fn for_face_and_neighbours(&self, f: u32, mut visit: impl FnMut(u32)) {
         visit(f);
-        for &v in &self.faces[f as usize] {
-            for &g in self.vertex_faces(v) {
+        for &v in &self.faces.get(f) {
+            for g in self.vertex_faces(v) {
                 if g != f {
                     visit(g);
                 }
@@ -256,7 +265,7 @@ impl<'a> Vdg<'a> {
 
     /// Faces of the tree leaf whose cell contains `p` — a superset of the
     /// faces whose volume contains `p`. Empty outside the root cell.
-    pub(crate) fn leaf_faces_at(&self, p: V3) -> LeafList<'a> {
+    pub(crate) fn leaf_faces_at(&self, p: V3) -> IndexList<'a> {
         let c = [p.0, p.1, p.2];
         let root = self.root_cell();
         if (0..3).any(|i| c[i] < f64::from(root.min[i]) || c[i] > f64::from(root.max[i])) {

@@ -83,8 +83,11 @@ impl<'a> Vdg<'a> {
                 vertices: Vec::new(),
             });
         }
-        let starts = self.faces[p_face as usize].map(|v| (v, (self.pos(v) - ps).norm()));
-        let goals = self.faces[q_face as usize];
+        let starts = self
+            .faces
+            .get(p_face)
+            .map(|v| (v, (self.pos(v) - ps).norm()));
+        let goals = self.faces.get(q_face);
         self.astar(&starts, &goals, qs)
     }
 
@@ -180,7 +183,7 @@ impl<'a> Vdg<'a> {
                 }
             }
             let pv = self.pos(v);
-            for &w in self.vertex_neighbours(v) {
+            for w in self.vertex_neighbours(v) {
                 if !admit(w) {
                     continue;
                 }
@@ -379,8 +382,8 @@ impl PathFinder {
         if radius.is_nan() {
             return None;
         }
-        let starts = g.faces[p_face as usize].map(|v| (v, (g.pos(v) - ps).norm()));
-        self.run(g, &starts, &g.faces[q_face as usize], qs, radius)
+        let starts = g.faces.get(p_face).map(|v| (v, (g.pos(v) - ps).norm()));
+        self.run(g, &starts, &g.faces.get(q_face), qs, radius)
     }
 
     /// [`Vdg::vertex_path`] with reused scratch.

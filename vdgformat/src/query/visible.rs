@@ -187,7 +187,7 @@ impl<'a> Vdg<'a> {
         // the end instead of a division per vertex.
         let mut scaled = f64::NEG_INFINITY;
         let radii = self.face_radii(f);
-        for (v, r) in self.faces[f as usize].into_iter().zip(radii) {
+        for (v, r) in self.faces.get(f).into_iter().zip(radii) {
             let vx = self.vertices[v as usize];
             let x = (V3::from_f32(vx.pos) - seg.s).dot(seg.d) + f64::from(r) * seg.len;
             scaled = if x > scaled { x } else { scaled };
@@ -515,14 +515,14 @@ impl<'a> Vdg<'a> {
                 // enough, so only the others can; of those, only faces whose
                 // box holds `here`.
                 // The box test first: it rules out most of a leaf.
-                let corners = self.faces[cur as usize];
+                let corners = self.faces.get(cur);
                 let probe = BoxProbe::at(here);
                 let holding = leaf.iter().filter(|&f| {
                     let in_box = match cache {
                         Some(c) => c.holds(f, &probe),
                         None => self.box_holds(f, here),
                     };
-                    in_box && !self.faces[f as usize].iter().any(|v| corners.contains(v))
+                    in_box && !self.faces.get(f).iter().any(|v| corners.contains(v))
                 });
                 step = self
                     .best_cover_step(holding, Some(cur), seg, t, eps, cache)
@@ -580,9 +580,10 @@ impl<'a> Vdg<'a> {
     #[inline]
     pub(crate) fn neighbourhood(&self, f: u32) -> impl Iterator<Item = u32> + '_ {
         std::iter::once(f).chain(
-            self.faces[f as usize]
+            self.faces
+                .get(f)
                 .into_iter()
-                .flat_map(|v| self.vertex_faces(v).iter().copied())
+                .flat_map(|v| self.vertex_faces(v).iter())
                 .filter(move |&g| g != f),
         )
     }
@@ -762,25 +763,33 @@ impl<'a> Vdg<'a> {
         mut visit: impl FnMut(u32),
     ) {
         let start = V3::from_f32(p);
-        let [a, b, c] = self.faces[face as usize];
-        let mut lists: [&[u32]; 6] = [
-            self.vertex_neighbours(a),
-            self.vertex_neighbours(b),
-            self.vertex_neighbours(c),
-            std::slice::from_ref(&self.faces[face as usize][0]),
-            std::slice::from_ref(&self.faces[face as usize][1]),
-            std::slice::from_ref(&self.faces[face as usize][2]),
-        ];
-        while let Some(v) = lists.iter().filter_map(|l| l.first().copied()).min() {
+        let corners = self.faces.get(face);
+        let [a, b, c] = corners;
+        // The union of the corners' neighbours and the corners, ascending:
+        // a merge of four sorted lists.
+        let mut lists = [a, b, c].map(|v| self.vertex_neighbours(v).iter().peekable());
+        let mut own = corners;
+        own.sort_unstable();
+        let mut own = own.into_iter().peekable();
+        loop {
+            let next = lists
+                .iter_mut()
+                .filter_map(|l| l.peek().copied())
+                .chain(own.peek().copied())
+                .min();
+            let Some(v) = next else { break };
             for l in &mut lists {
-                if l.first() == Some(&v) {
-                    *l = &l[1..];
+                if l.peek() == Some(&v) {
+                    l.next();
                 }
+            }
+            if own.peek() == Some(&v) {
+                own.next();
             }
             // A face volume is convex: if one of v's faces in the region
             // holds p, the segment p–P(v) lies in it (P(v) is inside every
             // face of v, with clearance r(v)). Only the rest need a cover.
-            if self.faces[face as usize].contains(&v)
+            if corners.contains(&v)
                 || self.vertex_face_holds(face, v, start)
                 || (exact && self.segment_in_region(face, start, self.pos(v)))
             {
@@ -793,9 +802,9 @@ impl<'a> Vdg<'a> {
     /// a vertex with it) holds `p` with clearance above the certificate's
     /// margin.
     fn vertex_face_holds(&self, face: u32, v: u32, p: V3) -> bool {
-        let corners = self.faces[face as usize];
-        self.vertex_faces(v).iter().any(|&g| {
-            self.faces[g as usize].iter().any(|c| corners.contains(c))
+        let corners = self.faces.get(face);
+        self.vertex_faces(v).iter().any(|g| {
+            self.faces.get(g).iter().any(|c| corners.contains(c))
                 && self.fc_above(g, p, INSIDE_EPS) > INSIDE_EPS
         })
     }
