@@ -38,6 +38,16 @@ enum Repr<'a, W, N> {
     Narrow(&'a [N]),
 }
 
+impl<W, N> Repr<'_, W, N> {
+    #[inline]
+    fn len(&self) -> usize {
+        match self {
+            Repr::Wide(s) => s.len(),
+            Repr::Narrow(s) => s.len(),
+        }
+    }
+}
+
 impl<'a> IndexList<'a> {
     pub(crate) fn wide(s: &'a [u32]) -> Self {
         IndexList(Repr::Wide(s))
@@ -50,10 +60,7 @@ impl<'a> IndexList<'a> {
     /// Number of entries.
     #[inline]
     pub fn len(&self) -> usize {
-        match self.0 {
-            Repr::Wide(s) => s.len(),
-            Repr::Narrow(s) => s.len(),
-        }
+        self.0.len()
     }
 
     /// Whether the list has no entries.
@@ -167,10 +174,7 @@ impl<'a> FaceList<'a> {
     /// Number of faces.
     #[inline]
     pub fn len(&self) -> usize {
-        match self.0 {
-            Repr::Wide(s) => s.len(),
-            Repr::Narrow(s) => s.len(),
-        }
+        self.0.len()
     }
 
     /// Whether there are no faces.
