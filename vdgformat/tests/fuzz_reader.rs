@@ -63,7 +63,8 @@ fn mutate(base: &[u8], rng: &mut Rng) -> Vec<u8> {
             let count = u32::from_le_bytes(b[32..36].try_into().unwrap()) as usize;
             let entry = 64 + 32 * rng.below(count.max(1));
             match rng.below(5) {
-                0 => b[entry..entry + 4].copy_from_slice(&(rng.below(12) as u32).to_le_bytes()),
+                // Every known id (1–16) and a few unknown ones.
+                0 => b[entry..entry + 4].copy_from_slice(&(rng.below(18) as u32).to_le_bytes()),
                 1 => {
                     let v = interesting_u32(rng, 0);
                     b[entry + 4..entry + 8].copy_from_slice(&v.to_le_bytes())
