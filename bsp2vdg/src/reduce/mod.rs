@@ -195,7 +195,7 @@ pub struct ReduceStats {
     /// the batch before is costed) and committing them (serial).
     pub seconds_picking: f64,
     pub seconds_commits: f64,
-    /// Sweeps over every vertex before giving up (see [`run`]), the vertices
+    /// Sweeps over every vertex before giving up (see `run`), the vertices
     /// they did not cost again because nothing around them had changed since
     /// a costing refused them, and their seconds (part of `seconds_rest`).
     pub sweeps: usize,

@@ -227,7 +227,7 @@ struct SlackGrid {
 
 /// Raises vertex clearances towards the exact wall distance at each vertex, as far as
 /// a certificate against the walls allows: the guard's argument with a sign. On a
-/// face's barycentric grid (spacing `h` ≤ [`RAISE_CELL`], corners included with their
+/// face's barycentric grid (spacing `h` ≤ `RAISE_CELL` (7 units), corners included with their
 /// exact wall distance), if every node keeps `d − r ≥ h²/(6 d_low)` (the curvature
 /// margin of the guard), no ball of the face leaves free space. Raising vertex `v` by
 /// `δ` raises `r` by `δ·λ_v` at a node, so `v` may rise by the least `slack/λ_v` over
@@ -250,7 +250,7 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
 /// [`raise_to_walls`], then each face's own corner radii (format version 3,
 /// `FACE_RADII`): starting from the raised vertex clearances, each corner rises towards its vertex's wall distance as
 /// far as that face's certificate alone allows — the certificate of
-/// [`raise_to_walls`] (a barycentric grid of spacing ≤ [`RAISE_CELL`] whose every
+/// [`raise_to_walls`] (a barycentric grid of spacing ≤ `RAISE_CELL` whose every
 /// node keeps `d − r ≥ h²/(6 d_low)`), on one face instead of all faces around a
 /// vertex.
 ///

@@ -12,7 +12,7 @@ mod visible;
 
 pub(crate) use face_cache::{BoxProbe, FaceCache};
 
-pub use field::DistanceField;
+pub use field::{DEFAULT_SETTLE_BUDGET, DistanceField};
 pub use path::{PathFinder, VdgPath};
 pub use visible::{Advance, CoverBudget, CoverHint};
 
