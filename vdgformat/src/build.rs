@@ -411,59 +411,25 @@ impl VdgBuilder {
         // fixed header dominates and one it does not.
         let narrow_faces = self.faces.len() <= MAX_FACES_FOR_NARROW_LEAVES;
         let narrow_vertices = vcount <= MAX_VERTICES_FOR_NARROW_INDICES;
-        let (faces16, vf16, vn16, leaves16): (Vec<[u16; 3]>, Vec<u16>, Vec<u16>, Vec<u16>);
-        let narrowed = |wide: &[u32], narrow: bool, out: &mut Vec<u16>| {
-            if narrow {
-                *out = wide.iter().map(|&i| i as u16).collect();
-            }
-        };
-        (faces16, vf16, vn16, leaves16) = {
-            let (mut vf, mut vn, mut leaves) = (Vec::new(), Vec::new(), Vec::new());
-            narrowed(&vf_targets, narrow_faces, &mut vf);
-            narrowed(&vn_targets, narrow_vertices, &mut vn);
-            narrowed(&tree.leaf_faces, narrow_faces, &mut leaves);
-            let faces = if narrow_vertices {
-                self.faces.iter().map(|f| f.map(|v| v as u16)).collect()
-            } else {
-                Vec::new()
-            };
-            (faces, vf, vn, leaves)
-        };
-        fn pick<'b>(
-            narrow: bool,
-            ids: (u32, u32),
-            wide: &'b [u8],
-            short: &'b [u8],
-        ) -> (u32, &'b [u8]) {
-            if narrow {
-                (ids.1, short)
-            } else {
-                (ids.0, wide)
-            }
-        }
-        let (faces_id, faces_bytes) = pick(
-            narrow_vertices,
+        let (faces_id, faces_bytes) = index_section(
             (section::FACES, section::FACES16),
-            bytemuck::cast_slice(&self.faces),
-            bytemuck::cast_slice(&faces16),
-        );
-        let (vf_id, vf_bytes) = pick(
-            narrow_faces,
-            (section::VERTEX_FACES, section::VERTEX_FACES16),
-            bytemuck::cast_slice(&vf_targets),
-            bytemuck::cast_slice(&vf16),
-        );
-        let (vn_id, vn_bytes) = pick(
             narrow_vertices,
-            (section::VERTEX_NEIGHBOURS, section::VERTEX_NEIGHBOURS16),
-            bytemuck::cast_slice(&vn_targets),
-            bytemuck::cast_slice(&vn16),
+            bytemuck::cast_slice(&self.faces),
         );
-        let (leaf_id, leaf_bytes) = pick(
+        let (vf_id, vf_bytes) = index_section(
+            (section::VERTEX_FACES, section::VERTEX_FACES16),
             narrow_faces,
+            &vf_targets,
+        );
+        let (vn_id, vn_bytes) = index_section(
+            (section::VERTEX_NEIGHBOURS, section::VERTEX_NEIGHBOURS16),
+            narrow_vertices,
+            &vn_targets,
+        );
+        let (leaf_id, leaf_bytes) = index_section(
             (section::TREE_LEAF_FACES, section::TREE_LEAF_FACES16),
-            bytemuck::cast_slice(&tree.leaf_faces),
-            bytemuck::cast_slice(&leaves16),
+            narrow_faces,
+            &tree.leaf_faces,
         );
         let mut sections: Vec<(u32, &[u8], u64)> = vec![
             (section::INFO, bytemuck::bytes_of(&info), 1),
@@ -472,25 +438,25 @@ impl VdgBuilder {
                 bytemuck::cast_slice(&self.vertices),
                 vcount as u64,
             ),
-            (faces_id, faces_bytes, self.faces.len() as u64),
+            (faces_id, &faces_bytes, self.faces.len() as u64),
             (
                 section::VERTEX_FACE_OFFSETS,
                 bytemuck::cast_slice(&vf_offsets),
                 vf_offsets.len() as u64,
             ),
-            (vf_id, vf_bytes, vf_targets.len() as u64),
+            (vf_id, &vf_bytes, vf_targets.len() as u64),
             (
                 section::VERTEX_NEIGHBOUR_OFFSETS,
                 bytemuck::cast_slice(&vn_offsets),
                 vn_offsets.len() as u64,
             ),
-            (vn_id, vn_bytes, vn_targets.len() as u64),
+            (vn_id, &vn_bytes, vn_targets.len() as u64),
             (
                 section::TREE_NODES,
                 bytemuck::cast_slice(&tree.nodes),
                 tree.nodes.len() as u64,
             ),
-            (leaf_id, leaf_bytes, tree.leaf_faces.len() as u64),
+            (leaf_id, &leaf_bytes, tree.leaf_faces.len() as u64),
             (section::METADATA, meta.as_bytes(), meta.len() as u64),
             (
                 section::TREE_NODE_BOUNDS,
@@ -927,6 +893,17 @@ fn build_node(
         b: faces.len() as u32,
     };
     tree.leaf_faces.extend_from_slice(&faces);
+}
+
+/// An index list's section: the 16-bit one of `ids` (`.1`) with its bytes when
+/// `narrow` (the caller checked every index fits), else the 32-bit one (`.0`).
+fn index_section(ids: (u32, u32), narrow: bool, indices: &[u32]) -> (u32, Vec<u8>) {
+    if narrow {
+        let short: Vec<u16> = indices.iter().map(|&i| i as u16).collect();
+        (ids.1, bytemuck::cast_slice(&short).to_vec())
+    } else {
+        (ids.0, bytemuck::cast_slice(indices).to_vec())
+    }
 }
 
 fn align_up(x: u64) -> u64 {
