@@ -69,6 +69,11 @@ impl<'a> IndexList<'a> {
         self.len() == 0
     }
 
+    /// Whether the file stores this list in 16 bits.
+    pub fn is_16_bit(&self) -> bool {
+        matches!(self.0, Repr::Narrow(_))
+    }
+
     /// Entry `i`. Panics if `i` is out of range.
     #[inline]
     pub fn get(&self, i: usize) -> u32 {
@@ -181,6 +186,11 @@ impl<'a> FaceList<'a> {
     #[inline]
     pub fn is_empty(&self) -> bool {
         self.len() == 0
+    }
+
+    /// Whether the file stores the faces' indices in 16 bits.
+    pub fn is_16_bit(&self) -> bool {
+        matches!(self.0, Repr::Narrow(_))
     }
 
     /// The vertex indices of face `f`. Panics if `f` is out of range.

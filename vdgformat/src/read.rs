@@ -230,6 +230,8 @@ pub struct Vdg<'a> {
     pub(crate) node_bounds: &'a [NodeBounds],
     /// The faces' own corner radii (`FACE_RADII`), empty when the file has none.
     pub(crate) own_radii: &'a [[f32; 3]],
+    /// The header's format version.
+    pub(crate) version: u32,
 }
 
 impl fmt::Debug for Vdg<'_> {
@@ -377,6 +379,7 @@ fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
         metadata: std::str::from_utf8(s(section::METADATA)).unwrap_or(""),
         node_bounds: bytemuck::cast_slice(s(section::TREE_NODE_BOUNDS)),
         own_radii: bytemuck::cast_slice(s(section::FACE_RADII)),
+        version: read_pod::<Header>(bytes, 0).version,
     }
 }
 

@@ -478,6 +478,12 @@ fn indices_are_16_bit_exactly_when_every_index_fits() {
     for bytes in [&all, &narrow, &wide] {
         let file = VdgFile::from_bytes(bytes).unwrap();
         let g = file.graph();
+        // The views say which width they read.
+        let w = widths(bytes);
+        assert_eq!(g.faces().is_16_bit(), w[0]);
+        assert_eq!(g.vertex_faces(0).is_16_bit(), w[1]);
+        assert_eq!(g.vertex_neighbours(0).is_16_bit(), w[2]);
+        assert_eq!(g.format_version(), vdgformat::layout::FORMAT_VERSION);
         let last = g.face_count() as u32 - 1;
         let f = g.face(last);
         let c = [0, 1, 2].map(|k| {
@@ -497,6 +503,7 @@ fn indices_are_16_bit_exactly_when_every_index_fits() {
     vdgformat::__private::seal(&mut v1);
     let file = VdgFile::from_bytes(&v1).unwrap();
     assert_eq!(file.graph().face_count(), 65_538);
+    assert_eq!(file.graph().format_version(), 1);
 }
 
 #[test]

@@ -9,6 +9,33 @@ use vdgformat::Vdg;
 /// Number of histogram bins.
 const BINS: usize = 10;
 
+/// The format version and which index lists are 16-bit (version 4 writes faces
+/// and vertex lists in 16 bits when every index fits; version 2 the leaf lists).
+fn format_line(g: &Vdg<'_>) -> String {
+    let lists = [
+        ("faces", g.faces().is_16_bit()),
+        (
+            "vertex faces",
+            g.vertex_count() > 0 && g.vertex_faces(0).is_16_bit(),
+        ),
+        (
+            "vertex neighbours",
+            g.vertex_count() > 0 && g.vertex_neighbours(0).is_16_bit(),
+        ),
+    ];
+    let bits = |narrow: bool| if narrow { 16 } else { 32 };
+    let width = if lists.iter().all(|l| l.1 == lists[0].1) {
+        format!("faces and vertex lists in {} bits", bits(lists[0].1))
+    } else {
+        let each: Vec<String> = lists
+            .iter()
+            .map(|l| format!("{} in {} bits", l.0, bits(l.1)))
+            .collect();
+        each.join(", ")
+    };
+    format!("version {}, {width}", g.format_version())
+}
+
 /// A human-readable summary of a graph.
 pub fn summary(g: &Vdg<'_>) -> String {
     let info = g.info();
@@ -17,6 +44,7 @@ pub fn summary(g: &Vdg<'_>) -> String {
         let format = g.metadata_value("source.format").unwrap_or("");
         let _ = writeln!(s, "source game    {game}, {format}");
     }
+    let _ = writeln!(s, "file format    {}", format_line(g));
     let _ = writeln!(s, "vertices       {}", info.vertex_count);
     let _ = writeln!(s, "faces          {}", info.face_count);
     let edges: usize = (0..g.vertex_count() as u32)

@@ -180,6 +180,13 @@ fn info_and_queries_print_their_answers() {
     assert!(info.status.success());
     let text = String::from_utf8(info.stdout).unwrap();
     assert!(text.contains("vertices       169"), "{text}");
+    let version = vdgformat::layout::FORMAT_VERSION;
+    assert!(
+        text.contains(&format!(
+            "file format    version {version}, faces and vertex lists in 16 bits"
+        )),
+        "{text}"
+    );
     assert!(text.contains("source.name = box_room.bsp"), "{text}");
     // Given the map, info names its game and format.
     let info = vdgview(&["info", map("box_room.bsp").to_str().unwrap()]);

@@ -103,6 +103,11 @@ impl<'a> Vdg<'a> {
         self.vn.between(self.vn_offsets[v], self.vn_offsets[v + 1])
     }
 
+    /// The file's format version (1 to [`crate::layout::FORMAT_VERSION`]).
+    pub fn format_version(&self) -> u32 {
+        self.version
+    }
+
     /// XXH64 of the source map (0 when the producer did not record it).
     pub fn source_hash(&self) -> u64 {
         self.info.source_hash
