@@ -1,5 +1,6 @@
 //! Building a `.vdg` file: adjacency, the BBox tree, layout and checksum.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -896,13 +897,14 @@ fn build_node(
 }
 
 /// An index list's section: the 16-bit one of `ids` (`.1`) with its bytes when
-/// `narrow` (the caller checked every index fits), else the 32-bit one (`.0`).
-fn index_section(ids: (u32, u32), narrow: bool, indices: &[u32]) -> (u32, Vec<u8>) {
+/// `narrow` (the caller checked every index fits), else the 32-bit one (`.0`),
+/// borrowed as it is.
+fn index_section(ids: (u32, u32), narrow: bool, indices: &[u32]) -> (u32, Cow<'_, [u8]>) {
     if narrow {
-        let short: Vec<u16> = indices.iter().map(|&i| i as u16).collect();
-        (ids.1, bytemuck::cast_slice(&short).to_vec())
+        let short = indices.iter().flat_map(|&i| (i as u16).to_le_bytes());
+        (ids.1, Cow::Owned(short.collect()))
     } else {
-        (ids.0, bytemuck::cast_slice(indices).to_vec())
+        (ids.0, Cow::Borrowed(bytemuck::cast_slice(indices)))
     }
 }
 

@@ -122,7 +122,8 @@ impl<'a> IndexList<'a> {
         }
     }
 
-    /// Entries `start .. end` (CSR offsets). Panics when out of range.
+    /// Entries `start .. end` (CSR offsets, which validation made monotone and
+    /// in range). Panics when `end < start` or out of range.
     #[inline]
     pub(crate) fn between(&self, start: u32, end: u32) -> IndexList<'a> {
         self.range(start, end - start)

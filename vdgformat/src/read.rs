@@ -295,6 +295,8 @@ struct Layout {
     ranges: [(usize, usize); section::KNOWN.len()],
     /// Whether each pair of [`section::ALTERNATIVES`] is stored 16-bit.
     narrow: [bool; section::ALTERNATIVES.len()],
+    /// The header's format version.
+    version: u32,
 }
 
 impl VdgFile {
@@ -348,14 +350,18 @@ impl<'a> Vdg<'a> {
     }
 }
 
-fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
-    let s = |id: u32| {
-        let r = l.ranges[slot_of(id)];
-        &bytes[r.0..r.1]
+/// The slot of a known section id in [`section::KNOWN`], found at compile time
+/// (`view` runs on every [`VdgFile::graph`], e.g. once per C ABI call).
+macro_rules! slot {
+    ($id:ident) => {
+        const { slot_of(section::$id) }
     };
+}
+
+fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
+    let s = |slot: usize| &bytes[l.ranges[slot].0..l.ranges[slot].1];
     // The stored one of pair `k` of the alternatives, 32- or 16-bit.
-    let list = |k: usize| {
-        let (wide, narrow) = section::ALTERNATIVES[k];
+    let list = |k: usize, wide: usize, narrow: usize| {
         if l.narrow[k] {
             IndexList::narrow(bytemuck::cast_slice(s(narrow)))
         } else {
@@ -363,32 +369,37 @@ fn view<'a>(bytes: &'a [u8], l: &Layout) -> Vdg<'a> {
         }
     };
     Vdg {
-        info: bytemuck::from_bytes(s(section::INFO)),
-        vertices: bytemuck::cast_slice(s(section::VERTICES)),
+        info: bytemuck::from_bytes(s(slot!(INFO))),
+        vertices: bytemuck::cast_slice(s(slot!(VERTICES))),
         faces: if l.narrow[0] {
-            FaceList::narrow(bytemuck::cast_slice(s(section::FACES16)))
+            FaceList::narrow(bytemuck::cast_slice(s(slot!(FACES16))))
         } else {
-            FaceList::wide(bytemuck::cast_slice(s(section::FACES)))
+            FaceList::wide(bytemuck::cast_slice(s(slot!(FACES))))
         },
-        vf_offsets: bytemuck::cast_slice(s(section::VERTEX_FACE_OFFSETS)),
-        vf: list(1),
-        vn_offsets: bytemuck::cast_slice(s(section::VERTEX_NEIGHBOUR_OFFSETS)),
-        vn: list(2),
-        nodes: bytemuck::cast_slice(s(section::TREE_NODES)),
-        leaf_faces: list(3),
-        metadata: std::str::from_utf8(s(section::METADATA)).unwrap_or(""),
-        node_bounds: bytemuck::cast_slice(s(section::TREE_NODE_BOUNDS)),
-        own_radii: bytemuck::cast_slice(s(section::FACE_RADII)),
-        version: read_pod::<Header>(bytes, 0).version,
+        vf_offsets: bytemuck::cast_slice(s(slot!(VERTEX_FACE_OFFSETS))),
+        vf: list(1, slot!(VERTEX_FACES), slot!(VERTEX_FACES16)),
+        vn_offsets: bytemuck::cast_slice(s(slot!(VERTEX_NEIGHBOUR_OFFSETS))),
+        vn: list(2, slot!(VERTEX_NEIGHBOURS), slot!(VERTEX_NEIGHBOURS16)),
+        nodes: bytemuck::cast_slice(s(slot!(TREE_NODES))),
+        leaf_faces: list(3, slot!(TREE_LEAF_FACES), slot!(TREE_LEAF_FACES16)),
+        metadata: std::str::from_utf8(s(slot!(METADATA))).unwrap_or(""),
+        node_bounds: bytemuck::cast_slice(s(slot!(TREE_NODE_BOUNDS))),
+        own_radii: bytemuck::cast_slice(s(slot!(FACE_RADII))),
+        version: l.version,
     }
 }
 
-/// Position of a known section id in [`section::KNOWN`].
-fn slot_of(id: u32) -> usize {
-    section::KNOWN
-        .iter()
-        .position(|&k| k == id)
-        .expect("a known section id")
+/// Position of a known section id in [`section::KNOWN`]; only ever asked of
+/// the ids listed there (in a `const` block an unknown id does not compile).
+const fn slot_of(id: u32) -> usize {
+    let mut i = 0;
+    while i < section::KNOWN.len() {
+        if section::KNOWN[i] == id {
+            return i;
+        }
+        i += 1;
+    }
+    panic!("not a known section id")
 }
 
 fn read_pod<T: bytemuck::Pod>(bytes: &[u8], at: usize) -> T {
@@ -459,7 +470,10 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
     let entries: Vec<SectionEntry> = (0..h.section_count as usize)
         .map(|i| read_pod(bytes, header_len + i * size_of::<SectionEntry>()))
         .collect();
-    let mut layout = Layout::default();
+    let mut layout = Layout {
+        version: h.version,
+        ..Layout::default()
+    };
     let mut found = [false; section::KNOWN.len()];
     // Ids newer than the file's version are unknown sections there (version
     // 1 knew no 16-bit leaf faces, version 2 no face radii, ...).
@@ -698,7 +712,7 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             reason: "stored search bounds do not match the node's faces",
         });
     }
-    let meta = layout.ranges[slot_of(section::METADATA)];
+    let meta = layout.ranges[slot!(METADATA)];
     let meta = &bytes[meta.0..meta.1];
     validate_metadata(meta)?;
     Ok(())

@@ -22,10 +22,15 @@ use vdgformat::{DEFAULT_LEAF_SIZE, VdgBuilder, VdgFile};
 /// padding count too.
 const MAX_BYTES_PER_FACE: f64 = 100.0;
 
+/// The compiled open_field graph (see the module comment).
+fn open_field() -> VdgFile {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/graphs/open_field.vdg");
+    VdgFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
 #[test]
 fn open_map_file_stays_within_100_bytes_per_face() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/graphs/open_field.vdg");
-    let fixture = VdgFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let fixture = open_field();
     let g = fixture.graph();
     assert!(
         g.face_count() > 3000,
@@ -80,8 +85,7 @@ fn open_map_file_stays_within_100_bytes_per_face() {
 /// metadata.
 #[test]
 fn a_tiny_graph_stays_within_100_bytes_per_face() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/graphs/open_field.vdg");
-    let fixture = VdgFile::open(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let fixture = open_field();
     let grid = common::grid(5, 2, 40.0, |x, _| x * 0.1, |_, _| 20.0, |_, _| true);
     let plain = VdgFile::from_bytes(&grid.to_bytes().unwrap()).unwrap();
     let faces = plain.graph().faces().to_vec();
