@@ -584,23 +584,30 @@ fn later_stages(
     });
     // Condition A keeps the reduced volume inside the guarded one and the raise is
     // certified; check every face anyway and repair faces where it evidently failed.
-    let t = Instant::now();
-    let (graph, repair) = voronoi::guard_with(
-        graph,
-        space,
-        options.min_clearance,
-        voronoi::GuardMode::Repair,
-    );
-    log.info(format!(
-        "Reduction check: repaired {} vertices (lowered by up to {:.3} units), removed {}; nodes {}, faces {} [{}]",
-        repair.lowered,
-        repair.max_lowering,
-        repair.removed,
-        graph.vertices.len(),
-        graph.faces.len(),
-        secs(t.elapsed().as_secs_f64())
-    ));
-    stats.seconds.push(("check", t.elapsed().as_secs_f64()));
+    // A graph neither reduced nor raised is the guard's own output: nothing to check.
+    let changed_since_guard = options.reduction_limit < 1.0 || wall_raise;
+    let graph = if changed_since_guard {
+        let t = Instant::now();
+        let (graph, repair) = voronoi::guard_with(
+            graph,
+            space,
+            options.min_clearance,
+            voronoi::GuardMode::Repair,
+        );
+        log.info(format!(
+            "Reduction check: repaired {} vertices (lowered by up to {:.3} units), removed {}; nodes {}, faces {} [{}]",
+            repair.lowered,
+            repair.max_lowering,
+            repair.removed,
+            graph.vertices.len(),
+            graph.faces.len(),
+            secs(t.elapsed().as_secs_f64())
+        ));
+        stats.seconds.push(("check", t.elapsed().as_secs_f64()));
+        graph
+    } else {
+        graph
+    };
     // The repair keeps every face and only lowers clearances, so the corners stay
     // above them; a face whose volume it found reaching a wall is the corner
     // check's to put back.
