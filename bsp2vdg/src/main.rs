@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
     version,
     about = "Compile a BSP map into a Voronoi Distance Graph (.vdg)",
     allow_negative_numbers = true,
-    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
+    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
 )]
 struct Cli {
     /// The map(s) to compile; several maps are compiled in parallel (batch mode).
@@ -40,6 +40,10 @@ struct Cli {
     /// Reduction limit: 1.0 = no reduction, 0.0 = as far as possible.
     #[arg(long = "rl", value_name = "F", default_value_t = 0.025)]
     reduction_limit: f64,
+    /// Reduction floor: never reduce below N vertices, whatever -rl says (small maps
+    /// keep enough of their graph to see across their rooms); 0 = no floor.
+    #[arg(long = "rv", value_name = "N", default_value_t = bsp2vdg::pipeline::DEFAULT_REDUCTION_FLOOR)]
+    reduction_floor: usize,
     /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
     /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
     /// vertices it keeps (condition A), so the written graph may hold smaller ones.
@@ -560,6 +564,7 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
             ..SampleOptions::default()
         },
         reduction_limit: cli.reduction_limit,
+        reduction_floor: cli.reduction_floor,
         min_clearance: cli.min_clearance,
         tree_leaf_size: cli.tree_leaf_size,
         liquids_are_solid: cli.liquids_solid,

@@ -75,6 +75,7 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "reduced_faces": s.reduce.as_ref().map(|r| r.faces_after),
                 "reduce_stop_reason": s.reduce.as_ref().map(|r| r.stop.as_str()),
                 "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
+                "reduce_target": s.reduce.as_ref().map(|r| r.target),
                 "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
                 "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
                 "reduce_raise": s.reduce.as_ref().and_then(|r| r.raised_back).map(|r| [r.vertices as f64, r.total, r.seconds]),
