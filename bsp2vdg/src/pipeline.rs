@@ -618,8 +618,14 @@ fn later_stages(
             options.min_clearance,
             voronoi::GuardMode::Repair,
         );
+        // An unreduced graph reaches this check through the raise alone.
+        let what = if options.reduction_limit < 1.0 {
+            "Reduction check"
+        } else {
+            "Raise check"
+        };
         log.info(format!(
-            "Reduction check: repaired {} vertices (lowered by up to {:.3} units), removed {}; nodes {}, faces {} [{}]",
+            "{what}: repaired {} vertices (lowered by up to {:.3} units), removed {}; nodes {}, faces {} [{}]",
             repair.lowered,
             repair.max_lowering,
             repair.removed,

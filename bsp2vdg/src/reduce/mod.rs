@@ -56,7 +56,9 @@
 //! off (the compiler raises towards the walls instead).
 
 mod border;
-#[cfg(debug_assertions)]
+// The per-operation check of condition A: debug builds run it on every
+// removal, and the tests use it in release builds too.
+#[cfg(any(debug_assertions, test))]
 mod check;
 mod keep;
 mod mesh;
