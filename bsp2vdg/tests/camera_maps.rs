@@ -158,7 +158,7 @@ fn check_route(name: &str, walk: Walk, min_visible: f64) {
 fn check_route_on(file: &VdgFile, world: &World, name: &str, walk: &Walk, min_visible: f64) {
     let g = file.graph();
     for dt in [1.0 / 60.0, 1.0 / 30.0f32] {
-        let r = run(&g, &walk, CameraParams::default(), dt);
+        let r = run(&g, walk, CameraParams::default(), dt);
         let (mut seen, mut hidden_run, mut longest) = (0usize, 0usize, 0usize);
         for (i, (p, t)) in r.poses.iter().zip(&r.targets).enumerate() {
             let eye = f64p(p.eye);
