@@ -63,6 +63,32 @@ fn without_floor(args: &[&str]) -> &'static [&'static str] {
     }
 }
 
+/// `vdgview check` (the map's BSP as the oracle) on two graphs of `map`,
+/// before and after, with `samples` check samples; prints both false
+/// negative rates.
+fn check_both(
+    map: &str,
+    before: &VdgFile,
+    after: &VdgFile,
+    samples: usize,
+) -> (bsp2vdg::check::CheckReport, bsp2vdg::check::CheckReport) {
+    let bsp = bsp2vdg::bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
+    let options = bsp2vdg::check::CheckOptions {
+        samples,
+        ..Default::default()
+    };
+    let a = bsp2vdg::check::check(&bsp, &before.graph(), 0, &options);
+    let b = bsp2vdg::check::check(&bsp, &after.graph(), 0, &options);
+    eprintln!(
+        "{map}: fn inside {:.4} ({} segments) -> {:.4} ({} segments)",
+        a.visible_fn_inside(),
+        a.free_segments_inside,
+        b.visible_fn_inside(),
+        b.free_segments_inside
+    );
+    (a, b)
+}
+
 /// Connected components of the vertices that have faces (union–find).
 fn components(file: &VdgFile) -> usize {
     let g = file.graph();
@@ -208,20 +234,7 @@ fn reduction_floor_keeps_small_maps_seeing() {
         VdgFile::from_bytes(&plain).unwrap(),
         VdgFile::from_bytes(&floored).unwrap(),
     );
-    let bsp = bsp2vdg::bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
-    let options = bsp2vdg::check::CheckOptions {
-        samples: 100_000,
-        ..Default::default()
-    };
-    let a = bsp2vdg::check::check(&bsp, &plain.graph(), 0, &options);
-    let b = bsp2vdg::check::check(&bsp, &floored.graph(), 0, &options);
-    eprintln!(
-        "{map}: fn inside {:.4} ({} segments) -> {:.4} ({} segments) with the floor",
-        a.visible_fn_inside(),
-        a.free_segments_inside,
-        b.visible_fn_inside(),
-        b.free_segments_inside
-    );
+    let (a, b) = check_both(map, &plain, &floored, 100_000);
     assert_eq!((b.leaked, b.false_positives), (0, 0), "{b:?}");
     assert!(a.false_negatives_inside >= 50, "{a:?}");
     assert!(
@@ -274,20 +287,7 @@ fn raise_sees_along_walls_and_stays_free(
         beyond >= min_beyond,
         "-rl {rl}: the raise added little volume: {beyond} of 50000"
     );
-    let bsp = bsp2vdg::bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
-    let options = bsp2vdg::check::CheckOptions {
-        samples,
-        ..Default::default()
-    };
-    let a = bsp2vdg::check::check(&bsp, &plain.graph(), 0, &options);
-    let b = bsp2vdg::check::check(&bsp, &raised.graph(), 0, &options);
-    eprintln!(
-        "{map}: fn inside {:.4} ({} segments) -> {:.4} ({} segments)",
-        a.visible_fn_inside(),
-        a.free_segments_inside,
-        b.visible_fn_inside(),
-        b.free_segments_inside
-    );
+    let (a, b) = check_both(map, &plain, &raised, samples);
     assert_eq!((b.leaked, b.false_positives), (0, 0), "{b:?}");
     assert!(
         a.visible_fn_inside() > min_plain_fn && a.false_negatives_inside >= 20,
