@@ -300,6 +300,11 @@ struct Scene {
     /// horizon's length.
     c_t: V3,
     inertia_scale: f64,
+    /// Where the camera stands before the step, and how far it may travel
+    /// over the horizon: with [`CameraParams::inertia_step`] f_inertia rates
+    /// the point a step towards a candidate reaches, not the candidate.
+    pos: V3,
+    inertia_reach: f64,
     novis: f64,
     /// The target's face came from a global search this frame.
     searched: bool,
@@ -677,11 +682,11 @@ impl Camera {
             dt.max(1e-6)
         };
         let c_t = pos + vel * horizon;
-        let inertia_scale = speed
+        let inertia_reach = speed
             .max(f64::from(p.inertia_min_speed))
             .max(target_speed * f64::from(p.inertia_target_speed))
-            * horizon
-            * f64::from(p.inertia_sigma);
+            * horizon;
+        let inertia_scale = inertia_reach * f64::from(p.inertia_sigma);
         let v_sigma = f64::from(p.visibility_sigma);
         let novis = (v_sigma / (v_sigma + hidden)).powi(2);
         Scene {
@@ -694,6 +699,12 @@ impl Camera {
             dt,
             c_t,
             inertia_scale,
+            pos,
+            inertia_reach: if p.inertia_step {
+                inertia_reach
+            } else {
+                f64::INFINITY
+            },
             novis,
             searched,
             t_vis_in_face: g.fc(face, t_vis) > INSIDE,
@@ -1466,7 +1477,20 @@ impl Camera {
         (angle / f64::from(self.params.angle_sigma_deg).to_radians()).powi(2)
     }
 
+    /// f_inertia. With `inertia_step` the candidate is first brought within
+    /// the horizon's reach of the camera: a far candidate in the direction
+    /// the camera is already going is a gentle step, not a violent turn (the
+    /// thesis compares the candidate itself, so a camera slowed by a narrow
+    /// corridor rated a candidate 54 units back towards a standing player as
+    /// costly as a swerve, and drifted away from him).
     fn inertia_cost(&self, scene: &Scene, k: V3) -> f64 {
+        let d = k - scene.pos;
+        let len = d.norm();
+        let k = if len > scene.inertia_reach {
+            scene.pos + d * (scene.inertia_reach / len)
+        } else {
+            k
+        };
         ((k - scene.c_t).norm() / scene.inertia_scale).powi(2)
     }
 
