@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
     version,
     about = "Compile a BSP map into a Voronoi Distance Graph (.vdg)",
     allow_negative_numbers = true,
-    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
+    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -rc relative -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
 )]
 struct Cli {
     /// The map(s) to compile; several maps are compiled in parallel (batch mode).
@@ -44,6 +44,11 @@ struct Cli {
     /// keep enough of their graph to see across their rooms); 0 = no floor.
     #[arg(long = "rv", value_name = "N", default_value_t = bsp2vdg::pipeline::DEFAULT_REDUCTION_FLOOR)]
     reduction_floor: usize,
+    /// Reduction cost: `relative` removes first what loses the least volume for the
+    /// vertex's size (volume / clearance²), keeping the volume near the walls that sight
+    /// lines along them need; `volume` is the thesis' (the volume alone).
+    #[arg(long = "rc", value_enum, value_name = "COST", default_value_t = ReductionCostArg::Relative)]
+    reduction_cost: ReductionCostArg,
     /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
     /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
     /// vertices it keeps (condition A), so the written graph may hold smaller ones.
@@ -140,6 +145,12 @@ enum StageArg {
     Delaunay,
     Voronoi,
     Reduce,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum ReductionCostArg {
+    Volume,
+    Relative,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -565,6 +576,10 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
         },
         reduction_limit: cli.reduction_limit,
         reduction_floor: cli.reduction_floor,
+        reduction_cost: match cli.reduction_cost {
+            ReductionCostArg::Volume => bsp2vdg::reduce::ReductionCost::Volume,
+            ReductionCostArg::Relative => bsp2vdg::reduce::ReductionCost::Relative,
+        },
         min_clearance: cli.min_clearance,
         tree_leaf_size: cli.tree_leaf_size,
         liquids_are_solid: cli.liquids_solid,

@@ -98,6 +98,8 @@ pub struct CompileOptions {
     /// `-rv`: never reduce below this many vertices (see
     /// [`reduce::ReduceOptions::min_vertices`]).
     pub reduction_floor: usize,
+    /// `-rc`: what a removal costs (see [`reduce::ReductionCost`]).
+    pub reduction_cost: reduce::ReductionCost,
     /// `-md`: vertices with less clearance are removed before reduction.
     pub min_clearance: f64,
     /// `-bb`: the smallest leaf box of the face tree.
@@ -118,13 +120,14 @@ pub struct CompileOptions {
 }
 
 impl CompileOptions {
-    /// The command line's defaults (`-sd 24 -ms 250000 -rl 0.025 -rv 1000 -md 20 -bb 256`),
+    /// The command line's defaults (`-sd 24 -ms 250000 -rl 0.025 -rv 1000 -rc relative -md 20 -bb 256`),
     /// writing to `output`.
     pub fn new(output: PathBuf) -> CompileOptions {
         CompileOptions {
             sampling: SampleOptions::default(),
             reduction_limit: 0.025,
             reduction_floor: DEFAULT_REDUCTION_FLOOR,
+            reduction_cost: reduce::ReductionCost::Relative,
             min_clearance: 20.0,
             tree_leaf_size: 256.0,
             liquids_are_solid: false,
@@ -199,9 +202,13 @@ fn reduce_graph(
     ));
     let crouching = keep.len() - standing;
     let before = graph.vertices.len();
+    let cost = match options.cost {
+        reduce::ReductionCost::Volume => "volume",
+        reduce::ReductionCost::Relative => "volume / clearance²",
+    };
     log.info(if options.floor_sets_target(before) {
         format!(
-            "Reducing to {} vertices (the floor -rv {}; -rl {} would leave {})...",
+            "Reducing to {} vertices (the floor -rv {}; -rl {} would leave {}), cost {cost}...",
             options.target(before),
             options.min_vertices,
             options.limit,
@@ -209,7 +216,7 @@ fn reduce_graph(
         )
     } else {
         format!(
-            "Reducing to {} ({}) vertices...",
+            "Reducing to {} ({}) vertices, cost {cost}...",
             options.target(before),
             options.limit
         )
@@ -577,6 +584,7 @@ fn later_stages(
             limit: options.reduction_limit,
             min_vertices: options.reduction_floor,
             raise: !wall_raise,
+            cost: options.reduction_cost,
         };
         let (reduced, rs) = reduce_graph(&graph, reduce_options, space, log, progress);
         stats.seconds.push(("reduce", rs.1));

@@ -29,6 +29,7 @@ pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
         ("ms", options.sampling.max_samples.to_string()),
         ("rl", options.reduction_limit.to_string()),
         ("rv", options.reduction_floor.to_string()),
+        ("rc", options.reduction_cost.as_str().to_string()),
         ("md", options.min_clearance.to_string()),
         ("bb", options.tree_leaf_size.to_string()),
         ("subset", options.sampling.subset.to_string()),

@@ -37,6 +37,8 @@ pub(crate) struct Mesh {
     /// Whether the seam operations (module `seam`) may be used: the
     /// reduction's second phase, after the thesis' cases alone stopped.
     pub seam_ops: bool,
+    /// How removals are costed ([`super::ReduceOptions::cost`]).
+    pub cost: super::ReductionCost,
 }
 
 impl Mesh {
@@ -81,6 +83,7 @@ impl Mesh {
             faces,
             vfaces,
             seam_ops: false,
+            cost: super::ReductionCost::Volume,
         };
         mesh.shape = mesh
             .faces
