@@ -588,6 +588,8 @@ fn relative_cost_keeps_the_vertices_near_the_walls() {
     let (relative, s1) = compile_json(map, "cost-relative", &args("relative"));
     assert_eq!(s0["reduce_stop_reason"], "limit", "{s0}");
     assert_eq!(s1["reduce_stop_reason"], "limit", "{s1}");
+    assert_eq!(s0["reduce_cost"], "volume", "{s0}");
+    assert_eq!(s1["reduce_cost"], "relative", "{s1}");
     let (thesis, relative) = (
         VdgFile::from_bytes(&thesis).unwrap(),
         VdgFile::from_bytes(&relative).unwrap(),

@@ -76,6 +76,7 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "reduce_stop_reason": s.reduce.as_ref().map(|r| r.stop.as_str()),
                 "reduce_vertices_before": s.reduce.as_ref().map(|r| r.vertices_before),
                 "reduce_target": s.reduce.as_ref().map(|r| r.target),
+                "reduce_cost": s.reduce.as_ref().map(|r| r.cost.as_str()),
                 "reduce_faces_before": s.reduce.as_ref().map(|r| r.faces_before),
                 "reduce_lost_volume": s.reduce.as_ref().map(|r| r.lost_volume),
                 "reduce_raise": s.reduce.as_ref().and_then(|r| r.raised_back).map(|r| [r.vertices as f64, r.total, r.seconds]),

@@ -237,6 +237,8 @@ pub struct ReduceStats {
     /// The vertex count aimed at ([`ReduceOptions::target`]: `ceil(limit ·
     /// vertices_before)`, or the floor if higher).
     pub target: usize,
+    /// The order the removals went in ([`ReduceOptions::cost`]).
+    pub cost: ReductionCost,
     pub vertices_after: usize,
     pub faces_after: usize,
     /// Vertices removed by the main loop (vertices left without a face by a
@@ -461,6 +463,7 @@ fn run(
         vertices_before: live,
         faces_before: faces,
         target: options.target(live),
+        cost: options.cost,
         kept_points: keeping,
         ..ReduceStats::default()
     };
