@@ -202,10 +202,7 @@ fn reduce_graph(
     ));
     let crouching = keep.len() - standing;
     let before = graph.vertices.len();
-    let cost = match options.cost {
-        reduce::ReductionCost::Volume => "volume",
-        reduce::ReductionCost::Relative => "volume / clearance²",
-    };
+    let cost = options.cost.formula();
     log.info(if options.floor_sets_target(before) {
         format!(
             "Reducing to {} vertices (the floor -rv {}; -rl {} would leave {}), cost {cost}...",

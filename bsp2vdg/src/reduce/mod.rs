@@ -151,6 +151,14 @@ impl ReductionCost {
             ReductionCost::Relative => "relative",
         }
     }
+
+    /// What [`Self::of`] computes, for the log.
+    pub fn formula(self) -> &'static str {
+        match self {
+            ReductionCost::Volume => "volume",
+            ReductionCost::Relative => "volume / clearance²",
+        }
+    }
 }
 
 impl ReduceOptions {
