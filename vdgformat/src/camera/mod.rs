@@ -1484,10 +1484,12 @@ impl Camera {
     /// corridor rated a candidate 54 units back towards a standing player as
     /// costly as a swerve, and drifted away from him).
     fn inertia_cost(&self, scene: &Scene, k: V3) -> f64 {
+        // Squared lengths: no square root for the candidates within reach
+        // (all of them with `inertia_step` off, where the reach is infinite).
         let d = k - scene.pos;
-        let len = d.norm();
-        let k = if len > scene.inertia_reach {
-            scene.pos + d * (scene.inertia_reach / len)
+        let len2 = d.norm2();
+        let k = if len2 > scene.inertia_reach * scene.inertia_reach {
+            scene.pos + d * (scene.inertia_reach / len2.sqrt())
         } else {
             k
         };
