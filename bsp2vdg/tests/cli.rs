@@ -3,8 +3,9 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use toolbox::ScratchDir;
 
 fn bsp2vdg(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
@@ -15,27 +16,41 @@ fn bsp2vdg(args: &[&str]) -> Output {
 
 /// A copy of a small map in a fresh folder (the compile log goes beside the map, and
 /// tests must not write into the source tree): a generated map, else a free real one,
-/// else none (skip).
-fn some_map() -> Option<PathBuf> {
+/// else none (skip). The folder goes when the copy does.
+fn some_map() -> Option<MapCopy> {
     let source = match common::generated_maps().into_iter().next() {
         Some(m) => m,
         None => common::shared_maps(&["goldsrc"])?
             .into_iter()
             .find(|p| p.to_string_lossy().contains("allocblock-vis-test-simple"))?,
     };
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    static COPIES: AtomicUsize = AtomicUsize::new(0);
-    let dir = tempdir(&format!("map{}", COPIES.fetch_add(1, Ordering::Relaxed)));
-    let copy = dir.join(source.file_name().unwrap());
-    std::fs::copy(&source, &copy).unwrap();
-    Some(copy)
+    let dir = tempdir("map");
+    let path = dir.join(source.file_name().unwrap());
+    std::fs::copy(&source, &path).unwrap();
+    Some(MapCopy { path, _dir: dir })
 }
 
-fn tempdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("bsp2vdg-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A map copied into its own scratch folder; reads as the copy's path.
+struct MapCopy {
+    path: PathBuf,
+    _dir: ScratchDir,
+}
+
+impl std::ops::Deref for MapCopy {
+    type Target = PathBuf;
+    fn deref(&self) -> &PathBuf {
+        &self.path
+    }
+}
+
+impl AsRef<Path> for MapCopy {
+    fn as_ref(&self) -> &Path {
+        &self.path
+    }
+}
+
+fn tempdir(name: &str) -> ScratchDir {
+    ScratchDir::new(&format!("bsp2vdg-cli-{name}")).unwrap()
 }
 
 fn stderr(o: &Output) -> String {
@@ -270,7 +285,8 @@ fn the_log_goes_beside_the_output() {
     );
     std::fs::remove_file(map.with_extension("log")).unwrap();
 
-    let out = tempdir("logout").join("elsewhere.vdg");
+    let elsewhere = tempdir("logout");
+    let out = elsewhere.join("elsewhere.vdg");
     let o = bsp2vdg(&[
         "-quiet",
         "--stop-after",

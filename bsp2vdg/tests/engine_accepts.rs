@@ -59,10 +59,8 @@ fn le(values: &[i32]) -> Vec<u8> {
     values.iter().flat_map(|v| v.to_le_bytes()).collect()
 }
 
-fn tempdir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("bsp2vdg-engine-accepts-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tempdir() -> toolbox::ScratchDir {
+    toolbox::ScratchDir::new("bsp2vdg-engine-accepts").unwrap()
 }
 
 /// Compiles the map bytes; returns the .vdg bytes.

@@ -4,9 +4,13 @@
 //! leftovers of killed runs, and [`SplitMix64`], the small seeded generator that tests,
 //! benchmarks and samplers draw from. It knows nothing of maps or graphs, so the
 //! runtime crate `vdgformat` can use it as well as the compiler and the viewers.
+//! Tests and examples take their scratch folders from [`ScratchDir`], which removes
+//! them when they are done.
 
 mod atomic;
 mod rng;
+mod scratch;
 
 pub use atomic::{clean_stale_temps, temp_path, write_atomic, write_bytes_atomic};
 pub use rng::SplitMix64;
+pub use scratch::ScratchDir;

@@ -33,10 +33,8 @@ fn compile(map: &Path, out: &Path) {
     .unwrap();
 }
 
-fn tempdir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vdgview-check-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tempdir() -> toolbox::ScratchDir {
+    toolbox::ScratchDir::new("vdgview-check").unwrap()
 }
 
 #[test]
@@ -118,7 +116,8 @@ fn alpha_textured_world_brushes_are_walls() {
         eprintln!("skipped: {} is absent", map.display());
         return;
     }
-    let out = tempdir().join("fence.vdg");
+    let dir = tempdir();
+    let out = dir.join("fence.vdg");
     compile(&map, &out);
     let bsp = Bsp::open(&map).unwrap();
     let file = vdgformat::VdgFile::open(&out).unwrap();

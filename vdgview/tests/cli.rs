@@ -13,10 +13,8 @@ fn map(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vdgview-cli-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tmpdir(tag: &str) -> toolbox::ScratchDir {
+    toolbox::ScratchDir::new(&format!("vdgview-cli-{tag}")).unwrap()
 }
 
 fn vdgview(args: &[&str]) -> Output {
