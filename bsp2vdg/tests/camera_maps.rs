@@ -24,13 +24,7 @@ fn compiled(name: &str) -> (VdgFile, World) {
 /// [`compiled`] with extra options.
 fn compiled_with(name: &str, args: &[&str]) -> (VdgFile, World) {
     let maps = common::repo_root().join("testdata/maps");
-    let dir = std::env::temp_dir().join(format!(
-        "bsp2vdg-camera-{name}-{}-{}",
-        args.join(""),
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = toolbox::ScratchDir::new(&format!("bsp2vdg-camera-{name}")).unwrap();
     let map: PathBuf = dir.join(format!("{name}.bsp"));
     std::fs::copy(maps.join(format!("{name}.bsp")), &map).unwrap();
     let out = dir.join(format!("{name}.vdg"));
@@ -43,7 +37,6 @@ fn compiled_with(name: &str, args: &[&str]) -> (VdgFile, World) {
         .expect("bsp2vdg runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let file = VdgFile::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
     let json = std::fs::read_to_string(maps.join(format!("{name}.json"))).unwrap();
     (file, World::from_manifest_json(&json).unwrap())
 }

@@ -13,6 +13,7 @@ use std::process::Command;
 
 use bsp2vdg::util::SplitMix64;
 use mapgen::world::World;
+use toolbox::ScratchDir;
 use vdgformat::VdgFile;
 
 fn maps_dir() -> PathBuf {
@@ -26,10 +27,7 @@ fn maps_dir() -> PathBuf {
 /// Tags starting with `a-` compile without the raise towards the walls
 /// (`BSP2VDG_NO_WALL_RAISE`), for checks of condition A.
 fn compile(map: &str, tag: &str, args: &[&str]) -> Vec<u8> {
-    let dir =
-        std::env::temp_dir().join(format!("bsp2vdg-reduce-{map}-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = ScratchDir::new(&format!("bsp2vdg-reduce-{map}-{tag}")).unwrap();
     let src = maps_dir().join(format!("{map}.bsp"));
     let copy = dir.join(format!("{map}.bsp"));
     std::fs::copy(&src, &copy).unwrap();
@@ -47,9 +45,7 @@ fn compile(map: &str, tag: &str, args: &[&str]) -> Vec<u8> {
         .output()
         .expect("bsp2vdg runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let bytes = std::fs::read(&out).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    bytes
+    std::fs::read(&out).unwrap()
 }
 
 /// `-rv 0` unless `args` set the floor: these tests are about the reduction
@@ -303,12 +299,7 @@ fn raise_sees_along_walls_and_stays_free(
 
 /// `compile` with `--json`: the `.vdg` bytes and the stats (tags as there).
 fn compile_json(map: &str, tag: &str, args: &[&str]) -> (Vec<u8>, serde_json::Value) {
-    let dir = std::env::temp_dir().join(format!(
-        "bsp2vdg-reduce-json-{map}-{tag}-{}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = ScratchDir::new(&format!("bsp2vdg-reduce-json-{map}-{tag}")).unwrap();
     let copy = dir.join(format!("{map}.bsp"));
     std::fs::copy(maps_dir().join(format!("{map}.bsp")), &copy).unwrap();
     let out = dir.join("out.vdg");
@@ -326,7 +317,6 @@ fn compile_json(map: &str, tag: &str, args: &[&str]) -> (Vec<u8>, serde_json::Va
         .expect("bsp2vdg runs");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let bytes = std::fs::read(&out).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
     (bytes, serde_json::from_slice(&o.stdout).expect("--json"))
 }
 
@@ -518,7 +508,7 @@ fn open_field_file_is_compact() {
     let (dir, map, out) = compile_world(&mapgen::worlds::open_field());
     let bytes = std::fs::read(&out).unwrap().len();
     let faces = VdgFile::open(&out).unwrap().graph().face_count();
-    let _ = (std::fs::remove_dir_all(&dir), map);
+    drop((dir, map));
     let per_face = bytes as f64 / faces as f64;
     println!("open_field: {faces} faces, {bytes} bytes, {per_face:.1} bytes per face");
     assert!(per_face <= 100.0, "{per_face:.1} bytes per face");
@@ -526,14 +516,8 @@ fn open_field_file_is_compact() {
 
 /// Writes one of mapgen's worlds into a fresh folder and compiles it at the default
 /// options: the folder, the map and the `.vdg`.
-fn compile_world(world: &World) -> (PathBuf, PathBuf, PathBuf) {
-    let dir = std::env::temp_dir().join(format!(
-        "bsp2vdg-world-{}-{}",
-        world.name,
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+fn compile_world(world: &World) -> (ScratchDir, PathBuf, PathBuf) {
+    let dir = ScratchDir::new(&format!("bsp2vdg-world-{}", world.name)).unwrap();
     let map = dir.join(format!("{}.bsp", world.name));
     std::fs::write(&map, mapgen::bsp::write_world(world)).unwrap();
     let out = dir.join(format!("{}.vdg", world.name));
@@ -558,7 +542,7 @@ fn crawl_duct_keeps_the_crouched_eyes_inside() {
     let bsp = bsp2vdg::bsp::Bsp::open(&map).unwrap();
     let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
     let eyes = bsp2vdg::check::crouch_eyes(&bsp, &oracle, 20_000, 1);
-    let _ = std::fs::remove_dir_all(&dir);
+    drop(dir);
     let g = file.graph();
     let inside = eyes
         .iter()

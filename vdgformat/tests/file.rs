@@ -17,11 +17,8 @@ fn sample() -> VdgBuilder {
     b
 }
 
-fn temp_dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("vdgformat-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn temp_dir(name: &str) -> toolbox::ScratchDir {
+    toolbox::ScratchDir::new(&format!("vdgformat-{name}")).unwrap()
 }
 
 #[test]
@@ -88,7 +85,6 @@ fn writes_are_byte_identical_and_atomic() {
     let err = b.write_atomic(&bad).unwrap_err();
     assert!(err.to_string().contains("cannot write"), "{err}");
     assert!(!bad.exists());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

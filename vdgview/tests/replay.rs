@@ -180,10 +180,8 @@ fn chase_cam_sits_four_units_off_the_wall_and_the_spring_arm_a_radius_off() {
     assert!((256.0 - f2.eye[0] - 112.0).abs() < 0.5, "{:?}", f2.eye);
 }
 
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("vdgview-replay-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+fn tmpdir(tag: &str) -> toolbox::ScratchDir {
+    toolbox::ScratchDir::new(&format!("vdgview-replay-{tag}")).unwrap()
 }
 
 #[test]
@@ -307,5 +305,4 @@ fn cli_writes_json_csv_plots_and_frames() {
             "{err}"
         );
     }
-    std::fs::remove_dir_all(&dir).ok();
 }
