@@ -46,8 +46,9 @@ trap 'rm -rf "$out"' EXIT
 echo "# vdgview check --samples $samples --seed $seed ($((samples / 10)) sight lines) on graphs compiled at the default options;"
 echo "# before = $before ($("$before" -version 2>/dev/null | head -n1 || true)), after = $after; unreduced = after at -rl 1.0 (last lines)."
 echo "# fn_inside: Visible's false negatives among the free sight lines with both ends inside the volume (inside_segments of them, after);"
+echo "# fn_camera: the same on the sight lines from a camera's distance to standing player origins (vdgview check visible_fn_camera)."
 echo "# fn_inside_se: its standard error, sqrt(p(1-p)/inside_segments) (about 0.25 points at 2 % with 10^5 samples: use 10^6 near a bound)."
-printf 'map\tratio\tstop\tvertices\tbytes_before\tbytes_after\tcoverage_before\tcoverage_after\twalkable_before\twalkable_after\thead_before\thead_after\tfn_inside_before\tfn_inside_after\tinside_segments\tleak_after\tfp_after\tcrouch_before\tcrouch_after\tfn_inside_se\n'
+printf 'map\tratio\tstop\tvertices\tbytes_before\tbytes_after\tcoverage_before\tcoverage_after\twalkable_before\twalkable_after\thead_before\thead_after\tfn_inside_before\tfn_inside_after\tinside_segments\tleak_after\tfp_after\tcrouch_before\tcrouch_after\tfn_inside_se\tfn_camera_before\tfn_camera_after\n'
 unreduced=()
 for m in "${maps[@]}"; do
   name=$(basename "$m" .bsp)
@@ -86,6 +87,7 @@ print("\t".join([
     str(ka["free_segments_inside"]), f"{ka['leak']:.6f}", f"{ka['visible_fp']:.6f}",
     share(kb.get("crouch_coverage")), share(ka.get("crouch_coverage")),
     f"{(ka['visible_fn_inside'] * (1 - ka['visible_fn_inside']) / max(ka['free_segments_inside'], 1)) ** 0.5:.4f}",
+    share(kb.get("visible_fn_camera")), share(ka.get("visible_fn_camera")),
 ]))
 ku, cu = load("unreduced.check.json"), load("unreduced.json")
 with open(f"{d}/unreduced.rows", "a") as f:

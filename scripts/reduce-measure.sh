@@ -32,7 +32,7 @@ if [[ -z "${BIN_DIR:-}" ]]; then
 fi
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
-printf 'map\trl\tsamples\tinner_nodes\tinner_faces\treduced_nodes\treduced_faces\tratio\tbytes\tsample_s\tdelaunay_s\tvoronoi_s\tguard_s\treduce_s\tcheck_s\ttotal_s\tpeak_MiB\tstop\tcoverage\twalkable\twalkable_head\tvis_fn_inside\tvis_fn_query\tleak\n'
+printf 'map\trl\tsamples\tinner_nodes\tinner_faces\treduced_nodes\treduced_faces\tratio\tbytes\tsample_s\tdelaunay_s\tvoronoi_s\tguard_s\treduce_s\tcheck_s\ttotal_s\tpeak_MiB\tstop\tcoverage\twalkable\twalkable_head\tvis_fn_inside\tvis_fn_query\tleak\tvis_fn_camera\n'
 for map in "$@"; do
     name="$(basename "$map" .bsp)"
     cp "$map" "$TMP/$name.bsp"
@@ -59,7 +59,8 @@ row = [sys.argv[3], sys.argv[4], d["samples"], before, d.get("reduce_faces_befor
        "%.3f" % c["coverage"] if "coverage" in c else "-",
        *("%.4f" % c[k] if c.get(k) is not None else ("n/a" if k in c else "-")
          for k in ("walkable_coverage", "walkable_coverage_head", "visible_fn_inside", "visible_fn_query")),
-       "%.4f" % c["leak"] if "leak" in c else "-"]
+       "%.4f" % c["leak"] if "leak" in c else "-",
+       "%.4f" % c["visible_fn_camera"] if c.get("visible_fn_camera") is not None else ("n/a" if "visible_fn_camera" in c else "-")]
 print("\t".join(str(x) for x in row), flush=True)
 if d.get("reduce_refusals"):
     print("#", sys.argv[3], sys.argv[4], "refusals:", json.dumps(d["reduce_refusals"]), flush=True)

@@ -21,6 +21,12 @@
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
+//! - **visible_fn_camera**: the same test on the sight lines the camera asks about: from
+//!   a point at a camera's distance (32–176 units, level to 60° above) to a standing
+//!   player's origin, for every tenth standing place; misses among the BSP-free lines
+//!   with both ends inside the volume, and false positives among all of them. Random
+//!   segments run through the middle of rooms as often as along their walls; these
+//!   start where players stand, near floors and walls.
 //!
 //! Every random choice comes from a seeded generator per chunk of work, so the figures
 //! are the same for any thread count.
@@ -91,6 +97,14 @@ pub struct CheckReport {
     /// free space, and how many of those eyes lie inside the volume.
     pub crouch_points: usize,
     pub crouch_covered: usize,
+    /// Camera sight lines ([`camera_lines`]): drawn, and seen by `Visible` though the
+    /// BSP blocks them (must be 0).
+    pub camera_lines: usize,
+    pub camera_false_positives: usize,
+    /// Those the BSP lets through with both ends inside the volume, and how many of
+    /// them `Visible` missed.
+    pub camera_lines_inside: usize,
+    pub camera_false_negatives: usize,
     pub seconds: f64,
     /// Seconds of the four measurements (leak, coverage, visibility, walkable with
     /// crouch).
@@ -138,8 +152,14 @@ impl CheckReport {
         (self.crouch_points > 0).then(|| ratio(self.crouch_covered, self.crouch_points))
     }
     /// Whether the graph passes: nothing leaks, nothing is seen through walls.
+    /// Misses among the camera sight lines with both ends inside the volume; `None` on
+    /// a map where no player stands (see [`CheckReport::walkable_coverage`]).
+    pub fn visible_fn_camera(&self) -> Option<f64> {
+        (self.camera_lines_inside > 0)
+            .then(|| ratio(self.camera_false_negatives, self.camera_lines_inside))
+    }
     pub fn passed(&self) -> bool {
-        self.leaked == 0 && self.false_positives == 0
+        self.leaked == 0 && self.false_positives == 0 && self.camera_false_positives == 0
     }
 
     pub fn to_json(&self) -> serde_json::Value {
@@ -159,6 +179,11 @@ impl CheckReport {
             "crouch_coverage": self.crouch_coverage(),
             "crouch_points": self.crouch_points,
             "crouch_covered": self.crouch_covered,
+            "visible_fn_camera": self.visible_fn_camera(),
+            "camera_lines": self.camera_lines,
+            "camera_false_positives": self.camera_false_positives,
+            "camera_lines_inside": self.camera_lines_inside,
+            "camera_false_negatives": self.camera_false_negatives,
             "vertices": self.vertices,
             "faces": self.faces,
             "bytes": self.bytes,
@@ -508,6 +533,79 @@ fn measure_walkable(
         r.walkable_head_points,
         r.walkable_head_covered,
     ] = counts;
+    let targets: Vec<[f64; 3]> = places.iter().step_by(10).map(|s| s.origin).collect();
+    let lines = camera_lines(&targets, oracle, options.seed);
+    let counts = lines
+        .par_iter()
+        .map(|&(camera, target, free)| {
+            let seen = vdg.visible(as_f32(camera), as_f32(target));
+            let inside = free && vdg.contains(as_f32(camera)) && vdg.contains(as_f32(target));
+            [
+                1,
+                (seen && !free) as usize,
+                inside as usize,
+                (inside && !seen) as usize,
+            ]
+        })
+        .reduce(|| [0; 4], |a, b| [0, 1, 2, 3].map(|i| a[i] + b[i]));
+    [
+        r.camera_lines,
+        r.camera_false_positives,
+        r.camera_lines_inside,
+        r.camera_false_negatives,
+    ] = counts;
+}
+
+/// How far from its target a camera's sight line starts (units): from a little closer
+/// than the camera's distance tolerance allows to the far end of it (the camera's
+/// ideal distance is 80 ± 48).
+pub const CAMERA_DISTANCE: (f64, f64) = (32.0, 176.0);
+/// How far above the level the line comes down to the target (degrees): a chase camera
+/// looks along the floor or down at the player, rarely up.
+pub const CAMERA_ELEVATION_DEG: (f64, f64) = (0.0, 60.0);
+/// Draws per target before giving up on a free camera point (targets in tight places
+/// have few).
+const CAMERA_TRIES: usize = 8;
+
+/// Camera sight lines to `targets`: per target a random free point at a camera's
+/// distance and elevation ([`CAMERA_DISTANCE`], [`CAMERA_ELEVATION_DEG`]), the first of
+/// [`CAMERA_TRIES`] draws that is free (targets without one give no line), with whether
+/// the BSP lets the line `camera → target` through. Seeded per chunk of targets, so the
+/// lines are the same for any thread count.
+pub fn camera_lines(
+    targets: &[[f64; 3]],
+    oracle: &Oracle,
+    seed: u64,
+) -> Vec<([f64; 3], [f64; 3], bool)> {
+    let parts: Vec<Vec<_>> = targets
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut rng = SplitMix64::new(seed ^ (0xca3 << 44) ^ c as u64);
+            let mut out = Vec::with_capacity(chunk.len());
+            for &target in chunk {
+                for _ in 0..CAMERA_TRIES {
+                    let d = rng.range(CAMERA_DISTANCE.0, CAMERA_DISTANCE.1);
+                    let yaw = rng.range(0.0, std::f64::consts::TAU);
+                    let pitch = rng
+                        .range(CAMERA_ELEVATION_DEG.0, CAMERA_ELEVATION_DEG.1)
+                        .to_radians();
+                    let dir = [
+                        pitch.cos() * yaw.cos(),
+                        pitch.cos() * yaw.sin(),
+                        pitch.sin(),
+                    ];
+                    let camera = widen(as_f32([0, 1, 2].map(|i| target[i] + d * dir[i])));
+                    if oracle.is_free(camera) {
+                        out.push((camera, target, oracle.segment_free(camera, target)));
+                        break;
+                    }
+                }
+            }
+            out
+        })
+        .collect();
+    parts.concat()
 }
 
 /// The eyes of the crouch-only places ([`crate::standing::Crouching::column_places`]) in

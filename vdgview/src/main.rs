@@ -324,6 +324,14 @@ fn run_check(
             r.crouch_points
         );
         println!(
+            "  camera     fn {} ({} of {} free sight lines from a camera's distance to a standing origin, both ends inside), fp {} of {}",
+            share(r.visible_fn_camera()),
+            r.camera_false_negatives,
+            r.camera_lines_inside,
+            r.camera_false_positives,
+            r.camera_lines
+        );
+        println!(
             "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,

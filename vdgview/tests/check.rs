@@ -65,6 +65,26 @@ fn compiled_graphs_do_not_leak_or_see_through_walls() {
             r.coverage()
         );
         assert!(r.free_segments > 0 && r.visible > 0);
+        // Every generated map has standing places, so camera sight lines to them.
+        assert_eq!(
+            r.camera_false_positives,
+            0,
+            "{}: a camera saw its target through a wall",
+            map.display()
+        );
+        assert!(
+            r.camera_lines > 1000 && r.camera_lines_inside > 0,
+            "{}: {} camera lines",
+            map.display(),
+            r.camera_lines
+        );
+        // Where the camera looks from, Visible misses few of the lines it could see.
+        assert!(
+            r.visible_fn_camera().is_some_and(|f| f <= 0.02),
+            "{}: camera sight lines missed {:?}",
+            map.display(),
+            r.visible_fn_camera()
+        );
         // Same figures for the same seed.
         let mut again = check(&bsp, &file.graph(), 0, &options);
         (again.seconds, again.seconds_parts) = (r.seconds, r.seconds_parts);
@@ -104,6 +124,76 @@ fn an_inflated_graph_is_caught_leaking() {
         },
     );
     assert!(r.leaked > 0 && !r.passed(), "{}", r.to_json());
+    // A camera behind the wall between the rooms sees the player in the other one.
+    assert!(r.camera_false_positives > 0, "{}", r.to_json());
+}
+
+/// The camera sight lines start at a camera's distance and elevation from standing
+/// origins, in free space; whether the BSP lets each through is the exact answer of
+/// the map's manifest; and the lines are the same for any thread count.
+#[test]
+fn camera_lines_are_where_a_camera_looks_from_and_exact() {
+    use bsp::oracle::{Oracle, OracleOptions};
+    use vdgview::check::{CAMERA_DISTANCE, CAMERA_ELEVATION_DEG, camera_lines, standing_places};
+    for map in generated_maps() {
+        let bsp = Bsp::open(&map).unwrap();
+        let world = mapgen::world::World::from_manifest_json(
+            &std::fs::read_to_string(map.with_extension("json")).unwrap(),
+        )
+        .unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let targets: Vec<[f64; 3]> = standing_places(&bsp, &oracle, 5_000, 3)
+            .iter()
+            .map(|s| s.origin)
+            .collect();
+        let lines = camera_lines(&targets, &oracle, 3);
+        assert!(
+            lines.len() > targets.len() * 9 / 10,
+            "{}: {} lines for {} targets",
+            map.display(),
+            lines.len(),
+            targets.len()
+        );
+        let (mut blocked, mut compared) = (0, 0);
+        for &(camera, target, free) in &lines {
+            let d: [f64; 3] = [0, 1, 2].map(|i| camera[i] - target[i]);
+            let len = d.iter().map(|c| c * c).sum::<f64>().sqrt();
+            let pitch = (d[2] / len).asin().to_degrees();
+            assert!(
+                (CAMERA_DISTANCE.0 - 0.01..=CAMERA_DISTANCE.1 + 0.01).contains(&len),
+                "{len}"
+            );
+            assert!(
+                (CAMERA_ELEVATION_DEG.0 - 0.01..=CAMERA_ELEVATION_DEG.1 + 0.01).contains(&pitch),
+                "{pitch}"
+            );
+            assert!(world.is_free(camera), "{}: {camera:?}", map.display());
+            // Lines grazing a wall within rounding are left out of the comparison.
+            if world.segment_margin(camera, target).abs() < 1e-2 {
+                continue;
+            }
+            compared += 1;
+            blocked += !free as usize;
+            assert_eq!(
+                free,
+                world.segment_free(camera, target),
+                "{}: {camera:?} -> {target:?}",
+                map.display()
+            );
+        }
+        assert!(compared > lines.len() * 9 / 10, "{}", map.display());
+        eprintln!(
+            "{}: {} camera lines, {blocked} blocked",
+            map.display(),
+            lines.len()
+        );
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| camera_lines(&targets, &oracle, 3));
+        assert_eq!(one, lines, "{}", map.display());
+    }
 }
 
 /// World brushes with `{` alpha textures are solid in the BSP: the graph must treat
