@@ -21,7 +21,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Measure a graph against its map's BSP: leak, coverage, walkable and crouch
-    /// coverage, visibility errors (SPEC §8).
+    /// coverage, visibility errors on random and on camera sight lines (SPEC §8).
     /// Exits non-zero when anything leaks or is seen through a wall.
     Check {
         #[arg(value_name = "MAP.bsp")]
@@ -29,7 +29,8 @@ enum Command {
         #[arg(value_name = "FILE.vdg")]
         vdg: PathBuf,
         /// Random points for leak, coverage and walkable coverage each, as many columns for
-        /// crouch coverage (a tenth as many segments).
+        /// crouch coverage (a tenth as many random segments, and camera sight lines to a
+        /// tenth of the standing places).
         #[arg(long, default_value_t = 1_000_000)]
         samples: usize,
         /// Seed of the random points.
