@@ -533,8 +533,20 @@ fn measure_walkable(
         r.walkable_head_points,
         r.walkable_head_covered,
     ] = counts;
+    measure_camera(&places, vdg, oracle, options.seed, r);
+}
+
+/// Camera sight lines ([`camera_lines`]) to every tenth of the standing places: the
+/// false positives among all, the misses among the free ones with both ends inside.
+fn measure_camera(
+    places: &[Standing],
+    vdg: &Vdg<'_>,
+    oracle: &Oracle,
+    seed: u64,
+    r: &mut CheckReport,
+) {
     let targets: Vec<[f64; 3]> = places.iter().step_by(10).map(|s| s.origin).collect();
-    let lines = camera_lines(&targets, oracle, options.seed);
+    let lines = camera_lines(&targets, oracle, seed);
     let counts = lines
         .par_iter()
         .map(|&(camera, target, free)| {
