@@ -755,4 +755,23 @@ mod tests {
         assert_eq!(r.walkable_coverage_head(), Some(1.0));
         assert_eq!(r.to_json()["walkable_coverage"], 0.75);
     }
+
+    #[test]
+    fn camera_misses_are_none_without_lines_and_a_false_positive_fails() {
+        let mut r = CheckReport::default();
+        assert_eq!(r.visible_fn_camera(), None);
+        assert!(r.to_json()["visible_fn_camera"].is_null());
+        assert!(r.passed());
+        (
+            r.camera_lines,
+            r.camera_lines_inside,
+            r.camera_false_negatives,
+        ) = (10, 8, 2);
+        assert_eq!(r.visible_fn_camera(), Some(0.25));
+        assert_eq!(r.to_json()["visible_fn_camera"], 0.25);
+        assert!(r.passed());
+        r.camera_false_positives = 1;
+        assert!(!r.passed());
+        assert_eq!(r.to_json()["passed"], false);
+    }
 }
