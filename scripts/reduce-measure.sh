@@ -3,8 +3,9 @@
 # reduction limit, samples, inner nodes/faces, reduced nodes/faces, .vdg
 # bytes, seconds per stage, peak memory (GNU time), the stop reason and,
 # with -check, coverage, walkable coverage (player origin, head), visible
-# false negatives inside the volume and leak from `vdgview check` (the
-# figures against the unreduced graph are the row with -rl 1.0).
+# false negatives inside the volume, leak, and the false negatives on the
+# camera's sight lines (vis_fn_camera) from `vdgview check` (the figures
+# against the unreduced graph are the row with -rl 1.0).
 #
 #   scripts/reduce-measure.sh [-sd 24] [-rl 0.025[,0.05,...]] [-check] [-threads N] MAP.bsp...
 #
