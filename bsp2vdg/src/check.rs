@@ -107,7 +107,7 @@ pub struct CheckReport {
     pub camera_false_negatives: usize,
     pub seconds: f64,
     /// Seconds of the four measurements (leak, coverage, visibility, walkable with
-    /// crouch).
+    /// crouch and the camera sight lines, which start at the walkable places).
     pub seconds_parts: [f64; 4],
 }
 
@@ -151,13 +151,14 @@ impl CheckReport {
     pub fn crouch_coverage(&self) -> Option<f64> {
         (self.crouch_points > 0).then(|| ratio(self.crouch_covered, self.crouch_points))
     }
-    /// Whether the graph passes: nothing leaks, nothing is seen through walls.
     /// Misses among the camera sight lines with both ends inside the volume; `None` on
     /// a map where no player stands (see [`CheckReport::walkable_coverage`]).
     pub fn visible_fn_camera(&self) -> Option<f64> {
         (self.camera_lines_inside > 0)
             .then(|| ratio(self.camera_false_negatives, self.camera_lines_inside))
     }
+    /// Whether the graph passes: nothing leaks, nothing is seen through walls (on the
+    /// random segments or the camera sight lines).
     pub fn passed(&self) -> bool {
         self.leaked == 0 && self.false_positives == 0 && self.camera_false_positives == 0
     }
@@ -207,6 +208,11 @@ impl CheckReport {
             "passed": self.passed(),
         })
     }
+}
+
+/// Counters of two chunks of work added up, for the parallel measurements' reductions.
+fn add_counts<const N: usize>(a: [usize; N], b: [usize; N]) -> [usize; N] {
+    std::array::from_fn(|i| a[i] + b[i])
 }
 
 fn ratio(a: usize, b: usize) -> f64 {
@@ -387,12 +393,7 @@ fn measure_visibility(
             s
         })
         .collect();
-    let s = parts.iter().fold([0usize; 8], |mut acc, p| {
-        for i in 0..8 {
-            acc[i] += p[i];
-        }
-        acc
-    });
+    let s = parts.into_iter().fold([0; 8], add_counts);
     r.segments = s[0];
     r.free_segments = s[1];
     r.visible = s[2];
@@ -526,7 +527,7 @@ fn measure_walkable(
                 head.unwrap_or(false) as usize,
             ]
         })
-        .reduce(|| [0; 4], |a, b| [0, 1, 2, 3].map(|i| a[i] + b[i]));
+        .reduce(|| [0; 4], add_counts);
     [
         r.walkable_points,
         r.walkable_covered,
@@ -559,7 +560,7 @@ fn measure_camera(
                 (inside && !seen) as usize,
             ]
         })
-        .reduce(|| [0; 4], |a, b| [0, 1, 2, 3].map(|i| a[i] + b[i]));
+        .reduce(|| [0; 4], add_counts);
     [
         r.camera_lines,
         r.camera_false_positives,
