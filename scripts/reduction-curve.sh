@@ -4,41 +4,52 @@
 # with both ends inside the volume with `vdgview check`, writes the table and draws it
 # (vdgview example reduction_curve; the sight lines as 100 % - FN). With the keep rule the
 # reduction may stop above -rl ("nothing_removable"): the ratio column is what it reached.
-#   scripts/reduction-curve.sh [-samples N] [-rl "0.2 0.1 0.05 0.025 0.0125"] OUT.png MAP.bsp...
+# Each -opts "..." is one series of compile options (e.g. -opts "" -opts "-sd 12 -md 4"):
+# every map is compiled with each at every -rl. A second plot, OUT-vertices.png, draws
+# Visible's false negatives against the vertices kept (vdgview example fn_vertices): how
+# many vertices a map's volume needs to see its sight lines, whatever the sampling.
+#   scripts/reduction-curve.sh [-samples N] [-rl "0.2 0.1 0.05 0.025 0.0125"] [-opts "..."]... OUT.png MAP.bsp...
 set -euo pipefail
 cd "$(dirname "$0")/.."
 N=200000
 RLS="0.2 0.1 0.05 0.025 0.0125"
+OPTS=()
 while [[ $# -gt 0 && "$1" == -* ]]; do
     case "$1" in
         -samples) N="$2"; shift 2 ;;
         -rl) RLS="$2"; shift 2 ;;
+        -opts) OPTS+=("$2"); shift 2 ;;
         *) echo "unknown option $1" >&2; exit 2 ;;
     esac
 done
-[[ $# -ge 2 ]] || { echo "usage: $0 [-samples N] [-rl LIST] OUT.png MAP.bsp..." >&2; exit 2; }
+[[ $# -ge 2 ]] || { echo "usage: $0 [-samples N] [-rl LIST] [-opts OPTIONS]... OUT.png MAP.bsp..." >&2; exit 2; }
+[[ ${#OPTS[@]} -gt 0 ]] || OPTS=("")
 png="$1"; shift
 cargo build --release -q -p bsp2vdg -p vdgview
-cargo build --release -q -p vdgview --example reduction_curve
+cargo build --release -q -p vdgview --example reduction_curve --example fn_vertices
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 table="${png%.png}.tsv"
-printf 'map\trl\tratio\twalkable\tcoverage\tstop\tfn_inside\n' > "$table"
+printf 'map\trl\tratio\twalkable\tcoverage\tstop\tfn_inside\tvertices\toptions\n' > "$table"
 for m in "$@"; do
     name=$(basename "$m" .bsp)
-    for rl in $RLS; do
-        ./target/release/bsp2vdg -quiet --json -rl "$rl" -o "$TMP/$name.vdg" "$m" > "$TMP/c.json"
-        ./target/release/vdgview check --json --samples "$N" "$m" "$TMP/$name.vdg" > "$TMP/k.json" || true
-        python3 - "$name" "$rl" "$TMP/c.json" "$TMP/k.json" >> "$table" <<'PY'
+    for opts in "${OPTS[@]}"; do
+        for rl in $RLS; do
+            # shellcheck disable=SC2086 # the options are words
+            ./target/release/bsp2vdg -quiet --json $opts -rl "$rl" -o "$TMP/$name.vdg" "$m" > "$TMP/c.json"
+            ./target/release/vdgview check --json --samples "$N" "$m" "$TMP/$name.vdg" > "$TMP/k.json" || true
+            python3 - "$name" "$rl" "$TMP/c.json" "$TMP/k.json" "$opts" >> "$table" <<'PY'
 import json, sys
-name, rl, c, k = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3])), json.load(open(sys.argv[4]))
+name, rl, c, k, opts = sys.argv[1], sys.argv[2], json.load(open(sys.argv[3])), json.load(open(sys.argv[4])), sys.argv[5]
 before = c.get("reduce_vertices_before") or c["vertices"]
 after = c.get("reduced_vertices") or before
 print(name, rl, "%.5f" % (after / max(before, 1)), "n/a" if k["walkable_coverage"] is None else "%.5f" % k["walkable_coverage"], "%.5f" % k["coverage"],
-      c.get("reduce_stop_reason") or "-", "%.5f" % k["visible_fn_inside"], sep="\t")
+      c.get("reduce_stop_reason") or "-", "%.5f" % k["visible_fn_inside"], after, " ".join(opts.split()) or "-", sep="\t")
 PY
-        tail -n1 "$table"
+            tail -n1 "$table"
+        done
     done
 done
 ./target/release/examples/reduction_curve "$table" "$png"
-echo "wrote $table and $png"
+./target/release/examples/fn_vertices "$table" "${png%.png}-vertices.png"
+echo "wrote $table, $png and ${png%.png}-vertices.png"

@@ -7,9 +7,10 @@
 //!
 //! `cargo run --release -p vdgview --example reduction_curve -- CURVE.tsv OUT.png`
 //!
-//! CURVE.tsv rows: `map  rl  ratio  walkable  coverage  stop  [fn_inside]` (ratio =
-//! vertices left / before; walkable `n/a` on maps without standing places; header
-//! lines start with `map` or `#`).
+//! CURVE.tsv rows: `map  rl  ratio  walkable  coverage  stop  [fn_inside  [vertices
+//! options]]` (ratio = vertices left / before; walkable `n/a` on maps without
+//! standing places; options `-` for the defaults, else a line of its own per map
+//! and options; header lines start with `map` or `#`).
 
 use anyhow::{Context, bail};
 use plotters::prelude::*;
@@ -51,12 +52,13 @@ fn main() -> anyhow::Result<()> {
             Some(_) => 100.0 - 100.0 * num(6)?,
             None => f64::NAN,
         };
-        maps.entry(f[0].to_string()).or_default().push((
-            100.0 * num(2)?,
-            walkable,
-            100.0 * num(4)?,
-            seen,
-        ));
+        let series = match f.get(8) {
+            Some(&opts) if opts != "-" && !opts.is_empty() => format!("{} {opts}", f[0]),
+            _ => f[0].to_string(),
+        };
+        maps.entry(series)
+            .or_default()
+            .push((100.0 * num(2)?, walkable, 100.0 * num(4)?, seen));
     }
     if maps.is_empty() {
         bail!("{}: no rows", args[0]);
