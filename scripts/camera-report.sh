@@ -9,7 +9,9 @@
 #   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
 #   OUT/summary-dtN.png        the measures per camera across all maps
 # Progress goes to the terminal.
-#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-params cam.toml] [-routes N] [-out DIR]
+#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-params cam.toml] [-routes N] [-compile "OPTIONS"] [-out DIR]
+# -compile: bsp2vdg options for the graphs (e.g. "-sd 12 -md 4"), to compare graphs made with
+# other options on the same routes; OUT/graphs is compiled again when they change.
 # -params: camera parameters for the VDG camera (TOML, as `vdgview replay --params`), to
 # compare parameter sets on the same graphs (OUT/graphs is reused when it holds them).
 #   MAPS="a.bsp b.bsp" scripts/camera-report.sh      (only these maps)
@@ -21,6 +23,7 @@ cd "$(dirname "$0")/.."
 dts="1/60 1/30"
 cameras=""
 params=""
+compile_opts=""
 max_routes=8
 out=target/camera-report
 while [ $# -gt 0 ]; do
@@ -29,8 +32,9 @@ while [ $# -gt 0 ]; do
     -camera) cameras=$2; shift 2 ;;
     -params) params=$2; shift 2 ;;
     -routes) max_routes=$2; shift 2 ;;
+    -compile) compile_opts=$2; shift 2 ;;
     -out) out=$2; shift 2 ;;
-    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-params cam.toml] [-routes N] [-out DIR]" >&2; exit 2 ;;
+    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-params cam.toml] [-routes N] [-compile \"OPTIONS\"] [-out DIR]" >&2; exit 2 ;;
   esac
 done
 shared=${SHARED:-../shared}
@@ -49,6 +53,11 @@ if [ ${#maps[@]} -eq 0 ]; then
   exit 1
 fi
 mkdir -p "$out/graphs" "$out/json" "$out/plots" "$out/logs"
+# Graphs made with other compile options are not reused.
+if [ "$(cat "$out/graphs/.options" 2>/dev/null)" != "$compile_opts" ]; then
+  rm -f "$out/graphs/"*.vdg
+  printf '%s' "$compile_opts" > "$out/graphs/.options"
+fi
 camera_opt=()
 [ -n "$cameras" ] && camera_opt=(--camera "$cameras")
 [ -n "$params" ] && camera_opt+=(--params "$params")
@@ -59,7 +68,8 @@ for m in "${maps[@]}"; do
   vdg="$out/graphs/$name.vdg"
   if [ ! -s "$vdg" ] || [ "$m" -nt "$vdg" ]; then
     printf '[%d/%d] %s: compiling graph ...\n' "$i" "${#maps[@]}" "$name" >&2
-    if ! "$compiler" -quiet -o "$vdg" "$m" 2> "$out/logs/$name.compile.err"; then
+    # shellcheck disable=SC2086 # the options are words
+    if ! "$compiler" -quiet $compile_opts -o "$vdg" "$m" 2> "$out/logs/$name.compile.err"; then
       printf '[%d/%d] %s: compile failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$name.compile.err")" >&2
       continue
     fi
