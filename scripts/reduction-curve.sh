@@ -6,8 +6,8 @@
 # reduction may stop above -rl ("nothing_removable"): the ratio column is what it reached.
 # Each -opts "..." is one series of compile options (e.g. -opts "" -opts "-sd 12 -md 4"):
 # every map is compiled with each at every -rl. A second plot, OUT-vertices.png, draws
-# Visible's false negatives against the vertices kept (vdgview example fn_vertices): how
-# many vertices a map's volume needs to see its sight lines, whatever the sampling.
+# Visible's false negatives against the vertices kept (vdgview example fn_vertices): what
+# more vertices buy along a series, and what a finer graph buys at the same vertex count.
 #   scripts/reduction-curve.sh [-samples N] [-rl "0.2 0.1 0.05 0.025 0.0125"] [-opts "..."]... OUT.png MAP.bsp...
 set -euo pipefail
 cd "$(dirname "$0")/.."

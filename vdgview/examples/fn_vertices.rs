@@ -15,7 +15,7 @@ use anyhow::{Context, bail};
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
-use vdgview::replay::plots::{PALETTE, png};
+use vdgview::replay::plots::{PALETTE, err, png};
 
 /// The target of issue 14: Visible misses at most 2 % of the free sight lines
 /// with both ends inside the volume.
@@ -77,14 +77,14 @@ fn main() -> anyhow::Result<()> {
             .x_label_area_size(48)
             .y_label_area_size(64)
             .build_cartesian_2d((x_min..x_max).log_scale(), 0.0..y_max)
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("vertices in the graph (log scale)")
             .y_desc("free sight lines missed, both ends inside (%)")
             .x_label_formatter(&|x| format!("{x:.0}"))
             .draw()
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         chart
             .draw_series(DashedLineSeries::new(
                 [(x_min, TARGET_PERCENT), (x_max, TARGET_PERCENT)],
@@ -92,7 +92,7 @@ fn main() -> anyhow::Result<()> {
                 6,
                 BLACK.stroke_width(1),
             ))
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+            .map_err(err)?
             .label("target: 2 % (issue 14)")
             .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK.stroke_width(1)));
         for (i, (name, series)) in maps.iter().enumerate() {
@@ -102,7 +102,7 @@ fn main() -> anyhow::Result<()> {
                 let marker = j % 3;
                 chart
                     .draw_series(LineSeries::new(pts.iter().copied(), col.stroke_width(2)))
-                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+                    .map_err(err)?
                     .label(format!("{name}, {opts}"))
                     .legend(move |(x, y)| {
                         EmptyElement::at((x, y))
@@ -114,7 +114,7 @@ fn main() -> anyhow::Result<()> {
                         pts.iter()
                             .map(|&p| EmptyElement::at(p) + marker_shape(marker, col, 0)),
                     )
-                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+                    .map_err(err)?;
             }
         }
         chart
@@ -123,7 +123,7 @@ fn main() -> anyhow::Result<()> {
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         Ok(())
     })
 }

@@ -16,7 +16,7 @@ use anyhow::{Context, bail};
 use plotters::prelude::*;
 use std::collections::BTreeMap;
 use std::path::Path;
-use vdgview::replay::plots::{PALETTE, png};
+use vdgview::replay::plots::{PALETTE, err, png};
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -84,13 +84,13 @@ fn main() -> anyhow::Result<()> {
             .x_label_area_size(48)
             .y_label_area_size(64)
             .build_cartesian_2d(0.0..x_max, y_min..100.0)
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("vertices left (% of the unreduced graph)")
             .y_desc("points inside the volume / sight lines seen (%)")
             .draw()
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         for (i, (name, pts)) in maps.iter().enumerate() {
             let col = PALETTE[i % PALETTE.len()];
             chart
@@ -98,7 +98,7 @@ fn main() -> anyhow::Result<()> {
                     pts.iter().filter(|p| p.1.is_finite()).map(|p| (p.0, p.1)),
                     col.stroke_width(3),
                 ))
-                .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+                .map_err(err)?
                 .label(format!("{name}: walkable (standing origins)"))
                 .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], col.stroke_width(3)));
             chart
@@ -107,7 +107,7 @@ fn main() -> anyhow::Result<()> {
                         .filter(|p| p.1.is_finite())
                         .map(|p| Circle::new((p.0, p.1), 4, col.filled())),
                 )
-                .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+                .map_err(err)?;
             chart
                 .draw_series(DashedLineSeries::new(
                     pts.iter().map(|p| (p.0, p.2)),
@@ -115,7 +115,7 @@ fn main() -> anyhow::Result<()> {
                     4,
                     col.stroke_width(2),
                 ))
-                .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+                .map_err(err)?
                 .label(format!("{name}: coverage (clearance >= 32)"))
                 // Dashed in the legend as in the plot: two dashes.
                 .legend(move |(x, y)| {
@@ -128,7 +128,7 @@ fn main() -> anyhow::Result<()> {
                     pts.iter()
                         .map(|p| Circle::new((p.0, p.2), 3, col.stroke_width(1))),
                 )
-                .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+                .map_err(err)?;
             let seen: Vec<(f64, f64)> = pts
                 .iter()
                 .filter(|p| p.3.is_finite())
@@ -142,7 +142,7 @@ fn main() -> anyhow::Result<()> {
                         4,
                         col.stroke_width(2),
                     ))
-                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?
+                    .map_err(err)?
                     .label(format!(
                         "{name}: free sight lines seen (100 % - Visible FN, ends inside)"
                     ))
@@ -158,7 +158,7 @@ fn main() -> anyhow::Result<()> {
                         seen.iter()
                             .map(|&p| TriangleMarker::new(p, 4, col.filled())),
                     )
-                    .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+                    .map_err(err)?;
             }
         }
         chart
@@ -167,7 +167,7 @@ fn main() -> anyhow::Result<()> {
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()
-            .map_err(|e| anyhow::anyhow!("plotting: {e}"))?;
+            .map_err(err)?;
         Ok(())
     })
 }

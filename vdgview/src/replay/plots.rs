@@ -41,7 +41,9 @@ fn register_font() {
     });
 }
 
-fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
+/// A plotters error as ours ("plotting: …"), for `.map_err(err)?` on every drawing
+/// call of a chart (here and in the examples that draw measurements).
+pub fn err<E: std::fmt::Display>(e: E) -> anyhow::Error {
     anyhow!("plotting: {e}")
 }
 
