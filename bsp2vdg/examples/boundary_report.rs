@@ -7,11 +7,11 @@
 
 use std::time::Instant;
 
-use bsp2vdg::boundary;
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::boundary;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use bsp2vdg::sample;
-use bsp2vdg::walls::Walls;
 
 fn main() -> anyhow::Result<()> {
     println!(

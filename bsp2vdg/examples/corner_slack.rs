@@ -6,9 +6,9 @@
 //! cargo run --release -p bsp2vdg --example corner_slack -- MAP.bsp MAP.vdg
 //! ```
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::OracleOptions;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::OracleOptions;
+use bsp::walls::Walls;
 
 const BINS: [f64; 8] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, f64::INFINITY];
 

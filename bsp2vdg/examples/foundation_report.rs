@@ -4,8 +4,8 @@
 //!
 //! `cargo run --release -p bsp2vdg --example foundation_report -- [-sd M] [-n N] MAPS...`
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
 use bsp2vdg::sample::{self, SampleOptions, classify::FaceClass, grid::PointGrid};
 use std::time::Instant;
 

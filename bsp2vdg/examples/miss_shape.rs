@@ -10,12 +10,12 @@
 //! cargo run --release -p bsp2vdg --example miss_shape -- MAP.bsp REDUCED.vdg [UNREDUCED.vdg] [SEGMENTS]
 //! ```
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::check::{CheckOptions, SightSegments};
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use rayon::prelude::*;
+use toolbox::SplitMix64;
+use vdgcheck::{CheckOptions, SightSegments};
 
 /// Upper bounds of the histogram bins (units).
 const BINS: [f64; 8] = [2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, f64::INFINITY];

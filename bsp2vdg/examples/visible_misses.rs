@@ -9,10 +9,10 @@
 //! cargo run --release -p bsp2vdg --example visible_misses -- MAP.bsp MAP.vdg [SEGMENTS]
 //! ```
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::check::{CheckOptions, SightSegments};
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
 use rayon::prelude::*;
+use vdgcheck::{CheckOptions, SightSegments};
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();

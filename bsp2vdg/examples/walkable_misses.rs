@@ -10,9 +10,9 @@
 //! cargo run --release -p bsp2vdg --example walkable_misses -- MAP.bsp MAP.vdg [PLACES]
 //! ```
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
-use bsp2vdg::walls::Walls;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 
 fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -26,7 +26,7 @@ fn main() -> anyhow::Result<()> {
     let n: usize = args.get(2).map_or(Ok(30_000), |s| s.parse())?;
     let oracle = Oracle::new(&bsp, &OracleOptions::default());
     let walls = Walls::of_map(&bsp, &OracleOptions::default());
-    let places = bsp2vdg::check::standing_places(&bsp, &oracle, n, 1);
+    let places = vdgcheck::standing_places(&bsp, &oracle, n, 1);
     let bins = [16.0, 18.0, 20.0, 22.0, 24.0, 28.0, 32.0, f64::INFINITY];
     let mut all = [0usize; 8];
     let mut miss = [0usize; 8];

@@ -1,16 +1,16 @@
 //! The compile pipeline: the stages of SPEC §3 run in order, each logged with its
 //! time, up to the stage the user asked for.
 
-use crate::boundary;
-use crate::bsp::{Bsp, BspError};
 use crate::delaunay::Triangulation;
 use crate::log::{Log, secs};
-use crate::oracle::{Oracle, OracleOptions};
 use crate::progress::Progress;
 use crate::reduce;
 use crate::sample::{self, SampleOptions, Samples};
 use crate::voronoi::{self, FreeSpace, Graph, VoronoiOptions, VoronoiStats};
-use crate::walls::Walls;
+use bsp::boundary;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
+use bsp::{Bsp, BspError};
 
 /// A map's free space: the BSP oracle for points and segments, the tree's obstacle
 /// boundary for exact wall distances.
@@ -20,7 +20,7 @@ struct MapSpace<'a> {
     /// The world's bounds (mins, maxs).
     bounds: ([f64; 3], [f64; 3]),
     /// The map's game: how its players crouch (see `standing::Crouching`).
-    game: crate::bsp::Game,
+    game: bsp::Game,
 }
 
 impl FreeSpace for MapSpace<'_> {
@@ -186,19 +186,19 @@ fn reduce_graph(
     // places inside the volume (a grid of floor points of clip hull 1), and the eyes
     // of the places where a player only fits crouching (vents, crawl spaces: c1a1b's
     // unreduced graph holds 91 % of them, the reduction kept 80 %).
-    let mut keep = crate::standing::grid_origins(
+    let mut keep = bsp::player::grid_origins(
         space.oracle,
         space.bounds.0,
         space.bounds.1,
-        crate::standing::KEEP_SPACING,
+        bsp::player::KEEP_SPACING,
     );
     let standing = keep.len();
-    keep.extend(crate::standing::grid_crouch_eyes(
+    keep.extend(bsp::player::grid_crouch_eyes(
         space.oracle,
         space.game,
         space.bounds.0,
         space.bounds.1,
-        crate::standing::KEEP_SPACING,
+        bsp::player::KEEP_SPACING,
     ));
     let crouching = keep.len() - standing;
     let before = graph.vertices.len();
@@ -230,7 +230,7 @@ fn reduce_graph(
         keep.len(),
         standing,
         crouching,
-        crate::standing::KEEP_SPACING
+        bsp::player::KEEP_SPACING
     ));
     if let Some(at) = rs.seam_phase_at {
         log.info(format!(
@@ -716,7 +716,7 @@ fn write_vdg(
         b.set_metadata(&key, &value);
     }
     // What the source is, for `vdgview info` (from its bytes: no path recorded).
-    if let Some(v) = crate::bsp::BspVersion::identify(&source) {
+    if let Some(v) = bsp::BspVersion::identify(&source) {
         b.set_metadata("source.game", v.game().name());
         b.set_metadata("source.format", v.name());
     }

@@ -5,9 +5,9 @@
 //! copy of a shipped map in memory; the mutated map must read, and where the mutation
 //! touches nothing the engine uses, compile to the very same graph, free of leaks.
 
-use bsp2vdg::bsp::Bsp;
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::oracle::{Oracle, OracleOptions};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
 use std::path::{Path, PathBuf};

@@ -8,14 +8,14 @@
 
 mod common;
 
-use bsp2vdg::boundary;
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::boundary;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use bsp2vdg::sample::{self, SampleOptions, grid::PointGrid};
-use bsp2vdg::util::SplitMix64;
-use bsp2vdg::walls::Walls;
 use mapgen::world::World;
 use std::path::Path;
+use toolbox::SplitMix64;
 
 fn env_count(name: &str, default: usize) -> usize {
     std::env::var(name)

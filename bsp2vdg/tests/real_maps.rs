@@ -4,11 +4,11 @@
 
 mod common;
 
-use bsp2vdg::boundary;
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::boundary;
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use bsp2vdg::sample::{self, SampleOptions, classify::FaceClass, grid::PointGrid};
-use bsp2vdg::walls::Walls;
 
 const SPAWNS: [&str; 4] = [
     "info_player_start",
@@ -161,7 +161,7 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
         let oracle = Oracle::new(&bsp, &OracleOptions::default());
         let b = boundary::of_map(&bsp, &OracleOptions::default());
         let (mut inner, mut agree) = (0usize, 0usize);
-        let mut rng = bsp2vdg::util::SplitMix64::new(3);
+        let mut rng = toolbox::SplitMix64::new(3);
         for poly in &b {
             for _ in 0..4 {
                 let p = common::point_in_polygon(&poly.vertices, &mut rng);
@@ -205,7 +205,7 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
         for poly in &b {
             let p = common::point_in_polygon(&poly.vertices, &mut rng);
             let on_sky = sky.distance_within(p, 0.5).is_some();
-            let limit = if on_sky || poly.obstacle == bsp2vdg::bsp::contents::SKY {
+            let limit = if on_sky || poly.obstacle == bsp::contents::SKY {
                 2.0
             } else {
                 1.0
@@ -231,8 +231,8 @@ fn tree_boundary_bounds_free_space_and_is_sampled() {
 /// the example's low gaps).
 #[test]
 fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
-    use bsp2vdg::bsp::{Game, contents::SOLID};
-    use bsp2vdg::oracle::PlayerHull;
+    use bsp::oracle::PlayerHull;
+    use bsp::{Game, contents::SOLID};
     let Some(maps) = common::shared_maps(&["quake2", "quake3"]) else {
         return;
     };
@@ -245,7 +245,7 @@ fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
             Game::Quake3 => 24.0 + 12.0,
             g => panic!("{}: {g:?}", path.display()),
         };
-        let eyes = bsp2vdg::check::crouch_eyes(&bsp, &oracle, 20_000, 1);
+        let eyes = vdgcheck::crouch_eyes(&bsp, &oracle, 20_000, 1);
         let stuck = |hull, p: [f64; 3]| oracle.player_contents(hull, p) == Some(SOLID);
         // The point hull's floor below `p` (within 64 units), to a hundredth.
         let floor = |p: [f64; 3]| {

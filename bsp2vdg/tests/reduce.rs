@@ -11,9 +11,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use bsp2vdg::util::SplitMix64;
 use mapgen::world::World;
 use toolbox::ScratchDir;
+use toolbox::SplitMix64;
 use vdgformat::VdgFile;
 
 fn maps_dir() -> PathBuf {
@@ -67,14 +67,14 @@ fn check_both(
     before: &VdgFile,
     after: &VdgFile,
     samples: usize,
-) -> (bsp2vdg::check::CheckReport, bsp2vdg::check::CheckReport) {
-    let bsp = bsp2vdg::bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
-    let options = bsp2vdg::check::CheckOptions {
+) -> (vdgcheck::CheckReport, vdgcheck::CheckReport) {
+    let bsp = bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
+    let options = vdgcheck::CheckOptions {
         samples,
         ..Default::default()
     };
-    let a = bsp2vdg::check::check(&bsp, &before.graph(), 0, &options);
-    let b = bsp2vdg::check::check(&bsp, &after.graph(), 0, &options);
+    let a = vdgcheck::check(&bsp, &before.graph(), 0, &options);
+    let b = vdgcheck::check(&bsp, &after.graph(), 0, &options);
     eprintln!(
         "{map}: fn inside {:.4} ({} segments) -> {:.4} ({} segments)",
         a.visible_fn_inside(),
@@ -364,9 +364,9 @@ fn seam_phase_reaches_a_limit_the_thesis_cases_miss() {
         &std::fs::read_to_string(maps_dir().join(format!("{map}.json"))).unwrap(),
     )
     .unwrap();
-    let bsp = bsp2vdg::bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
-    let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
-    let places: Vec<[f32; 3]> = bsp2vdg::check::standing_places(&bsp, &oracle, 20_000, 3)
+    let bsp = bsp::Bsp::open(maps_dir().join(format!("{map}.bsp"))).unwrap();
+    let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
+    let places: Vec<[f32; 3]> = vdgcheck::standing_places(&bsp, &oracle, 20_000, 3)
         .iter()
         .filter(|s| {
             let [x, y, z] = s.origin;
@@ -539,9 +539,9 @@ fn compile_world(world: &World) -> (ScratchDir, PathBuf, PathBuf) {
 fn crawl_duct_keeps_the_crouched_eyes_inside() {
     let (dir, map, out) = compile_world(&mapgen::worlds::crawl_duct());
     let file = VdgFile::open(&out).unwrap();
-    let bsp = bsp2vdg::bsp::Bsp::open(&map).unwrap();
-    let oracle = bsp2vdg::oracle::Oracle::new(&bsp, &Default::default());
-    let eyes = bsp2vdg::check::crouch_eyes(&bsp, &oracle, 20_000, 1);
+    let bsp = bsp::Bsp::open(&map).unwrap();
+    let oracle = bsp::oracle::Oracle::new(&bsp, &Default::default());
+    let eyes = vdgcheck::crouch_eyes(&bsp, &oracle, 20_000, 1);
     drop(dir);
     let g = file.graph();
     let inside = eyes

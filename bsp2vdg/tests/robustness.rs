@@ -3,10 +3,10 @@
 
 mod common;
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
 use bsp2vdg::sample::{self, SampleOptions};
-use bsp2vdg::util::SplitMix64;
+use toolbox::SplitMix64;
 
 fn seed_maps() -> Vec<Vec<u8>> {
     let mut paths = common::generated_maps();

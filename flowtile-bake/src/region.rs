@@ -23,6 +23,7 @@ use std::fmt;
 
 use bsp::Bsp;
 use bsp::oracle::{Hull, Oracle, OracleOptions, PlayerHull};
+use bsp::player::{ground_below, standing_origin_above_ground, top_floor};
 use navmesh::NavMesh;
 
 use crate::render::Canvas;
@@ -116,51 +117,6 @@ pub struct Region {
     pub source: String,
     /// Where the floors came from (for the spec's comment).
     pub floors_from: String,
-}
-
-/// Half height of the standing player's box below its origin (hull 1).
-fn player_half_height(bsp: &Bsp) -> f64 {
-    match bsp.version.game() {
-        bsp::Game::GoldSrc => 36.0,
-        // Quake 2: the player box is -24..32 about the origin.
-        bsp::Game::Quake | bsp::Game::Quake2 | bsp::Game::Quake3 => 24.0,
-    }
-}
-
-/// The ground height under column `(x, y)` found by a downward trace through
-/// the clip hull from origin height `top` to `bottom`: the z of the first
-/// solid leaf minus the player's half height, or `None` when the column is
-/// solid at `top` or has no floor above `bottom`.
-fn ground_below(hull: &Hull, x: f64, y: f64, top: f64, bottom: f64, half: f64) -> Option<f64> {
-    let (a, b) = ([x, y, top], [x, y, bottom]);
-    let mut first: Option<(f64, i32)> = None;
-    let mut hit = None;
-    hull.segment_leaves(a, b, |t0, _t1, c, _n| {
-        if hit.is_some() {
-            return;
-        }
-        if first.is_none() {
-            first = Some((t0, c));
-        }
-        if c == bsp::contents::SOLID {
-            hit = Some(t0);
-        }
-    });
-    let (_, c0) = first?;
-    if c0 == bsp::contents::SOLID {
-        return None;
-    }
-    let t = hit?;
-    Some(top + t * (bottom - top) - half)
-}
-
-/// The highest floor of column `(x, y)` between `lo_z` and `hi_z`.
-fn top_floor(hull: &Hull, x: f64, y: f64, lo_z: f64, hi_z: f64, half: f64) -> Option<f64> {
-    let mut z = hi_z + half;
-    while z > lo_z && hull.contents([x, y, z]) == bsp::contents::SOLID {
-        z -= 64.0;
-    }
-    ground_below(hull, x, y, z, lo_z - half, half)
 }
 
 /// Entity origins whose class name is one of `names`.
@@ -391,7 +347,7 @@ pub fn extract_with(
     let hulls = match oracle.clip_hull(1) {
         Some(hull) => Collision {
             hull,
-            half: player_half_height(bsp),
+            half: standing_origin_above_ground(bsp.version.game()),
             stand: Stand::Hull,
         },
         None => {
@@ -403,9 +359,9 @@ pub fn extract_with(
                 .player_contents(PlayerHull::Standing, probe)
                 .is_some()
             {
-                Stand::Box(&oracle, player_half_height(bsp))
+                Stand::Box(&oracle, standing_origin_above_ground(bsp.version.game()))
             } else {
-                Stand::Headroom(2.0 * player_half_height(bsp))
+                Stand::Headroom(2.0 * standing_origin_above_ground(bsp.version.game()))
             };
             Collision {
                 hull: &point_hull,
@@ -538,7 +494,9 @@ fn level_under_spawns(bsp: &Bsp, hulls: &Collision<'_>, nav: Option<&NavIndex<'_
             let feet = hulls.ground_below(s[0], s[1], s[2] + 1.0, s[2] - 512.0);
             match nav {
                 Some(nav) => {
-                    let limit = feet.unwrap_or(s[2] - player_half_height(bsp)) + 18.0;
+                    let limit = feet
+                        .unwrap_or(s[2] - standing_origin_above_ground(bsp.version.game()))
+                        + 18.0;
                     nav.floors(s[0], s[1])
                         .filter(|&g| g <= limit)
                         .max_by(f64::total_cmp)

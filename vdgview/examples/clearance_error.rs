@@ -5,12 +5,12 @@
 //!
 //! `cargo run --release -p vdgview --example clearance_error -- [POINTS] [bsp2vdg options...]`
 
-use bsp::util::SplitMix64;
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
 use mapgen::world::World;
 use std::path::Path;
+use toolbox::SplitMix64;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -13,9 +13,9 @@
 use anyhow::{Context, bail};
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
-use bsp::util::SplitMix64;
 use bsp::walls::Walls;
 use std::collections::HashMap;
+use toolbox::SplitMix64;
 
 fn quantiles(v: &mut [f64]) -> String {
     v.sort_by(f64::total_cmp);
@@ -95,7 +95,7 @@ fn main() -> anyhow::Result<()> {
     let mut cells: HashMap<[i32; 3], usize> = HashMap::new();
     let mut bands = [0usize; 6];
     let standing: Vec<[f64; 3]> = if walkable {
-        vdgview::check::standing_places(&bsp, &oracle, n, 1)
+        vdgcheck::standing_places(&bsp, &oracle, n, 1)
             .iter()
             .map(|s| s.origin)
             .collect()

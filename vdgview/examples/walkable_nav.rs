@@ -20,8 +20,9 @@
 use anyhow::{Context, Result, bail};
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
-use bsp::util::SplitMix64;
-use vdgview::check::{ORIGIN_ABOVE_GROUND, column_floors, standing_places};
+use bsp::player::{ORIGIN_ABOVE_GROUND, column_floors};
+use toolbox::SplitMix64;
+use vdgcheck::standing_places;
 
 /// A nav area: a rectangle in x/y with the ground heights at its four corners.
 #[derive(Debug, Clone, Copy)]

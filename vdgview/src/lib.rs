@@ -26,9 +26,6 @@
 //! ```
 
 pub mod camera;
-/// The quality figures against the map (`vdgview check`), from the compiler's library so
-/// `bsp2vdg --baseline` computes the same ones.
-pub use bsp2vdg::check;
 pub mod hud;
 pub mod info;
 pub mod query;

@@ -3,7 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
-use vdgview::check::{CheckOptions, check};
+use vdgcheck::{CheckOptions, check};
 use vdgview::render::{Mode, RenderRequest, Style, View};
 use vdgview::{camera, info, query, render, scene};
 

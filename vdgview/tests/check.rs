@@ -6,7 +6,7 @@ use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
 use std::path::{Path, PathBuf};
-use vdgview::check::{CheckOptions, check};
+use vdgcheck::{CheckOptions, check};
 
 fn generated_maps() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../testdata/maps");
@@ -134,7 +134,7 @@ fn an_inflated_graph_is_caught_leaking() {
 #[test]
 fn camera_lines_are_where_a_camera_looks_from_and_exact() {
     use bsp::oracle::{Oracle, OracleOptions};
-    use vdgview::check::{CAMERA_DISTANCE, CAMERA_ELEVATION_DEG, camera_lines, standing_places};
+    use vdgcheck::{CAMERA_DISTANCE, CAMERA_ELEVATION_DEG, camera_lines, standing_places};
     for map in generated_maps() {
         let bsp = Bsp::open(&map).unwrap();
         let world = mapgen::world::World::from_manifest_json(
@@ -251,7 +251,8 @@ fn exact_floors(world: &mapgen::world::World, x: f64, y: f64, top: f64, bottom: 
 #[test]
 fn standing_places_are_the_exact_player_floors() {
     use bsp::oracle::{Oracle, OracleOptions};
-    use vdgview::check::{column_floors, standing_places};
+    use bsp::player::column_floors;
+    use vdgcheck::standing_places;
     for map in generated_maps() {
         let world = mapgen::world::World::from_manifest_json(
             &std::fs::read_to_string(map.with_extension("json")).unwrap(),
@@ -285,7 +286,7 @@ fn standing_places_are_the_exact_player_floors() {
         }
         let b = world.bounds();
         let (top, bottom) = (b.max[2] + 1.0, b.min[2] - 1.0);
-        let mut rng = bsp::util::SplitMix64::new(11);
+        let mut rng = toolbox::SplitMix64::new(11);
         let (mut compared, mut found) = (0, 0);
         for _ in 0..300 {
             let (x, y) = (rng.range(b.min[0], b.max[0]), rng.range(b.min[1], b.max[1]));
@@ -353,7 +354,7 @@ fn standing_places_are_the_exact_player_floors() {
 #[test]
 fn walkable_coverage_of_generated_maps() {
     use bsp::oracle::{Oracle, OracleOptions};
-    use vdgview::check::standing_places;
+    use vdgcheck::standing_places;
     let dir = tempdir();
     for map in generated_maps() {
         let out = dir

@@ -2,8 +2,8 @@
 //! a clean error — never a panic, a hang or an unbounded allocation.
 #![no_main]
 
-use bsp2vdg::bsp::Bsp;
-use bsp2vdg::oracle::{Oracle, OracleOptions};
+use bsp::Bsp;
+use bsp::oracle::{Oracle, OracleOptions};
 use bsp2vdg::sample::{self, SampleOptions};
 use libfuzzer_sys::fuzz_target;
 

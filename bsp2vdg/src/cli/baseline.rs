@@ -1,6 +1,6 @@
 //! CI regression mode. `bsp2vdg --update-baseline DIR MAPS...` compiles each map and
 //! stores its `.vdg` and statistics (counts, bytes, seconds and the quality figures of
-//! [`bsp2vdg::check`], the same code as `vdgview check`) in DIR; `bsp2vdg --baseline DIR
+//! [`vdgcheck`], the same code as `vdgview check`) in DIR; `bsp2vdg --baseline DIR
 //! MAPS...` compiles again and compares. A byte-identical graph passes at once; else
 //! counts, bytes, quality figures and time are compared within tolerances, a table (or
 //! `--json`) shows each figure, and any figure beyond its tolerance is a regression.
@@ -10,7 +10,6 @@
 //! in `_fp`, `_fn`, `_fn_inside` or `_fn_query` must not rise, by more than their tolerance.
 
 use anyhow::{Context, Result, bail};
-use bsp2vdg::check::{CheckOptions, check};
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::pipeline::{self, CompileOptions};
 use bsp2vdg::progress::NoProgress;
@@ -18,6 +17,7 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use vdgcheck::{CheckOptions, check};
 
 /// How far a figure may move before it is a regression. Defaults are documented in the
 /// README; a TOML file (`--tolerances FILE`) overrides any of them:
@@ -155,7 +155,7 @@ fn measure(
     let (vertices, faces, bytes) = stats
         .vdg
         .context("the compile wrote no graph (--stop-after?)")?;
-    let bsp = bsp2vdg::bsp::Bsp::open(map).map_err(|e| anyhow::anyhow!("{e}"))?;
+    let bsp = bsp::Bsp::open(map).map_err(|e| anyhow::anyhow!("{e}"))?;
     let file = vdgformat::VdgFile::open(&options.output).map_err(|e| anyhow::anyhow!("{e}"))?;
     let report = check(
         &bsp,

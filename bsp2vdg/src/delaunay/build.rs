@@ -277,7 +277,7 @@ mod tests {
     /// result depend on the number of threads.
     #[test]
     fn same_triangulation_on_one_and_two_threads() {
-        let mut rng = crate::util::SplitMix64::new(3);
+        let mut rng = toolbox::SplitMix64::new(3);
         let pts: Vec<[f64; 3]> = (0..30_000)
             .map(|i| {
                 let mut c = || (rng.next_u64() % 64) as f64 * 0.5;

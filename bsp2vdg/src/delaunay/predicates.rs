@@ -574,7 +574,7 @@ mod tests {
     /// The integer stage must agree with `robust` on near-degenerate dyadic inputs.
     #[test]
     fn integer_stage_agrees_with_robust() {
-        let mut rng = crate::util::SplitMix64::new(99);
+        let mut rng = toolbox::SplitMix64::new(99);
         let mut zeros = 0;
         // Quarter steps use the general dyadic analysis, whole steps the small-integer case.
         for i in 0..20000 {
@@ -622,7 +622,7 @@ mod tests {
     /// degenerate, non-dyadic inputs of every magnitude.
     #[test]
     fn float_filters_agree_with_robust_near_degeneracy() {
-        let mut rng = crate::util::SplitMix64::new(17);
+        let mut rng = toolbox::SplitMix64::new(17);
         let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
         for &scale in &[1e-6, 1.0, 3.7e3, 1e9] {
             for _ in 0..5000 {
@@ -675,7 +675,7 @@ mod tests {
     /// perturbation a perturbation (a wrong sign in either rule breaks it).
     #[test]
     fn perturbed_local_delaunay_test_is_symmetric() {
-        let mut rng = crate::util::SplitMix64::new(5);
+        let mut rng = toolbox::SplitMix64::new(5);
         let mut pts: Vec<[f64; 3]> = Vec::new();
         for x in 0..3 {
             for y in 0..3 {
@@ -719,7 +719,7 @@ mod tests {
     /// The SSE2 evaluation of the insphere filter must give the scalar reference's bits.
     #[test]
     fn insphere_sse2_matches_scalar_bit_for_bit() {
-        let mut rng = crate::util::SplitMix64::new(23);
+        let mut rng = toolbox::SplitMix64::new(23);
         let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
         for &scale in &[1e-9, 1.0, 1234.5, 1e12] {
             for _ in 0..20_000 {

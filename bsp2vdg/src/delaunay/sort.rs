@@ -13,7 +13,7 @@
 
 use rayon::prelude::*;
 
-use crate::util::SplitMix64;
+use toolbox::SplitMix64;
 /// Bits per axis of the Hilbert key (3 × 21 = 63 bits).
 const HILBERT_BITS: u32 = 21;
 

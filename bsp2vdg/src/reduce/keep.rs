@@ -245,7 +245,7 @@ impl Bvh {
 const SKIP_MARGIN: f64 = 1.0;
 
 /// The radius of the ball each standing place keeps inside the volume: half the
-/// spacing of the kept grid ([`crate::standing::KEEP_SPACING`]). With the places
+/// spacing of the kept grid ([`bsp::player::KEEP_SPACING`]). With the places
 /// kept only inside, 0.5 % of de_dust2's standing places fell out between the kept
 /// columns (walkable coverage 0.9858 against 0.9912 unreduced); with this ball,
 /// 0.9911 (and 0.99–1.0 on every shared map whose unreduced graph holds that).

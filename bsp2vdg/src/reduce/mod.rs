@@ -1040,7 +1040,7 @@ pub(crate) fn grid_sheet(n: usize, mut at: impl FnMut(usize, usize) -> ([f64; 3]
 mod tests {
     use super::*;
     use crate::progress::NoProgress;
-    use crate::util::SplitMix64;
+    use toolbox::SplitMix64;
 
     /// A wavy sheet with a fin standing on it along x = 5 (a seam of three
     /// sheets), varying clearances: swaps, merges and all removal cases occur.

@@ -156,7 +156,7 @@ mod tests {
     /// Entries put back come out exactly as re-inserting them would give.
     #[test]
     fn put_back_pops_as_push_key_would() {
-        let mut rng = crate::util::SplitMix64::new(7);
+        let mut rng = toolbox::SplitMix64::new(7);
         let (mut a, mut b) = (CostQueue::new(300), CostQueue::new(300));
         for v in 0..300 {
             let c = Some((rng.range(0.0, 8.0) as i64) as f64); // many ties

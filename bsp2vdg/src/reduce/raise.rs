@@ -568,7 +568,7 @@ mod tests {
     use super::*;
     use crate::progress::NoProgress;
     use crate::reduce::{ReduceOptions, in_hilbert_order, run};
-    use crate::util::SplitMix64;
+    use toolbox::SplitMix64;
 
     /// A bowl-shaped sheet with smooth clearances that are large compared
     /// with the spacing (like a curved medial sheet in a hall): every swap

@@ -430,8 +430,8 @@ impl Candidates {
 mod tests {
     use super::*;
     use crate::reduce::mesh::Mesh;
-    use crate::util::SplitMix64;
     use crate::voronoi::Graph;
+    use toolbox::SplitMix64;
 
     /// Two faces `(0,1,2)`, `(0,1,3)` sharing the edge 0–1.
     fn quad(p: [[f64; 3]; 4], r: [f64; 4]) -> Mesh {

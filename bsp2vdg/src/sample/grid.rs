@@ -96,7 +96,7 @@ mod tests {
 
     #[test]
     fn nearest_matches_brute_force() {
-        let mut rng = crate::util::SplitMix64::new(7);
+        let mut rng = toolbox::SplitMix64::new(7);
         let mut rnd = || rng.range(-50.0, 50.0);
         let pts: Vec<[f64; 3]> = (0..2000).map(|_| [rnd(), rnd(), rnd()]).collect();
         let g = PointGrid::from_points(&pts, 7.0);

@@ -8,25 +8,26 @@
 //! is reduced by that tolerance, so the guarantee survives the merge.
 //!
 //! ```no_run
-//! use bsp2vdg::{bsp::Bsp, sample::{sample, SampleOptions}};
+//! use bsp::Bsp;
+//! use bsp2vdg::sample::{sample, SampleOptions};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let s = sample(&bsp, &SampleOptions::default());
 //! println!("{} samples at spacing {}", s.points.len(), s.spacing);
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
 pub mod classify;
 pub mod grid;
 pub mod subdivide;
 
-use crate::boundary::{self, BoundaryPolygon};
-use crate::bsp::Bsp;
-use crate::oracle::{Oracle, OracleOptions};
-use crate::util::SplitMix64;
-use crate::walls::Walls;
+use bsp::Bsp;
+use bsp::boundary::{self, BoundaryPolygon};
+use bsp::oracle::{Oracle, OracleOptions};
+use bsp::walls::Walls;
 use classify::{FaceClass, SkipReason};
 use grid::PointGrid;
 use rayon::prelude::*;
+use toolbox::SplitMix64;
 
 /// How to sample a map.
 #[derive(Debug, Clone)]
@@ -124,7 +125,7 @@ pub struct SampledFace {
     pub hidden: bool,
 }
 
-impl crate::walls::WallFace for SampledFace {
+impl bsp::walls::WallFace for SampledFace {
     fn polygon(&self) -> &[[f64; 3]] {
         &self.polygon
     }
@@ -148,7 +149,7 @@ pub fn hidden_faces(boundary: &[BoundaryPolygon]) -> Vec<SampledFace> {
             index: NO_FACE,
             polygon: b.vertices.clone(),
             normal: b.normal,
-            class: if b.obstacle == crate::bsp::contents::SKY {
+            class: if b.obstacle == bsp::contents::SKY {
                 FaceClass::Sky
             } else {
                 FaceClass::Wall
@@ -389,7 +390,7 @@ pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64, budget: usize) -> (Vec<
     (points, tris)
 }
 
-pub use crate::util::polygon_area;
+pub use bsp::util::polygon_area;
 
 fn centroid(p: &[[f64; 3]]) -> [f64; 3] {
     let n = p.len().max(1) as f64;

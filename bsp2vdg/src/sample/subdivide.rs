@@ -8,7 +8,7 @@
 //! obtuse (the circumcentre lies inside), otherwise the distance from the obtuse
 //! corner's bisector feet on the longest edge.
 
-use crate::util::sub;
+use bsp::util::sub;
 
 type P = [f64; 3];
 
@@ -90,7 +90,7 @@ pub fn subdivide(a: P, b: P, c: P, radius: f64, out: &mut Vec<P>, budget: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::util::SplitMix64;
+    use toolbox::SplitMix64;
 
     /// Brute force: the covering radius by dense barycentric sampling (a lower bound
     /// that converges to the true value).

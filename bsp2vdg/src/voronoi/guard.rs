@@ -723,10 +723,10 @@ mod tests {
         // by more than the margin, taken with the lower bound the certificates use
         // (least corner distance less `h`). Half the margin would not do: the worst
         // cell needs more than that.
-        let mut rng = crate::util::SplitMix64::new(0x6d61_7267);
+        let mut rng = toolbox::SplitMix64::new(0x6d61_7267);
         let mut worst = 0.0f64;
         for _ in 0..3000 {
-            let walls = crate::walls::Walls::new(
+            let walls = bsp::walls::Walls::new(
                 (0..3)
                     .map(|_| {
                         let t = [0; 3].map(|_| [0; 3].map(|_| rng.range(-20.0, 20.0)));

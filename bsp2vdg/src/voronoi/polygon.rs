@@ -3,7 +3,7 @@
 //! that cospherical samples produce; the 2D Delaunay triangulation of the corners
 //! maximises the smallest angle, and for a convex polygon it covers exactly the polygon.
 
-use crate::util::{cross, dot, sub};
+use bsp::util::{cross, dot, sub};
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation as _};
 
 struct Corner {

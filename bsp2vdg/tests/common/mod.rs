@@ -43,8 +43,8 @@ pub fn generated_maps() -> Vec<PathBuf> {
 
 /// A uniform random point of a convex polygon (area-weighted fan triangle, then
 /// uniform barycentric coordinates).
-pub fn point_in_polygon(v: &[[f64; 3]], rng: &mut bsp2vdg::util::SplitMix64) -> [f64; 3] {
-    use bsp2vdg::util::{cross, dot, sub};
+pub fn point_in_polygon(v: &[[f64; 3]], rng: &mut toolbox::SplitMix64) -> [f64; 3] {
+    use bsp::util::{cross, dot, sub};
     let tri_area = |i: usize| {
         let c = cross(sub(v[i], v[0]), sub(v[i + 1], v[0]));
         dot(c, c).sqrt()

@@ -2,9 +2,10 @@
 //! by the `navmesh` crate): random area pairs joined by the mesh's shortest chain of
 //! areas, each walked on the map's own floor.
 
-use super::route::{Route, settle};
+use super::route::Route;
 use super::walk::{WalkStats, Waypoint, walk};
 use bsp::oracle::Oracle;
+use bsp::player::settle;
 pub use navmesh::{NAV_CROUCH, NAV_MAGIC, NavArea, NavMesh};
 use toolbox::SplitMix64;
 

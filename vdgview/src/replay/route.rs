@@ -8,7 +8,8 @@
 //! replay's `--dt`, so 1/60 and 1/30 replays see the same motion.
 
 use bsp::Game;
-use bsp::oracle::{Body, Oracle, PlayerHull, Stance};
+use bsp::oracle::{Body, Stance};
+use bsp::player::player_hull;
 
 /// One frame of the followed player.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,87 +126,6 @@ impl Route {
         }
         out
     }
-}
-
-/// Whether the hull of `hull` (1 standing, 3 crouched) fits at `origin`.
-pub fn hull_fits(oracle: &Oracle, hull: usize, origin: [f64; 3]) -> bool {
-    oracle
-        .clip_contents(hull, origin)
-        .is_some_and(|c| !oracle.blocks(c))
-}
-
-/// A player origin on the floor below `(x, y)` near floor height `floor_hint`:
-/// the standing hull dropped from up to one step (18 units) above, or the crouched
-/// hull where the standing one does not fit (or `crouch` asks for it; never where
-/// players do not crouch, see [`crouches`]). Returns the
-/// origin and whether it is crouched; `None` where neither stands on walkable ground
-/// (normal z ≥ 0.7) within 40 units.
-pub fn settle(
-    oracle: &Oracle,
-    x: f64,
-    y: f64,
-    floor_hint: f64,
-    crouch: bool,
-) -> Option<([f64; 3], bool)> {
-    for &hull in clip_hulls(oracle, crouch) {
-        let half = above_floor(oracle, hull == 3);
-        for lift in [20.0, 10.0, 1.0] {
-            let top = [x, y, floor_hint + half + lift];
-            if !hull_fits(oracle, hull, top) {
-                continue;
-            }
-            let tr = oracle.trace(hull, top, [x, y, floor_hint + half - 40.0])?;
-            if tr.start_solid || tr.fraction >= 1.0 || tr.normal[2] < 0.7 {
-                break;
-            }
-            return Some((tr.end, hull == 3));
-        }
-    }
-    None
-}
-
-/// How far the player's origin is above the floor, standing or crouched, in the map's
-/// game ([`Body::of`]: GoldSrc 36 and 18, the middle of its hulls; Quake 1, 2 and 3
-/// 24 in both stances).
-pub fn above_floor(oracle: &Oracle, crouch: bool) -> f64 {
-    Body::of(oracle.game())
-        .stance(player_hull(crouch))
-        .origin_above_ground()
-}
-
-fn player_hull(crouch: bool) -> PlayerHull {
-    if crouch {
-        PlayerHull::Crouched
-    } else {
-        PlayerHull::Standing
-    }
-}
-
-/// The clip hulls a player may move with, in the order to try them: the crouched
-/// one (3) when `crouch` asks for it, else the standing one (1) and then the
-/// crouched one; only the standing one where players do not crouch ([`crouches`]).
-pub fn clip_hulls(oracle: &Oracle, crouch: bool) -> &'static [usize] {
-    match (crouch, crouches(oracle)) {
-        (_, false) => &[1],
-        (true, true) => &[3],
-        (false, true) => &[1, 3],
-    }
-}
-
-/// Whether the map's players crouch (Quake 1's do not, though its maps keep a third
-/// clip hull): routes crouch only where they do.
-pub fn crouches(oracle: &Oracle) -> bool {
-    Body::of(oracle.game()).crouched.is_some()
-}
-
-/// Whether a player origin stands free and on the ground: its hull fits and the
-/// ground lies within 2 units below (the test the routes are held to).
-pub fn on_floor(oracle: &Oracle, origin: [f64; 3], crouch: bool) -> bool {
-    let hull = if crouch { 3 } else { 1 };
-    hull_fits(oracle, hull, origin)
-        && oracle
-            .trace(hull, origin, [origin[0], origin[1], origin[2] - 2.0])
-            .is_some_and(|t| t.fraction < 1.0 && t.normal[2] >= 0.7)
 }
 
 #[cfg(test)]

@@ -7,10 +7,11 @@
 //! hull (3) is tried, so routes crouch through low passages. A* finds the grid path,
 //! [`string_pull`] straightens it, [`walk`] turns it into a player's motion.
 
-use super::route::{Route, above_floor, clip_hulls, hull_fits, settle};
+use super::route::Route;
 use super::walk::{WalkStats, Waypoint, string_pull, walk};
 use bsp::Bsp;
 use bsp::oracle::Oracle;
+use bsp::player::{above_floor, clip_hulls, hull_fits, settle};
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
 use toolbox::SplitMix64;

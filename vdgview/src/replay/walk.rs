@@ -6,8 +6,9 @@
 //! possible in the map. All choices come from a seeded generator: the same path
 //! and seed give the same route.
 
-use super::route::{Route, TargetState, above_floor, crouches, settle};
+use super::route::{Route, TargetState};
 use bsp::oracle::Oracle;
+use bsp::player::{above_floor, crouches, settle};
 use toolbox::SplitMix64;
 
 /// The walker's fixed step (the route is resampled at the replay's `--dt`).

@@ -34,7 +34,3 @@ pub fn polygon_area(p: &[[f64; 3]]) -> f64 {
     }
     0.5 * (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt()
 }
-
-/// The workspace's one seeded generator, re-exported where the compiler's modules
-/// and its users have always found it.
-pub use toolbox::SplitMix64;

@@ -17,7 +17,7 @@
 //! - **crouch coverage** (GoldSrc, Quake 2 and 3): the places where a player only fits
 //!   crouching (vents, crawl spaces) in random columns, and the share of their crouched
 //!   eyes (the point the camera follows; GoldSrc 18 + 12 units above the ground, see
-//!   [`crate::standing::Crouching`] for the others) inside the volume.
+//!   [`bsp::player::Crouching`] for the others) inside the volume.
 //! - **visible_fp / visible_fn**: `Visible(s, e)` against the BSP's segment test on
 //!   random segments between free points; a false positive (seeing through a wall) must
 //!   never happen.
@@ -33,9 +33,9 @@
 
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
-use bsp::util::SplitMix64;
 use bsp::walls::Walls;
 use rayon::prelude::*;
+use toolbox::SplitMix64;
 use vdgformat::Vdg;
 
 /// What to measure and how much.
@@ -92,7 +92,7 @@ pub struct CheckReport {
     pub walkable_head_points: usize,
     pub walkable_head_covered: usize,
     /// GoldSrc, Quake 2 and 3 maps: the places where a player only fits crouching (vents, crawl
-    /// spaces; [`crate::standing::Crouching::column_places`]) drawn from as many random
+    /// spaces; [`bsp::player::Crouching::column_places`]) drawn from as many random
     /// columns as there are points, whose crouched eye (the camera's target) is in
     /// free space, and how many of those eyes lie inside the volume.
     pub crouch_points: usize,
@@ -459,9 +459,7 @@ impl<'a> SightSegments<'a> {
     }
 }
 
-pub use crate::standing::{
-    HEAD_ABOVE_GROUND, MIN_FLOOR_NORMAL_Z, ORIGIN_ABOVE_GROUND, column_floors,
-};
+use bsp::player::{HEAD_ABOVE_GROUND, ORIGIN_ABOVE_GROUND, column_floors};
 
 /// A place where a standing player is.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -621,12 +619,12 @@ pub fn camera_lines(
     parts.concat()
 }
 
-/// The eyes of the crouch-only places ([`crate::standing::Crouching::column_places`]) in
+/// The eyes of the crouch-only places ([`bsp::player::Crouching::column_places`]) in
 /// `columns` random columns, drawn uniformly over the world's horizontal extent in
 /// chunks with their own seeds, where the eye is in free space. Empty unless the map's
-/// players crouch ([`crate::standing::Crouching::of`]).
+/// players crouch ([`bsp::player::Crouching::of`]).
 pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec<[f64; 3]> {
-    let Some(crouching) = crate::standing::Crouching::of(oracle, bsp.version.game()) else {
+    let Some(crouching) = bsp::player::Crouching::of(oracle, bsp.version.game()) else {
         return Vec::new();
     };
     let (lo, hi) = free_bounds(bsp);

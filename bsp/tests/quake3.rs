@@ -6,9 +6,9 @@
 use bsp::faces::FaceClass;
 use bsp::oracle::{Oracle, OracleOptions, PlayerHull};
 use bsp::quake3::contents as q3;
-use bsp::util::SplitMix64;
 use bsp::{Bsp, Game, contents};
 use std::path::PathBuf;
+use toolbox::SplitMix64;
 
 mod common;
 

@@ -4,15 +4,15 @@
 #![allow(dead_code)]
 
 use bsp::oracle::{Oracle, OracleOptions};
-use bsp::util::SplitMix64;
 use bsp::{Bsp, contents};
 use std::path::{Path, PathBuf};
+use toolbox::SplitMix64;
 
 /// The `.bsp` files of `../shared/testmaps/<dir>`, or `None` (with a message) when
 /// the folder is absent.
 pub fn shared_maps(dir: &str) -> Option<Vec<PathBuf>> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/testmaps")
+        .join("../../shared/testmaps")
         .join(dir);
     let Ok(entries) = std::fs::read_dir(&dir) else {
         eprintln!("skipped: {} is absent", dir.display());

@@ -16,11 +16,11 @@
 
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
-use bsp::util::SplitMix64;
 use bsp::walls::Walls;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
+use toolbox::SplitMix64;
 
 fn median(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);

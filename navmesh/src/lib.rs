@@ -443,7 +443,7 @@ mod tests {
     #[test]
     fn the_shared_meshes_parse_when_present() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../../shared/testmaps/goldsrc/nonfree");
+            .join("../../shared/testmaps/goldsrc/nonfree");
         let Ok(entries) = std::fs::read_dir(&dir) else {
             eprintln!("skipped: {} absent", dir.display());
             return;

@@ -583,7 +583,7 @@ mod tests {
         walls.distances_within(&[p; 5], &[60.0; 5], &mut out);
         assert_eq!(out, vec![Some(near); 5]);
 
-        let mut rng = crate::util::SplitMix64::new(11);
+        let mut rng = toolbox::SplitMix64::new(11);
         let mut polys = Vec::new();
         for _ in 0..400 {
             let c = [0, 1, 2].map(|_| rng.range(-300.0, 300.0));
@@ -631,7 +631,7 @@ mod tests {
     /// The hierarchy answers exactly what testing every polygon answers.
     #[test]
     fn hierarchy_matches_brute_force() {
-        let mut rng = crate::util::SplitMix64::new(5);
+        let mut rng = toolbox::SplitMix64::new(5);
         let mut polys = Vec::new();
         for _ in 0..500 {
             let c = [0, 1, 2].map(|_| rng.range(-1000.0, 1000.0));

@@ -4,9 +4,9 @@
 
 use bsp::oracle::{Oracle, OracleOptions, PlayerHull};
 use bsp::quake2::contents as q2;
-use bsp::util::SplitMix64;
 use bsp::{Bsp, Game, contents};
 use std::path::PathBuf;
+use toolbox::SplitMix64;
 
 mod common;
 

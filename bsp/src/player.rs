@@ -11,16 +11,16 @@
 //! the crouched eye the camera follows.
 //!
 //! ```no_run
-//! use bsp2vdg::{bsp::Bsp, oracle::Oracle, standing};
+//! use bsp::{Bsp, oracle::Oracle, player};
 //! let bsp = Bsp::open("maps/crossfire.bsp")?;
 //! let oracle = Oracle::new(&bsp, &Default::default());
 //! let hull = oracle.clip_hull(1).expect("the map has clip hulls");
-//! let origins = standing::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
-//! # Ok::<(), bsp2vdg::bsp::BspError>(())
+//! let origins = player::column_floors(hull, &oracle, 0.0, 0.0, 4096.0, -4096.0);
+//! # Ok::<(), bsp::BspError>(())
 //! ```
 
-use bsp::Game;
-use bsp::oracle::{Body, Hull, Oracle, Stance};
+use crate::Game;
+use crate::oracle::{Body, Hull, Oracle, PlayerHull, Stance};
 
 /// The standing player's origin is 36 units above the ground (the middle of the
 /// 72-unit clip hull 1), the head (eyes) 64 units above it.
@@ -139,7 +139,7 @@ fn low_ceiling(oracle: &Oracle, a: [f64; 3], reach: f64) -> bool {
     match oracle.trace(0, a, b) {
         Some(t) if t.fraction < 1.0 => {
             let hit = t.end;
-            oracle.contents([hit[0], hit[1], hit[2] + 0.25]) != bsp::contents::SKY
+            oracle.contents([hit[0], hit[1], hit[2] + 0.25]) != crate::contents::SKY
                 || !oracle.segment_free(a, hit)
         }
         // Only a solid model blocks the way up.
@@ -215,6 +215,135 @@ fn on_grid(
         .collect()
 }
 
+/// How far a standing player's origin is above its feet in `game` (GoldSrc 36, the
+/// middle of its 72-unit hull; Quake 1, 2 and 3 24).
+pub fn standing_origin_above_ground(game: Game) -> f64 {
+    Body::of(game).standing.origin_above_ground()
+}
+
+/// How far the player's origin is above the floor, standing or crouched, in the map's
+/// game ([`Body::of`]: GoldSrc 36 and 18, the middle of its hulls; Quake 1, 2 and 3
+/// 24 in both stances).
+pub fn above_floor(oracle: &Oracle, crouch: bool) -> f64 {
+    Body::of(oracle.game())
+        .stance(player_hull(crouch))
+        .origin_above_ground()
+}
+
+/// The player's box for a stance: crouched (clip hull 3) or standing (clip hull 1).
+pub fn player_hull(crouch: bool) -> PlayerHull {
+    if crouch {
+        PlayerHull::Crouched
+    } else {
+        PlayerHull::Standing
+    }
+}
+
+/// Whether the hull of `hull` (1 standing, 3 crouched) fits at `origin`.
+pub fn hull_fits(oracle: &Oracle, hull: usize, origin: [f64; 3]) -> bool {
+    oracle
+        .clip_contents(hull, origin)
+        .is_some_and(|c| !oracle.blocks(c))
+}
+
+/// Whether the map's players crouch (Quake 1's do not, though its maps keep a third
+/// clip hull).
+pub fn crouches(oracle: &Oracle) -> bool {
+    Body::of(oracle.game()).crouched.is_some()
+}
+
+/// The clip hulls a player may move with, in the order to try them: the crouched
+/// one (3) when `crouch` asks for it, else the standing one (1) and then the
+/// crouched one; only the standing one where players do not crouch ([`crouches`]).
+pub fn clip_hulls(oracle: &Oracle, crouch: bool) -> &'static [usize] {
+    match (crouch, crouches(oracle)) {
+        (_, false) => &[1],
+        (true, true) => &[3],
+        (false, true) => &[1, 3],
+    }
+}
+
+/// A player origin on the floor below `(x, y)` near floor height `floor_hint`, the
+/// way a moving player meets the ground: the standing hull traced down from up to one
+/// step (18 units, tried from 20, 10 and 1 unit up) above, or the crouched hull where
+/// the standing one does not fit (or `crouch` asks for it; never where players do
+/// not crouch, see [`crouches`]). Returns the origin and whether it is crouched;
+/// `None` where neither stands on walkable ground (normal z ≥ 0.7) within 40 units.
+/// Unlike [`column_floors`], which lists every floor of a column for sampling, this
+/// finds the one floor a player at a known height lands on.
+pub fn settle(
+    oracle: &Oracle,
+    x: f64,
+    y: f64,
+    floor_hint: f64,
+    crouch: bool,
+) -> Option<([f64; 3], bool)> {
+    for &hull in clip_hulls(oracle, crouch) {
+        let half = above_floor(oracle, hull == 3);
+        for lift in [20.0, 10.0, 1.0] {
+            let top = [x, y, floor_hint + half + lift];
+            if !hull_fits(oracle, hull, top) {
+                continue;
+            }
+            let tr = oracle.trace(hull, top, [x, y, floor_hint + half - 40.0])?;
+            if tr.start_solid || tr.fraction >= 1.0 || tr.normal[2] < 0.7 {
+                break;
+            }
+            return Some((tr.end, hull == 3));
+        }
+    }
+    None
+}
+
+/// Whether a player origin stands free and on the ground: its hull fits and the
+/// ground lies within 2 units below.
+pub fn on_floor(oracle: &Oracle, origin: [f64; 3], crouch: bool) -> bool {
+    let hull = if crouch { 3 } else { 1 };
+    hull_fits(oracle, hull, origin)
+        && oracle
+            .trace(hull, origin, [origin[0], origin[1], origin[2] - 2.0])
+            .is_some_and(|t| t.fraction < 1.0 && t.normal[2] >= 0.7)
+}
+
+/// The feet under column `(x, y)` found going down `hull` (a clip hull, or the point
+/// hull for maps without them) from origin height `top` to `bottom`: the z of the
+/// first solid leaf minus `half` (the origin's height above the feet, 0 with the point
+/// hull), or `None` when the column is solid at `top` or has no floor above `bottom`.
+/// Any solid counts, whatever its slope: a flow field's floor map wants the ground
+/// under every column, where [`column_floors`] wants only places a player stands.
+pub fn ground_below(hull: &Hull, x: f64, y: f64, top: f64, bottom: f64, half: f64) -> Option<f64> {
+    let (a, b) = ([x, y, top], [x, y, bottom]);
+    let mut first: Option<(f64, i32)> = None;
+    let mut hit = None;
+    hull.segment_leaves(a, b, |t0, _t1, c, _n| {
+        if hit.is_some() {
+            return;
+        }
+        if first.is_none() {
+            first = Some((t0, c));
+        }
+        if c == crate::contents::SOLID {
+            hit = Some(t0);
+        }
+    });
+    let (_, c0) = first?;
+    if c0 == crate::contents::SOLID {
+        return None;
+    }
+    let t = hit?;
+    Some(top + t * (bottom - top) - half)
+}
+
+/// The highest feet of column `(x, y)` between `lo_z` and `hi_z` ([`ground_below`]
+/// from the first free height found stepping down 64 units at a time).
+pub fn top_floor(hull: &Hull, x: f64, y: f64, lo_z: f64, hi_z: f64, half: f64) -> Option<f64> {
+    let mut z = hi_z + half;
+    while z > lo_z && hull.contents([x, y, z]) == crate::contents::SOLID {
+        z -= 64.0;
+    }
+    ground_below(hull, x, y, z, lo_z - half, half)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -222,8 +351,8 @@ mod tests {
     /// A crouching GoldSrc player's eye above the floor: the duck hull's origin 18
     /// units up, the duck view 12 above it.
     const GOLDSRC_CROUCHED_EYE: f64 = 30.0;
-    use bsp::Bsp;
-    use bsp::oracle::OracleOptions;
+    use crate::Bsp;
+    use crate::oracle::OracleOptions;
 
     /// mapgen's `crawl_duct`: rooms `[0,256]` and `[512,768]` in x, a duct
     /// `[240,528]×[96,160]×[0,48]` between them, floors at z = 0.

@@ -30,6 +30,7 @@ pub mod goldsrc;
 mod lumps;
 mod map;
 pub mod oracle;
+pub mod player;
 pub mod quake2;
 pub mod quake3;
 mod read;
