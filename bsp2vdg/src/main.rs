@@ -8,8 +8,10 @@ mod cli;
 
 use anyhow::{Context, Result, bail};
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::pipeline::{self, CompileOptions, SamplesFormat, Stage};
+use bsp2vdg::options::{self, CompileOptions, SamplesFormat, Stage, defaults};
+use bsp2vdg::pipeline;
 use bsp2vdg::progress::{NoProgress, PercentLines, Progress};
+use bsp2vdg::reduce::ReductionCost;
 use bsp2vdg::sample::SampleOptions;
 use clap::{CommandFactory, Parser, ValueEnum};
 use cli::priority::{self, Priority};
@@ -32,30 +34,30 @@ struct Cli {
     #[arg(required = true, value_name = "MAP.bsp")]
     maps: Vec<PathBuf>,
     /// Sample spacing m: every point of a wall lies within m units of a sample.
-    #[arg(long = "sd", value_name = "M", default_value_t = 24.0)]
+    #[arg(long = "sd", value_name = "M", default_value_t = defaults::SAMPLE_SPACING)]
     sample_spacing: f64,
     /// Cap on the number of samples; the spacing is raised until it holds.
-    #[arg(long = "ms", value_name = "N", default_value_t = 250_000)]
+    #[arg(long = "ms", value_name = "N", default_value_t = defaults::MAX_SAMPLES)]
     max_samples: usize,
     /// Reduction limit: 1.0 = no reduction, 0.0 = as far as possible.
-    #[arg(long = "rl", value_name = "F", default_value_t = 0.025)]
+    #[arg(long = "rl", value_name = "F", default_value_t = defaults::REDUCTION_LIMIT)]
     reduction_limit: f64,
     /// Reduction floor: never reduce below N vertices, whatever -rl says (small maps
     /// keep enough of their graph to see across their rooms); 0 = no floor.
-    #[arg(long = "rv", value_name = "N", default_value_t = bsp2vdg::pipeline::DEFAULT_REDUCTION_FLOOR)]
+    #[arg(long = "rv", value_name = "N", default_value_t = defaults::REDUCTION_FLOOR)]
     reduction_floor: usize,
     /// Reduction cost: `relative` removes first what loses the least volume for the
     /// vertex's size (volume / clearance²), keeping the volume near the walls that sight
     /// lines along them need; `volume` is the thesis' (the volume alone).
-    #[arg(long = "rc", value_enum, value_name = "COST", default_value_t = ReductionCostArg::Relative)]
+    #[arg(long = "rc", value_enum, value_name = "COST", default_value_t = ReductionCostArg::of(defaults::REDUCTION_COST))]
     reduction_cost: ReductionCostArg,
     /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
     /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
     /// vertices it keeps (condition A), so the written graph may hold smaller ones.
-    #[arg(long = "md", value_name = "N", default_value_t = 20.0)]
+    #[arg(long = "md", value_name = "N", default_value_t = defaults::MIN_CLEARANCE)]
     min_clearance: f64,
     /// Smallest leaf box of the face tree in the .vdg.
-    #[arg(long = "bb", value_name = "N", default_value_t = 256.0)]
+    #[arg(long = "bb", value_name = "N", default_value_t = defaults::TREE_LEAF_SIZE)]
     tree_leaf_size: f64,
     /// Save the samples as text beside the output (OUT.samples.txt).
     #[arg(long = "savesamples")]
@@ -134,6 +136,16 @@ struct Cli {
     /// Tolerances of --baseline (TOML: counts, bytes, seconds, min_seconds, quality, [figures]).
     #[arg(long, value_name = "FILE")]
     tolerances: Option<PathBuf>,
+    /// Measurement switch: skip the raise towards the walls after the reduction (the
+    /// reduction's own raise back towards the unreduced graph runs instead, so the
+    /// written volume lies inside the unreduced one). Recorded in the .vdg.
+    #[arg(long)]
+    no_wall_raise: bool,
+    /// Measurement switch, never for graphs you ship: reduce without the coverage
+    /// guards (the kept player places and deep points), to see whether they or the
+    /// graph's shape stop the reduction above -rl. Recorded in the .vdg.
+    #[arg(long)]
+    no_coverage_guards: bool,
     /// Random points per quality figure measured for a baseline.
     #[arg(long, value_name = "N", default_value_t = 100_000)]
     check_samples: usize,
@@ -151,6 +163,23 @@ enum StageArg {
 enum ReductionCostArg {
     Volume,
     Relative,
+}
+
+impl ReductionCostArg {
+    /// The command line's name of a cost.
+    const fn of(cost: ReductionCost) -> Self {
+        match cost {
+            ReductionCost::Volume => ReductionCostArg::Volume,
+            ReductionCost::Relative => ReductionCostArg::Relative,
+        }
+    }
+
+    fn cost(self) -> ReductionCost {
+        match self {
+            ReductionCostArg::Volume => ReductionCost::Volume,
+            ReductionCostArg::Relative => ReductionCost::Relative,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -455,7 +484,7 @@ fn build_one(cli: &Cli, map: &Path, verbosity: Verbosity) -> Outcome {
     let options = compile_options(cli, map);
     for path in [
         options.output.clone(),
-        pipeline::samples_path(&options.output),
+        options::samples_path(&options.output),
     ] {
         for stale in toolbox::clean_stale_temps(&path) {
             log.info(format!(
@@ -576,10 +605,7 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
         },
         reduction_limit: cli.reduction_limit,
         reduction_floor: cli.reduction_floor,
-        reduction_cost: match cli.reduction_cost {
-            ReductionCostArg::Volume => bsp2vdg::reduce::ReductionCost::Volume,
-            ReductionCostArg::Relative => bsp2vdg::reduce::ReductionCost::Relative,
-        },
+        reduction_cost: cli.reduction_cost.cost(),
         min_clearance: cli.min_clearance,
         tree_leaf_size: cli.tree_leaf_size,
         liquids_are_solid: cli.liquids_solid,
@@ -605,6 +631,8 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
             ),
             other => other.clone(),
         },
+        wall_raise: !cli.no_wall_raise,
+        coverage_guards: !cli.no_coverage_guards,
     }
 }
 

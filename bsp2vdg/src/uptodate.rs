@@ -1,50 +1,14 @@
 //! Hermetic outputs and up-to-date skips for build pipelines.
 //!
 //! A `.vdg` records what it was built from: the XXH64 of the map's bytes, the tool's
-//! name and version, and every option that changes the graph ([`recorded_options`]).
+//! name and version, and every option that changes the graph ([`crate::options::recorded_options`]).
 //! An output whose record matches the map and the options of this run is current
 //! ([`check`]), so batch builds skip it. Paths are never recorded (the source name only
 //! when asked with `--source-name`), so the same map compiled from another folder or
 //! under another name gives the same bytes, as a build farm's sandboxes need.
 
-use crate::pipeline::CompileOptions;
+use crate::options::{CompileOptions, Stage, recorded_options, samples_path};
 use std::path::Path;
-
-/// The metadata entries written into the `.vdg` besides the source hash: the tool, the
-/// options that shape the graph and, when asked, the source name. Both the writer and
-/// the up-to-date check use this one list, so they cannot disagree.
-///
-/// ```
-/// use bsp2vdg::pipeline::CompileOptions;
-/// let o = CompileOptions::new("out.vdg".into());
-/// let rec = bsp2vdg::uptodate::recorded_options(&o);
-/// assert!(rec.iter().any(|(k, v)| k == "sd" && v == "24"));
-/// assert!(rec.iter().all(|(k, _)| k != "source.name"));
-/// ```
-pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
-    let mut v: Vec<(String, String)> = [
-        ("tool.name", "bsp2vdg".to_string()),
-        ("tool.version", env!("CARGO_PKG_VERSION").to_string()),
-        ("sd", options.sampling.spacing.to_string()),
-        ("ms", options.sampling.max_samples.to_string()),
-        ("rl", options.reduction_limit.to_string()),
-        ("rv", options.reduction_floor.to_string()),
-        ("rc", options.reduction_cost.as_str().to_string()),
-        ("md", options.min_clearance.to_string()),
-        ("bb", options.tree_leaf_size.to_string()),
-        ("subset", options.sampling.subset.to_string()),
-        ("liquids_solid", options.liquids_are_solid.to_string()),
-        ("clip_solid", options.clip_is_solid.to_string()),
-        ("entities", options.entity_classes.join(",")),
-    ]
-    .into_iter()
-    .map(|(k, v)| (k.to_string(), v))
-    .collect();
-    if let Some(name) = &options.source_name {
-        v.push(("source.name".to_string(), name.clone()));
-    }
-    v
-}
 
 /// Whether `options.output` is a current build of a map whose bytes hash to
 /// `map_hash` (XXH64, seed 0): `Ok(())` if so, else why not, in a few words for the log.
@@ -52,13 +16,13 @@ pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
 /// samples file must exist too.
 pub fn check(map_hash: u64, options: &CompileOptions) -> Result<(), String> {
     let out = &options.output;
-    if options.stop_after != crate::pipeline::Stage::Reduce {
+    if options.stop_after != Stage::Reduce {
         return Err("--stop-after writes no graph".into());
     }
     if !out.is_file() {
         return Err(format!("{} does not exist", display_name(out)));
     }
-    if options.save_samples && !crate::pipeline::samples_path(out).is_file() {
+    if options.save_samples && !samples_path(out).is_file() {
         return Err("its samples file is missing".into());
     }
     let file = vdgformat::VdgFile::open(out)
@@ -85,6 +49,14 @@ pub fn check(map_hash: u64, options: &CompileOptions) -> Result<(), String> {
     }
     if options.source_name.is_none() && g.metadata_value("source.name").is_some() {
         return Err("it records a source name, this run does not".into());
+    }
+    // The measurement switches are recorded only when off: a file that records one
+    // was built differently from a run that leaves it on.
+    let recorded = recorded_options(options);
+    for key in ["wall_raise", "coverage_guards"] {
+        if g.metadata_value(key).is_some() && !recorded.iter().any(|(k, _)| k == key) {
+            return Err(format!("it was built with {key} off"));
+        }
     }
     Ok(())
 }

@@ -8,7 +8,8 @@
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::pipeline::{self, CompileOptions};
+use bsp2vdg::options::CompileOptions;
+use bsp2vdg::pipeline;
 use bsp2vdg::progress::NoProgress;
 use std::path::{Path, PathBuf};
 

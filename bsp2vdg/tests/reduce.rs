@@ -1,7 +1,7 @@
 //! The reduction (thesis ch. 4) end to end through the command line, on
 //! generated maps with known geometry: condition A globally (points of the
 //! reduced volume lie in the unreduced one, checked on output compiled with
-//! `BSP2VDG_NO_WALL_RAISE=1`, which skips the raise towards the walls after
+//! `--no-wall-raise`, which skips the raise towards the walls after
 //! the reduction), the reduced volume in free space and the sight lines along
 //! walls it gains with that raise, connected components kept,
 //! byte-identical output at 1 and 2 threads, and the box room reducing to
@@ -25,7 +25,7 @@ fn maps_dir() -> PathBuf {
 /// `.vdg` bytes.
 ///
 /// Tags starting with `a-` compile without the raise towards the walls
-/// (`BSP2VDG_NO_WALL_RAISE`), for checks of condition A.
+/// (`--no-wall-raise`), for checks of condition A.
 fn compile(map: &str, tag: &str, args: &[&str]) -> Vec<u8> {
     let dir = ScratchDir::new(&format!("bsp2vdg-reduce-{map}-{tag}")).unwrap();
     let src = maps_dir().join(format!("{map}.bsp"));
@@ -34,7 +34,7 @@ fn compile(map: &str, tag: &str, args: &[&str]) -> Vec<u8> {
     let out = dir.join("out.vdg");
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"));
     if tag.starts_with("a-") {
-        cmd.env("BSP2VDG_NO_WALL_RAISE", "1");
+        cmd.arg("--no-wall-raise");
     }
     let o = cmd
         .args(without_floor(args))
@@ -305,7 +305,7 @@ fn compile_json(map: &str, tag: &str, args: &[&str]) -> (Vec<u8>, serde_json::Va
     let out = dir.join("out.vdg");
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"));
     if tag.starts_with("a-") {
-        cmd.env("BSP2VDG_NO_WALL_RAISE", "1");
+        cmd.arg("--no-wall-raise");
     }
     let o = cmd
         .args(without_floor(args))

@@ -271,15 +271,7 @@ impl Viewer {
             return;
         };
         let g = file.graph();
-        let graph = bsp2vdg::voronoi::Graph {
-            vertices: g.vertices().iter().map(|v| v.pos.map(f64::from)).collect(),
-            clearance: g
-                .vertices()
-                .iter()
-                .map(|v| f64::from(v.clearance))
-                .collect(),
-            faces: g.faces().to_vec(),
-        };
+        let graph = bsp2vdg::graph::Graph::from_vdg(&g);
         let before = graph.vertices.len();
         if before == 0 {
             self.say("reduce: the graph is empty");
@@ -289,14 +281,8 @@ impl Viewer {
         let options = bsp2vdg::reduce::ReduceOptions::new(limit);
         let (reduced, stats) =
             bsp2vdg::reduce::reduce(&graph, &options, &bsp2vdg::progress::NoProgress);
-        let mut b = vdgformat::VdgBuilder::new();
-        for (p, &c) in reduced.vertices.iter().zip(&reduced.clearance) {
-            b.add_vertex(p.map(|x| x as f32), c as f32);
-        }
-        for f in &reduced.faces {
-            b.add_face(*f);
-        }
-        let file = match b
+        let file = match reduced
+            .to_builder(None)
             .to_bytes()
             .map_err(|e| e.to_string())
             .and_then(|bytes| VdgFile::from_bytes(&bytes).map_err(|e| e.to_string()))

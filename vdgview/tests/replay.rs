@@ -188,7 +188,7 @@ fn tmpdir(tag: &str) -> toolbox::ScratchDir {
 fn cli_writes_json_csv_plots_and_frames() {
     let dir = tmpdir("cli");
     let vdg = dir.join("two_rooms.vdg");
-    let options = bsp2vdg::pipeline::CompileOptions::new(vdg.clone());
+    let options = bsp2vdg::options::CompileOptions::new(vdg.clone());
     bsp2vdg::pipeline::compile(
         &map("two_rooms"),
         &options,

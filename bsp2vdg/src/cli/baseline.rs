@@ -11,7 +11,8 @@
 
 use anyhow::{Context, Result, bail};
 use bsp2vdg::log::{Log, Verbosity};
-use bsp2vdg::pipeline::{self, CompileOptions};
+use bsp2vdg::options::CompileOptions;
+use bsp2vdg::pipeline;
 use bsp2vdg::progress::NoProgress;
 use serde::Deserialize;
 use serde_json::{Value, json};
@@ -173,7 +174,7 @@ fn measure(
         "map": map.file_name().map(|n| n.to_string_lossy().into_owned()),
         "map_hash": format!("{:016x}", vdgformat::xxh64(&map_bytes, 0)),
         "tool_version": env!("CARGO_PKG_VERSION"),
-        "options": bsp2vdg::uptodate::recorded_options(options)
+        "options": bsp2vdg::options::recorded_options(options)
             .into_iter()
             .collect::<BTreeMap<_, _>>(),
         "vertices": vertices,

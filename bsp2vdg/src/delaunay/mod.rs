@@ -50,7 +50,7 @@
 //!   input only; cells are numbered finite-first in creation-slot order. The sort and the
 //!   final renumbering run on all threads (rayon) with thread-count independent results;
 //!   the insertion itself is sequential.
-//! * **Speed** (`scripts/bench-delaunay.sh` compares with CGAL in the same run): the
+//! * **Speed** (`scripts/peers/bench-delaunay.sh` compares with CGAL in the same run): the
 //!   insphere filter evaluates two rows per SSE2 instruction (same bits as the scalar
 //!   order), the Hilbert keys are computed without branches.
 //!

@@ -3,7 +3,7 @@
 //! cases, the seam contraction nor the collapse along an edge (module
 //! `seam`) remove.
 //!
-//! **Where.** With the coverage guards off (`BSP2VDG_REDUCE_NO_GUARDS=1`)
+//! **Where.** With the coverage guards off (`--no-coverage-guards`)
 //! the reduction stopped above `-rl` on c1a0, c1a1b and quake_start with
 //! the vertices left mostly on borders: a vertex whose faces form one fan
 //! between two border edges (`special[1, 1]`: the thesis swaps the fan down
@@ -418,8 +418,8 @@ pub(crate) fn split_bound(e: &Edit, k: u32, s: u32, f: u32, faces: &[u32]) -> f6
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::graph::Graph;
     use crate::reduce::mesh::Mesh;
-    use crate::voronoi::Graph;
 
     /// A book: `pages` sheets hanging off the spine 0–1 (x axis), each a fan
     /// of `fan` faces around vertex 0 from the spine to the page's border

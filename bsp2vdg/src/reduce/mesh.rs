@@ -11,7 +11,7 @@
 use smallvec::SmallVec;
 
 use super::volume::{P3, Shape, face_shape, face_volume, shape_volume};
-use crate::voronoi::Graph;
+use crate::graph::Graph;
 
 /// The faces of a vertex. Most vertices have at most eight, kept inline:
 /// the reduction reads face lists more than anything else, and one memory

@@ -68,7 +68,7 @@ mod check;
 mod keep;
 mod mesh;
 mod queue;
-mod raise;
+mod raise_back;
 mod remove;
 mod seam;
 mod swap;
@@ -78,8 +78,8 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
+use crate::graph::Graph;
 use crate::progress::Progress;
-use crate::voronoi::Graph;
 use keep::{KEEP_MARGIN, Keep};
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
@@ -107,6 +107,12 @@ pub struct ReduceOptions {
     pub raise: bool,
     /// What a removal costs, i.e. which vertices go first (`-rc`).
     pub cost: ReductionCost,
+    /// The coverage guards: the kept places and the seam phase's deep points stay
+    /// inside the volume (on by default). Off is a measurement switch that shows
+    /// whether the reduction stops above `-rl` because of them or because the
+    /// vertices left have no operation that keeps conditions A–C; never for graphs
+    /// you ship: without the guards the reduction shaves the volume off the floors.
+    pub coverage_guards: bool,
 }
 
 /// The order of the reduction: what a vertex's removal costs.
@@ -170,6 +176,7 @@ impl ReduceOptions {
             min_vertices: 0,
             raise: true,
             cost: ReductionCost::Volume,
+            coverage_guards: true,
         }
     }
 
@@ -325,7 +332,7 @@ pub struct Tick {
 ///
 /// ```
 /// use bsp2vdg::reduce::{reduce, ReduceOptions};
-/// use bsp2vdg::voronoi::Graph;
+/// use bsp2vdg::graph::Graph;
 /// // A flat 4x4 grid of squares split into triangles, clearance 8.
 /// let n = 5;
 /// let mut g = Graph { vertices: vec![], clearance: vec![], faces: vec![] };
@@ -436,7 +443,7 @@ pub fn reduce_keeping(
     if options.raise {
         let t = Instant::now();
         // The raise needs the unreduced graph with the mesh's vertex ids.
-        let raised = raise::raise(graph, &mut mesh);
+        let raised = raise_back::raise(graph, &mut mesh);
         stats.raised_back = Some(RaisedBack {
             vertices: raised.raised,
             total: raised.total,
@@ -462,7 +469,7 @@ fn run(
     let start = Instant::now();
     let mut mesh = Mesh::new(graph);
     mesh.cost = options.cost;
-    let guards = coverage_guards();
+    let guards = options.coverage_guards;
     let mut kept = (guards && !keep.is_empty()).then(|| Keep::new(&mesh, keep, KEEP_MARGIN));
     let keeping = kept.as_ref().map_or(0, Keep::len);
     let mut live = mesh.live_vertices();
@@ -756,7 +763,7 @@ fn in_hilbert_order(graph: &Graph) -> Graph {
 ///
 /// ```
 /// use bsp2vdg::reduce::refusals;
-/// use bsp2vdg::voronoi::Graph;
+/// use bsp2vdg::graph::Graph;
 /// // A single face is a connected component of its own: never removed.
 /// let g = Graph {
 ///     vertices: vec![[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]],
@@ -893,17 +900,6 @@ fn cost_of(mesh: &Mesh, keep: Option<&Keep>, deep: Option<&Keep>, v: u32) -> Opt
 /// carries [`ReduceOptions::cost`]).
 fn ordered_cost(mesh: &Mesh, v: u32, volume: f64) -> f64 {
     mesh.cost.of(volume, mesh.clearance[v as usize])
-}
-
-/// Whether the coverage guards (the kept standing places and the second
-/// phase's deep points) are on: always, unless the environment variable
-/// `BSP2VDG_REDUCE_NO_GUARDS` is set — a measurement switch that shows
-/// whether the reduction stops above `-rl` because of the guards or because
-/// the vertices left have no operation that keeps conditions A–C. Never for
-/// production graphs: without the guards the reduction shaves the volume
-/// off the floors (walkable coverage).
-fn coverage_guards() -> bool {
-    std::env::var_os("BSP2VDG_REDUCE_NO_GUARDS").is_none()
 }
 
 /// The deep points of the second phase: every vertex of the unreduced graph

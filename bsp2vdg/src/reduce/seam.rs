@@ -469,9 +469,9 @@ pub(crate) fn collapse_cheapest(e: &mut Edit, k: u32) -> Result<f64, Refusal> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::graph::Graph;
     use crate::reduce::mesh::Mesh;
     use crate::reduce::remove::remove_vertex_why;
-    use crate::voronoi::Graph;
 
     /// A book of three pages (triangles) on the spine 0–1, vertex 0 at its
     /// end: every edge of 0 is a seam (three faces) or a border (one face),

@@ -429,8 +429,8 @@ impl Candidates {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::graph::Graph;
     use crate::reduce::mesh::Mesh;
-    use crate::voronoi::Graph;
     use toolbox::SplitMix64;
 
     /// Two faces `(0,1,2)`, `(0,1,3)` sharing the edge 0–1.

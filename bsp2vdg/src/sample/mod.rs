@@ -47,9 +47,9 @@ pub struct SampleOptions {
 impl Default for SampleOptions {
     fn default() -> Self {
         SampleOptions {
-            spacing: 24.0,
-            max_samples: 250_000,
-            sky_factor: 2.0,
+            spacing: crate::options::defaults::SAMPLE_SPACING,
+            max_samples: crate::options::defaults::MAX_SAMPLES,
+            sky_factor: crate::options::defaults::SKY_FACTOR,
             subset: false,
             models: Vec::new(),
         }
@@ -185,16 +185,50 @@ pub fn collect_faces(bsp: &Bsp, models: &[usize]) -> Vec<SampledFace> {
 /// Samples the map's faces that bound its free space (by texture name and by the
 /// BSP's contents on either side, see [`classify::classify_by_contents`]), and the
 /// walls its BSP tree has where the compiler left no face.
+/// With the default oracle options; the compiler builds its oracle and boundary with
+/// the user's options and calls [`wall_faces`] and [`sample_faces`] as this does.
 pub fn sample(bsp: &Bsp, options: &SampleOptions) -> Samples {
     let oracle_options = OracleOptions {
         solid_models: options.models.clone(),
         ..Default::default()
     };
     let oracle = Oracle::new(bsp, &oracle_options);
-    let mut faces = collect_faces(bsp, &options.models);
-    cull_by_contents(&mut faces, |p| oracle.is_free(p));
-    faces.extend(hidden_faces(&boundary::of_map(bsp, &oracle_options)));
+    let boundary = boundary::of_map(bsp, &oracle_options);
+    let faces = wall_faces(bsp, &options.models, &oracle, &boundary);
     sample_faces(&faces, options)
+}
+
+/// The faces to sample: the world's (and `models`') faces classified by name and by
+/// the BSP's contents on either side, then the pieces of the tree's obstacle
+/// `boundary` no face shows.
+pub fn wall_faces(
+    bsp: &Bsp,
+    models: &[usize],
+    oracle: &Oracle,
+    boundary: &[BoundaryPolygon],
+) -> Vec<SampledFace> {
+    let mut faces = collect_faces(bsp, models);
+    cull_by_contents(&mut faces, |p| oracle.is_free(p));
+    faces.extend(hidden_faces(boundary));
+    faces
+}
+
+/// The brush models used by entities of the given classnames, in model order.
+pub fn entity_models(bsp: &Bsp, classes: &[String]) -> Vec<usize> {
+    let mut models: Vec<usize> = bsp
+        .entities
+        .iter()
+        .filter(|e| {
+            classes
+                .iter()
+                .any(|c| c.eq_ignore_ascii_case(e.classname()))
+        })
+        .filter_map(|e| e.model_index())
+        .filter(|&m| m > 0 && m < bsp.models.len())
+        .collect();
+    models.sort_unstable();
+    models.dedup();
+    models
 }
 
 /// Marks faces that do not separate free space from an obstacle as skipped.

@@ -21,48 +21,13 @@
 //! Free space comes in through [`FreeSpace`], so this stage can be tested against
 //! analytic worlds as well as run against a map's BSP.
 
-mod guard;
-pub use guard::{
-    CornerStats, GuardMode, GuardStats, RaiseStats, check_corners, guard_interpolation, guard_with,
-    raise_to_walls, raise_to_walls_and_corners,
-};
 mod polygon;
 
 use crate::delaunay::Triangulation;
+use crate::graph::Graph;
 use crate::sample::grid::PointGrid;
+use crate::space::FreeSpace;
 use rayon::prelude::*;
-
-/// The questions the extraction asks about free space.
-pub trait FreeSpace: Sync {
-    /// Whether `p` is in free space.
-    fn is_free(&self, p: [f64; 3]) -> bool;
-    /// Whether the whole segment `a`–`b` is in free space.
-    fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool;
-    /// The exact distance from a free point to the nearest obstacle.
-    fn wall_distance(&self, p: [f64; 3]) -> f64;
-    /// The exact distance to the nearest obstacle if it is at most `radius` (cheaper
-    /// than [`wall_distance`](Self::wall_distance) when only near walls matter).
-    fn wall_distance_within(&self, p: [f64; 3], radius: f64) -> Option<f64> {
-        Some(self.wall_distance(p)).filter(|&d| d <= radius)
-    }
-    /// [`wall_distance_within`](Self::wall_distance_within) for each point with its
-    /// radius, into `out` (cleared first): the same answers, for implementations
-    /// that answer points close together faster at once (a face's grid).
-    fn wall_distances_within(
-        &self,
-        points: &[[f64; 3]],
-        radii: &[f64],
-        out: &mut Vec<Option<f64>>,
-    ) {
-        out.clear();
-        out.extend(
-            points
-                .iter()
-                .zip(radii)
-                .map(|(&p, &r)| self.wall_distance_within(p, r)),
-        );
-    }
-}
 
 /// Parameters of the extraction.
 #[derive(Debug, Clone, Copy)]
@@ -71,15 +36,6 @@ pub struct VoronoiOptions {
     pub spacing: f64,
     /// Vertices whose corrected clearance is below this are removed (`-md`).
     pub min_clearance: f64,
-}
-
-/// The extracted graph: triangles over vertices with clearance.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Graph {
-    pub vertices: Vec<[f64; 3]>,
-    /// Corrected clearance of each vertex.
-    pub clearance: Vec<f64>,
-    pub faces: Vec<[u32; 3]>,
 }
 
 /// The counts of thesis table 7.1 and its log.

@@ -1,4 +1,6 @@
 use super::*;
+use crate::guard::{check_corners, guard_interpolation};
+use crate::raise::{raise_to_walls, raise_to_walls_and_corners};
 use crate::sample::sample_polygon;
 
 /// Samples on the six walls of the box [0,a]×[0,b]×[0,c] at spacing m.

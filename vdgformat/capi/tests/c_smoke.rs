@@ -38,7 +38,7 @@ fn scratch_dir() -> PathBuf {
 fn compile_map(dir: &Path) -> PathBuf {
     use bsp2vdg::log::{Log, Verbosity};
     let out = dir.join("complex.vdg");
-    let options = bsp2vdg::pipeline::CompileOptions::new(out.clone());
+    let options = bsp2vdg::options::CompileOptions::new(out.clone());
     let map = repo_root().join("testdata/maps/complex.bsp");
     bsp2vdg::pipeline::compile(
         &map,

@@ -1,0 +1,98 @@
+//! Why a compile failed, in words for the log and the `.err` file.
+
+use crate::options::Stage;
+use bsp::BspError;
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// Why a compile failed.
+#[derive(Debug)]
+pub enum CompileError {
+    Bsp {
+        path: PathBuf,
+        error: BspError,
+    },
+    Write {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    Delaunay(crate::delaunay::DelaunayError),
+    /// Too few samples: the map has (almost) no walls around free space.
+    NoFreeSpace(usize),
+    Vdg {
+        path: PathBuf,
+        error: String,
+    },
+    NotBuilt(Stage),
+    /// A BSP of an engine whose format this version does not read.
+    OtherFormat {
+        path: PathBuf,
+        format: String,
+    },
+    /// No vertex (or no face) survived: nothing to write.
+    EmptyGraph {
+        min_clearance: f64,
+    },
+}
+
+impl fmt::Display for CompileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CompileError::Bsp { path, error } => write!(f, "{}: {error}", path.display()),
+            CompileError::Write { path, error } => {
+                write!(f, "cannot write {}: {error}", path.display())
+            }
+            CompileError::Delaunay(e) => write!(f, "Delaunay stage: {e}"),
+            CompileError::NoFreeSpace(n) => write!(
+                f,
+                "the map has no walls around free space to build a graph from ({n} samples; is it sealed, with no empty leaves?)"
+            ),
+            CompileError::Vdg { path, error } => {
+                write!(f, "cannot write {}: {error}", path.display())
+            }
+            CompileError::OtherFormat { path, format } => write!(
+                f,
+                "{}: {format}, which bsp2vdg does not read (it reads GoldSrc BSP v30 and Quake BSP29, BSP2 and 2PSB maps)",
+                path.display()
+            ),
+            CompileError::EmptyGraph { min_clearance } => write!(
+                f,
+                "the graph is empty: no free space with at least -md {min_clearance} units of clearance survived (is the map sealed, or -md too large?); nothing written"
+            ),
+            CompileError::NotBuilt(stage) => write!(
+                f,
+                "the {} stage is not built yet in this version",
+                stage.name(),
+            ),
+        }
+    }
+}
+
+impl std::error::Error for CompileError {}
+
+/// Names the engine of a BSP file the reader refused, from its magic and version, so the
+/// user learns "a Quake 3 map" rather than a number.
+pub fn other_format(map: &Path) -> Option<String> {
+    use std::io::Read;
+    let mut head = [0u8; 8];
+    std::fs::File::open(map).ok()?.read_exact(&mut head).ok()?;
+    let version = i32::from_le_bytes([head[4], head[5], head[6], head[7]]);
+    let engine = match (&head[..4], version) {
+        (b"IBSP", 38) => "a Quake 2 map",
+        (b"IBSP", 46) => "a Quake 3 map",
+        (b"IBSP", 47) => "a Quake Live map",
+        (b"IBSP", _) => "an id Tech 2/3 map",
+        (b"VBSP", _) => "a Source engine map",
+        (b"RBSP", _) => "a Raven map (Jedi Knight, Soldier of Fortune 2)",
+        (b"FBSP", _) => "a QFusion map (Warsow)",
+        (b"QBSP", _) => "a Qfusion/Quake 2 extended map",
+        (b"EF2!", _) => "a Star Trek: Elite Force 2 map",
+        (b"FAKK", _) => "a Heavy Metal: F.A.K.K. 2 map",
+        (b"2PSB", _) | (b"BSP2", _) => return None,
+        _ => return None,
+    };
+    Some(format!(
+        "{engine} ({} version {version})",
+        String::from_utf8_lossy(&head[..4])
+    ))
+}
