@@ -1,6 +1,6 @@
-//! The editor's palette (issue 18, part 3): the time from a click on a slot
-//! to its palette (every flux tuple and corner option of the tile set,
-//! allowed or greyed with the reason) on a 64×64 grid. Budget: one frame,
+//! The editor's palette: the time from a click on a slot to its palette
+//! (every flux tuple and corner option of the tile set, allowed or greyed
+//! with the reason) on a 64×64 grid. Budget: one frame,
 //! 16 ms. Prints the median and the worst of many slots per situation.
 //! Run with `cargo bench -p flowtile-bake --bench editor_palette`.
 

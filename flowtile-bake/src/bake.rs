@@ -274,149 +274,25 @@ impl BakedTiling {
     /// Parses and validates a baked tiling; never panics and never allocates
     /// more than the input's size justifies.
     pub fn from_bytes(bytes: &[u8]) -> Result<BakedTiling, BakeError> {
-        if bytes.len() < 8 {
-            return Err(corrupt(format!(
-                "{} bytes is too short for a header",
-                bytes.len()
-            )));
-        }
-        if bytes[..4] != MAGIC {
-            return Err(corrupt("missing FTBK magic (not a flowtile-bake file)"));
-        }
-        let mut r = Reader { bytes, pos: 4 };
-        let version = r.u32()?;
-        if version != VERSION_PLAIN && version != VERSION_ROTATED {
-            return Err(BakeError::Version(version));
-        }
-        if bytes.len() < HEADER_BYTES + 8 {
-            return Err(corrupt(format!(
-                "{} bytes is too short for a header",
-                bytes.len()
-            )));
-        }
-        let n = r.u32()? as usize;
-        let width = r.u32()?;
-        let height = r.u32()?;
-        let flags = r.u32()?;
-        let corner_count = r.u32()? as usize;
-        let tile_count = r.u32()? as usize;
-        let f_base = r.f64()?;
-        let mx = FluxRange {
-            min: r.i32()?,
-            max: r.i32()?,
-        };
-        let my = FluxRange {
-            min: r.i32()?,
-            max: r.i32()?,
-        };
-        if flags & !(FLAG_PERIODIC_X | FLAG_PERIODIC_Y) != 0 {
-            return Err(corrupt(format!("unknown flag bits {flags:#x}")));
-        }
-        if width == 0 || height == 0 || width as u64 * height as u64 > MAX_SLOTS {
-            return Err(corrupt(format!(
-                "grid {width}x{height} is empty or too large"
-            )));
-        }
-        let slots = (width * height) as usize;
-        if tile_count > slots {
-            return Err(corrupt(format!("{tile_count} tiles for {slots} slots")));
-        }
-        if !(3..=crate::tileset::MAX_RESOLUTION).contains(&n) {
-            return Err(corrupt(format!("tile resolution {n} out of range")));
-        }
-        if corner_count == 0 || corner_count > crate::tileset::MAX_CORNER_OPTIONS {
-            return Err(corrupt(format!("{corner_count} corner velocity options")));
-        }
-        let want = expected_len(n, corner_count, tile_count, slots)
-            .ok_or_else(|| corrupt("declared sizes overflow"))?;
-        if bytes.len() != want {
-            return Err(corrupt(format!(
-                "file is {} bytes, header declares {want} (truncated or padded)",
-                bytes.len()
-            )));
-        }
-        let body = &bytes[..want - 8];
-        let stored = u64::from_le_bytes(
-            bytes[want - 8..]
-                .try_into()
-                .map_err(|_| corrupt("checksum"))?,
-        );
-        if fnv1a(body) != stored {
-            return Err(corrupt("checksum mismatch (file damaged)"));
-        }
-        let mut corners = Vec::with_capacity(corner_count);
-        for _ in 0..corner_count {
+        let (mut r, head) = read_header(bytes)?;
+        let mut corners = Vec::with_capacity(head.corner_count);
+        for _ in 0..head.corner_count {
             corners.push([r.f64()?, r.f64()?]);
         }
-        let set = TileSet::new(mx, my, f_base, corners, n).map_err(|e| corrupt(e.to_string()))?;
-        let mut keys = Vec::with_capacity(tile_count);
-        for i in 0..tile_count {
-            let [left, bottom, right, top] = [r.i32()?, r.i32()?, r.i32()?, r.i32()?];
-            let corners = [r.u16()?, r.u16()?, r.u16()?, r.u16()?];
-            let key = TileKey {
-                left,
-                bottom,
-                right,
-                top,
-                corners,
-            };
-            if set.index_of(&key).is_none() {
-                return Err(corrupt(format!(
-                    "tile {i} has key {key} outside the tile set"
-                )));
-            }
-            if i > 0 && keys.last().is_some_and(|k: &TileKey| *k >= key) {
-                return Err(corrupt(format!(
-                    "tile keys not strictly sorted at tile {i}"
-                )));
-            }
-            keys.push(key);
-        }
-        let nodes = (n + 1) * (n + 1);
-        let mut tiles = Vec::with_capacity(tile_count);
-        let group = set.symmetries();
-        for key in keys {
-            if version == VERSION_ROTATED && set.symmetry_class(&group, &key) != (key, 0) {
-                return Err(corrupt(format!(
-                    "tile {key} is not the representative of its symmetry class"
-                )));
-            }
-            let mut stream = Vec::with_capacity(nodes);
-            for _ in 0..nodes {
-                let s = r.f64()?;
-                if !s.is_finite() {
-                    return Err(corrupt(format!("tile {key} has a non-finite stream value")));
-                }
-                stream.push(s);
-            }
-            let tile = Tile { key, n, stream };
-            check_tile_fluxes(&set, &tile)?;
-            tiles.push(tile);
-        }
-        let mut grid = Vec::with_capacity(slots);
-        for i in 0..slots {
-            let id = r.u32()?;
-            let tile = if version == VERSION_ROTATED {
-                id >> 3
-            } else {
-                id
-            };
-            if id != BLOCKED && tile as usize >= tile_count {
-                return Err(corrupt(format!(
-                    "slot {i} refers to tile {tile} of {tile_count}"
-                )));
-            }
-            grid.push(id);
-        }
-        if version == VERSION_ROTATED {
+        let set = TileSet::new(head.mx, head.my, head.f_base, corners, head.n)
+            .map_err(|e| corrupt(e.to_string()))?;
+        let keys = read_keys(&mut r, &set, head.tile_count)?;
+        let mut tiles = read_tiles(&mut r, &set, keys, &head)?;
+        let mut grid = read_grid(&mut r, &head)?;
+        if head.version == VERSION_ROTATED {
             (tiles, grid) = unfold_rotations(&set, &tiles, &grid)?;
         }
         let baked = BakedTiling {
             set,
-            width,
-            height,
-            periodic_x: flags & FLAG_PERIODIC_X != 0,
-            periodic_y: flags & FLAG_PERIODIC_Y != 0,
+            width: head.width,
+            height: head.height,
+            periodic_x: head.flags & FLAG_PERIODIC_X != 0,
+            periodic_y: head.flags & FLAG_PERIODIC_Y != 0,
             tiles,
             grid,
         };
@@ -567,6 +443,187 @@ fn fnv1a(bytes: &[u8]) -> u64 {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     }
     h
+}
+
+/// The header of a baked file, checked: sizes within limits, the file's
+/// length what they declare, the checksum right.
+struct Header {
+    version: u32,
+    n: usize,
+    width: u32,
+    height: u32,
+    flags: u32,
+    corner_count: usize,
+    tile_count: usize,
+    f_base: f64,
+    mx: FluxRange,
+    my: FluxRange,
+}
+
+/// Reads and checks the header of `bytes` (see [`Header`]); returns it with
+/// the reader at the corner velocities that follow it.
+fn read_header(bytes: &[u8]) -> Result<(Reader<'_>, Header), BakeError> {
+    if bytes.len() < 8 {
+        return Err(corrupt(format!(
+            "{} bytes is too short for a header",
+            bytes.len()
+        )));
+    }
+    if bytes[..4] != MAGIC {
+        return Err(corrupt("missing FTBK magic (not a flowtile-bake file)"));
+    }
+    let mut r = Reader { bytes, pos: 4 };
+    let version = r.u32()?;
+    if version != VERSION_PLAIN && version != VERSION_ROTATED {
+        return Err(BakeError::Version(version));
+    }
+    if bytes.len() < HEADER_BYTES + 8 {
+        return Err(corrupt(format!(
+            "{} bytes is too short for a header",
+            bytes.len()
+        )));
+    }
+    let n = r.u32()? as usize;
+    let width = r.u32()?;
+    let height = r.u32()?;
+    let flags = r.u32()?;
+    let corner_count = r.u32()? as usize;
+    let tile_count = r.u32()? as usize;
+    let f_base = r.f64()?;
+    let mx = FluxRange {
+        min: r.i32()?,
+        max: r.i32()?,
+    };
+    let my = FluxRange {
+        min: r.i32()?,
+        max: r.i32()?,
+    };
+    if flags & !(FLAG_PERIODIC_X | FLAG_PERIODIC_Y) != 0 {
+        return Err(corrupt(format!("unknown flag bits {flags:#x}")));
+    }
+    if width == 0 || height == 0 || width as u64 * height as u64 > MAX_SLOTS {
+        return Err(corrupt(format!(
+            "grid {width}x{height} is empty or too large"
+        )));
+    }
+    let slots = (width * height) as usize;
+    if tile_count > slots {
+        return Err(corrupt(format!("{tile_count} tiles for {slots} slots")));
+    }
+    if !(3..=crate::tileset::MAX_RESOLUTION).contains(&n) {
+        return Err(corrupt(format!("tile resolution {n} out of range")));
+    }
+    if corner_count == 0 || corner_count > crate::tileset::MAX_CORNER_OPTIONS {
+        return Err(corrupt(format!("{corner_count} corner velocity options")));
+    }
+    let want = expected_len(n, corner_count, tile_count, slots)
+        .ok_or_else(|| corrupt("declared sizes overflow"))?;
+    if bytes.len() != want {
+        return Err(corrupt(format!(
+            "file is {} bytes, header declares {want} (truncated or padded)",
+            bytes.len()
+        )));
+    }
+    let body = &bytes[..want - 8];
+    let stored = u64::from_le_bytes(
+        bytes[want - 8..]
+            .try_into()
+            .map_err(|_| corrupt("checksum"))?,
+    );
+    if fnv1a(body) != stored {
+        return Err(corrupt("checksum mismatch (file damaged)"));
+    }
+    let head = Header {
+        version,
+        n,
+        width,
+        height,
+        flags,
+        corner_count,
+        tile_count,
+        f_base,
+        mx,
+        my,
+    };
+    Ok((r, head))
+}
+
+/// The `count` tile keys: each in the set, strictly sorted.
+fn read_keys(r: &mut Reader<'_>, set: &TileSet, count: usize) -> Result<Vec<TileKey>, BakeError> {
+    let mut keys = Vec::with_capacity(count);
+    for i in 0..count {
+        let fluxes = [r.i32()?, r.i32()?, r.i32()?, r.i32()?];
+        let corners = [r.u16()?, r.u16()?, r.u16()?, r.u16()?];
+        let key = TileKey::from_fluxes(fluxes, corners);
+        if set.index_of(&key).is_none() {
+            return Err(corrupt(format!(
+                "tile {i} has key {key} outside the tile set"
+            )));
+        }
+        if i > 0 && keys.last().is_some_and(|k: &TileKey| *k >= key) {
+            return Err(corrupt(format!(
+                "tile keys not strictly sorted at tile {i}"
+            )));
+        }
+        keys.push(key);
+    }
+    Ok(keys)
+}
+
+/// The stream functions of the stored tiles (finite, with the fluxes their
+/// keys name; in version 2 each the representative of its symmetry class).
+fn read_tiles(
+    r: &mut Reader<'_>,
+    set: &TileSet,
+    keys: Vec<TileKey>,
+    head: &Header,
+) -> Result<Vec<Tile>, BakeError> {
+    let n = head.n;
+    let nodes = (n + 1) * (n + 1);
+    let mut tiles = Vec::with_capacity(keys.len());
+    let group = set.symmetries();
+    for key in keys {
+        if head.version == VERSION_ROTATED && set.symmetry_class(&group, &key) != (key, 0) {
+            return Err(corrupt(format!(
+                "tile {key} is not the representative of its symmetry class"
+            )));
+        }
+        let mut stream = Vec::with_capacity(nodes);
+        for _ in 0..nodes {
+            let s = r.f64()?;
+            if !s.is_finite() {
+                return Err(corrupt(format!("tile {key} has a non-finite stream value")));
+            }
+            stream.push(s);
+        }
+        let tile = Tile { key, n, stream };
+        check_tile_fluxes(set, &tile)?;
+        tiles.push(tile);
+    }
+    Ok(tiles)
+}
+
+/// The grid's entries: [`BLOCKED`] or a stored tile (version 2: a tile and
+/// its symmetry in the low 3 bits).
+fn read_grid(r: &mut Reader<'_>, head: &Header) -> Result<Vec<u32>, BakeError> {
+    let slots = (head.width * head.height) as usize;
+    let tile_count = head.tile_count;
+    let mut grid = Vec::with_capacity(slots);
+    for i in 0..slots {
+        let id = r.u32()?;
+        let tile = if head.version == VERSION_ROTATED {
+            id >> 3
+        } else {
+            id
+        };
+        if id != BLOCKED && tile as usize >= tile_count {
+            return Err(corrupt(format!(
+                "slot {i} refers to tile {tile} of {tile_count}"
+            )));
+        }
+        grid.push(id);
+    }
+    Ok(grid)
 }
 
 struct Reader<'a> {

@@ -20,7 +20,6 @@ macro_rules! out {
 }
 
 mod cli;
-mod edit;
 
 fn main() {
     if let Err(e) = cli::run() {

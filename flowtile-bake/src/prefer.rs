@@ -1,5 +1,5 @@
 //! Designed flows: soft preferences that weight the random choice among the
-//! tiles the selection function allows (issue 17, part 2).
+//! tiles the selection function allows.
 //!
 //! The selection function decides what is *possible*; preferences only change
 //! how likely each possible tile is, so a preferring fill is exactly as
@@ -163,21 +163,8 @@ impl Usage {
     /// Placed keys with fluxes `f` whose corners agree with `fixed`, with
     /// their use counts.
     pub fn compatible(&self, f: [i32; 4], fixed: [Option<u16>; 4]) -> Vec<(TileKey, u32)> {
-        let [left, bottom, right, top] = f;
-        let lo = TileKey {
-            left,
-            bottom,
-            right,
-            top,
-            corners: [0; 4],
-        };
-        let hi = TileKey {
-            left,
-            bottom,
-            right,
-            top,
-            corners: [u16::MAX; 4],
-        };
+        let lo = TileKey::from_fluxes(f, [0; 4]);
+        let hi = TileKey::from_fluxes(f, [u16::MAX; 4]);
         self.keys
             .range(lo..=hi)
             .filter(|(k, _)| (0..4).all(|c| fixed[c].is_none_or(|v| v == k.corners[c])))

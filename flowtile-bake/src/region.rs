@@ -1,5 +1,5 @@
-//! Regions from a level (issue 17, part 1): the walkable floor of a map at one
-//! level, read through the `bsp` crate, turned into a tiling spec.
+//! Regions from a level: the walkable floor of a map at one level, read
+//! through the `bsp` crate, turned into a tiling spec.
 //!
 //! A column of the map is walkable at the level when a standing player fits
 //! there: a downward trace through the player's clip hull (hull 1: the
@@ -424,20 +424,8 @@ pub fn extract_with(
             *g = background[((r / per_slot) * width + c / per_slot) as usize];
         }
     }
-    let mut open = vec![false; (width * height) as usize];
     let need = (opt.open_share * (per_slot * per_slot) as f64).ceil() as u32;
-    for sy in 0..height {
-        for sx in 0..width {
-            let mut n = 0;
-            for j in 0..per_slot {
-                for i in 0..per_slot {
-                    let (c, r) = (sx * per_slot + i, sy * per_slot + j);
-                    n += walkable(ground[(r * cols + c) as usize]) as u32;
-                }
-            }
-            open[(sy * width + sx) as usize] = n >= need.max(1);
-        }
-    }
+    let open = open_slots(&ground, (width, height), per_slot, need, walkable);
     if !open.iter().any(|&o| o) {
         return Err(RegionError::Empty(format!(
             "no slot of {} units at floor {floor:.0} ± {}",
@@ -459,27 +447,56 @@ pub fn extract_with(
         directions: Vec::new(),
         strength: opt.strength,
         source: source.to_string(),
-        floors_from: match (floors, &hulls.stand) {
-            (Floors::Hulls, Stand::Hull) => {
-                "the map's player clip hull (a standing player fits)".into()
-            }
-            (Floors::Hulls, Stand::Box(..)) => {
-                "the map's brushes expanded by the player's box (a standing player fits)".into()
-            }
-            (Floors::Hulls, Stand::Headroom(h)) => {
-                format!(
-                    "the map's point hull with {h} units of headroom (no player hull in the map)"
-                )
-            }
-            (Floors::Nav(m), _) => format!(
-                "the areas of a bot navigation mesh (v{}, {} areas)",
-                m.version,
-                m.areas.len()
-            ),
-        },
+        floors_from: floors_from(floors, &hulls.stand),
     };
     region.directions = region.sink_directions();
     Ok(region)
+}
+
+/// The open slots of a `width`×`height` grid: those with at least `need`
+/// (and at least one) of their `per_slot`² sample columns `walkable`.
+fn open_slots(
+    ground: &[f32],
+    (width, height): (u32, u32),
+    per_slot: u32,
+    need: u32,
+    walkable: impl Fn(f32) -> bool,
+) -> Vec<bool> {
+    let cols = width * per_slot;
+    let mut open = vec![false; (width * height) as usize];
+    for sy in 0..height {
+        for sx in 0..width {
+            let mut n = 0;
+            for j in 0..per_slot {
+                for i in 0..per_slot {
+                    let (c, r) = (sx * per_slot + i, sy * per_slot + j);
+                    n += walkable(ground[(r * cols + c) as usize]) as u32;
+                }
+            }
+            open[(sy * width + sx) as usize] = n >= need.max(1);
+        }
+    }
+    open
+}
+
+/// Where the region's floors come from, in words (`Region::floors_from`).
+fn floors_from(floors: Floors<'_>, stand: &Stand<'_>) -> String {
+    match (floors, stand) {
+        (Floors::Hulls, Stand::Hull) => {
+            "the map's player clip hull (a standing player fits)".into()
+        }
+        (Floors::Hulls, Stand::Box(..)) => {
+            "the map's brushes expanded by the player's box (a standing player fits)".into()
+        }
+        (Floors::Hulls, Stand::Headroom(h)) => {
+            format!("the map's point hull with {h} units of headroom (no player hull in the map)")
+        }
+        (Floors::Nav(m), _) => format!(
+            "the areas of a bot navigation mesh (v{}, {} areas)",
+            m.version,
+            m.areas.len()
+        ),
+    }
 }
 
 /// The median floor under the player spawns: the nav area under each spawn
@@ -833,7 +850,7 @@ mod tests {
 
     /// The nav mesh's floors against the map's own hulls (the ground truth of
     /// where a player stands) on the shared Counter-Strike maps: most slots
-    /// agree (measured: de_dust2 IoU 0.89, de_cbble 0.93).
+    /// agree (an intersection over union above 0.8).
     #[test]
     fn nav_floors_agree_with_the_hulls_when_present() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

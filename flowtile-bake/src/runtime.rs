@@ -88,7 +88,7 @@ impl BakedTiling {
                 self.node_dy(gx, gy).unwrap_or(0.0),
                 // Zero twist: any node-only choice keeps the patch C¹;
                 // a finite-difference twist overshoots beside stagnation
-                // corners (3.5 % vs 11 % backflow in the river).
+                // corners and makes the flow turn back there.
                 0.0,
             ];
         }
@@ -760,7 +760,7 @@ mod tests {
         }
     }
 
-    /// Issue 17 part 3: zero net flux through random small boxes anywhere
+    /// Zero net flux through random small boxes anywhere
     /// (inside cells, across cell lines, tile seams, walls and wraps).
     #[test]
     fn random_boxes_have_zero_net_flux() {

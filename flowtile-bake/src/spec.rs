@@ -260,6 +260,23 @@ fn flux_range(r: &CountOrRange, axis: &str) -> Result<FluxRange, SpecError> {
 }
 
 impl Problem {
+    /// A problem of a tile set, a grid and its conditions alone: seed 1, no
+    /// forced fill, description, background, preferences or fixed tiles.
+    pub fn new(set: TileSet, width: u32, height: u32, conditions: Conditions) -> Problem {
+        Problem {
+            set,
+            width,
+            height,
+            conditions,
+            seed: 1,
+            fill_forced: false,
+            description: None,
+            background: None,
+            preferences: Default::default(),
+            tiles: Vec::new(),
+        }
+    }
+
     /// Parses and checks a spec (feasibility is checked later, by
     /// [`crate::tiling::Tiling::new`]).
     ///
@@ -383,14 +400,7 @@ impl Problem {
                     t.x, t.y
                 )));
             }
-            let [left, bottom, right, top] = t.fluxes;
-            let key = TileKey {
-                left,
-                bottom,
-                right,
-                top,
-                corners: t.corners,
-            };
+            let key = TileKey::from_fluxes(t.fluxes, t.corners);
             if set.index_of(&key).is_none() {
                 return Err(SpecError(format!(
                     "tile[{i}] {key} is not in the tile set (fluxes must conserve mass and lie in the ranges)"
@@ -599,7 +609,7 @@ mod tests {
         assert!(seen >= 3);
     }
 
-    /// Issue 17 part 2 acceptance on the example specs: the river flows
+    /// The designed flows of the example specs: the river flows
     /// downstream (≤ 1 % of its area upstream), every city street carries
     /// flow, and both reuse tiles.
     #[test]

@@ -64,6 +64,19 @@ pub struct TileKey {
 }
 
 impl TileKey {
+    /// The key with fluxes `f` (left, bottom, right, top, as
+    /// [`TileKey::fluxes`] returns them) and these corners.
+    pub fn from_fluxes(f: [i32; 4], corners: [u16; 4]) -> TileKey {
+        let [left, bottom, right, top] = f;
+        TileKey {
+            left,
+            bottom,
+            right,
+            top,
+            corners,
+        }
+    }
+
     /// The fluxes in the order left, bottom, right, top.
     pub fn fluxes(&self) -> [i32; 4] {
         [self.left, self.bottom, self.right, self.top]
@@ -297,7 +310,7 @@ impl TileSet {
             return None;
         }
         let combos = self.corner_combinations();
-        let [left, bottom, right, top] = self.tuples[(index / combos) as usize];
+        let fluxes = self.tuples[(index / combos) as usize];
         let c = self.corners.len() as u64;
         let mut rest = index % combos;
         let mut corners = [0u16; 4];
@@ -305,13 +318,7 @@ impl TileSet {
             corners[k] = (rest % c) as u16;
             rest /= c;
         }
-        Some(TileKey {
-            left,
-            bottom,
-            right,
-            top,
-            corners,
-        })
+        Some(TileKey::from_fluxes(fluxes, corners))
     }
 
     /// Iterates over every tile key of the complete set in index order.
@@ -431,14 +438,7 @@ impl TileSet {
                     .iter()
                     .any(|o| (o[0] - w[0]).abs() < 1e-12 && (o[1] - w[1]).abs() < 1e-12)
             }) && self.tuples.iter().all(|&f| {
-                let [left, bottom, right, top] = fluxes(f, g);
-                let key = TileKey {
-                    left,
-                    bottom,
-                    right,
-                    top,
-                    corners: [0; 4],
-                };
+                let key = TileKey::from_fluxes(fluxes(f, g), [0; 4]);
                 self.index_of(&key).is_some()
             })
         };

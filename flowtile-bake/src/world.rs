@@ -1,7 +1,7 @@
-//! World space and time (issue 17, part 4): a tiling placed onto world
-//! triangles through flow coordinates (paper §5), a time-varying flow blended
-//! from key tilings, a velocity lookup in world coordinates, a sampler grid
-//! for engines, and pictures — streamlines or particle trails over the
+//! World space and time: a tiling placed onto world triangles through flow
+//! coordinates (paper §5), a time-varying flow blended from key tilings, a
+//! velocity lookup in world coordinates, a sampler grid for engines, and
+//! pictures — streamlines or particle trails over the
 //! level's top view, and an animated GIF of advected particles.
 //!
 //! The mesh is a Wavefront OBJ: `v x y z` world positions (the top view uses

@@ -264,9 +264,9 @@ fn map_and_animate_write_world_pictures() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 17 part 1 on the shared maps (skipped without them): every GoldSrc,
-/// Quake and Quake 2 map gives a spec that `tile` completes, and a picture. About ten
-/// seconds, so ignored by default; `scripts/flowtile-regions.sh` measures the
+/// Regions from the shared maps (skipped without them): every GoldSrc,
+/// Quake and Quake 2 map gives a spec that `tile` completes, and a picture. Slow
+/// (every map), so ignored by default; `scripts/flowtile-regions.sh` measures the
 /// same with timings. The quick test below runs two maps.
 #[test]
 #[ignore]

@@ -192,6 +192,67 @@ fn rect(args: &[&str], cmd: &str) -> Result<SlotRect, String> {
     }
 }
 
+/// The arguments of `place`: `X Y L B R T [C0 C1 C2 C3]` or `X Y pick N`.
+fn parse_place(args: &[&str]) -> Result<Command, String> {
+    if args.len() < 3 {
+        return Err("place: expected X Y L B R T [C0 C1 C2 C3] or X Y pick N".into());
+    }
+    let slot = (num(args[0], "place X")?, num(args[1], "place Y")?);
+    let choice = if args[2] == "pick" {
+        if args.len() != 4 {
+            return Err("place X Y pick N: expected one number N".into());
+        }
+        TileChoice::Nth(num(args[3], "place pick N")?)
+    } else {
+        let v: Vec<i32> = args[2..]
+            .iter()
+            .map(|a| num(a, "place"))
+            .collect::<Result<_, _>>()?;
+        match v.as_slice() {
+            [l, b, r, t] => TileChoice::Key([*l, *b, *r, *t], None),
+            [l, b, r, t, c @ ..] if c.len() == 4 => {
+                let c: Vec<u16> = c
+                    .iter()
+                    .map(|&c| u16::try_from(c).map_err(|_| format!("corner {c}")))
+                    .collect::<Result<_, _>>()?;
+                TileChoice::Key([*l, *b, *r, *t], Some([c[0], c[1], c[2], c[3]]))
+            }
+            _ => {
+                return Err("place: expected 4 fluxes (L B R T) and optionally 4 corners".into());
+            }
+        }
+    };
+    Ok(Command::Place(slot, choice))
+}
+
+/// The arguments of `prefer`: `straight W`, `reuse W`, `clear` or
+/// `direction X0 Y0 X1 Y1 DX DY [S]`.
+fn parse_prefer(args: &[&str]) -> Result<Command, String> {
+    Ok(match args {
+        ["straight", w] => Command::Straight(finite(w, "prefer straight")?),
+        ["reuse", w] => Command::Reuse(finite(w, "prefer reuse")?),
+        ["clear"] => Command::ClearDirections,
+        ["direction", rest @ ..] if rest.len() == 6 || rest.len() == 7 => {
+            let s = if rest.len() == 7 {
+                finite(rest[6], "strength")?
+            } else {
+                1.0
+            };
+            Command::Direction(DirectionRegion {
+                x: (num(rest[0], "X0")?, num(rest[2], "X1")?),
+                y: (num(rest[1], "Y0")?, num(rest[3], "Y1")?),
+                direction: [finite(rest[4], "DX")?, finite(rest[5], "DY")?],
+                strength: s,
+            })
+        }
+        _ => {
+            return Err(
+                "prefer: straight W | reuse W | direction X0 Y0 X1 Y1 DX DY [S] | clear".into(),
+            );
+        }
+    })
+}
+
 impl Command {
     /// Parses one line (without comment); `Ok(None)` for a blank line.
     pub fn parse_line(line: &str) -> Result<Option<Command>, String> {
@@ -262,40 +323,7 @@ impl Command {
                 };
                 Command::Corner((num(args[0], "corner X")?, num(args[1], "corner Y")?), v)
             }
-            "place" => {
-                if args.len() < 3 {
-                    return Err("place: expected X Y L B R T [C0 C1 C2 C3] or X Y pick N".into());
-                }
-                let slot = (num(args[0], "place X")?, num(args[1], "place Y")?);
-                let choice = if args[2] == "pick" {
-                    if args.len() != 4 {
-                        return Err("place X Y pick N: expected one number N".into());
-                    }
-                    TileChoice::Nth(num(args[3], "place pick N")?)
-                } else {
-                    let v: Vec<i32> = args[2..]
-                        .iter()
-                        .map(|a| num(a, "place"))
-                        .collect::<Result<_, _>>()?;
-                    match v.as_slice() {
-                        [l, b, r, t] => TileChoice::Key([*l, *b, *r, *t], None),
-                        [l, b, r, t, c @ ..] if c.len() == 4 => {
-                            let c: Vec<u16> = c
-                                .iter()
-                                .map(|&c| u16::try_from(c).map_err(|_| format!("corner {c}")))
-                                .collect::<Result<_, _>>()?;
-                            TileChoice::Key([*l, *b, *r, *t], Some([c[0], c[1], c[2], c[3]]))
-                        }
-                        _ => {
-                            return Err(
-                                "place: expected 4 fluxes (L B R T) and optionally 4 corners"
-                                    .into(),
-                            );
-                        }
-                    }
-                };
-                Command::Place(slot, choice)
-            }
+            "place" => parse_place(args)?,
             "clear" if args == ["fill"] => Command::ClearFill,
             "clear" => {
                 let (a, b) = rect(args, cmd)?;
@@ -318,30 +346,7 @@ impl Command {
                 want(1)?;
                 Command::Seed(num(args[0], "seed")?)
             }
-            "prefer" => match args {
-                ["straight", w] => Command::Straight(finite(w, "prefer straight")?),
-                ["reuse", w] => Command::Reuse(finite(w, "prefer reuse")?),
-                ["clear"] => Command::ClearDirections,
-                ["direction", rest @ ..] if rest.len() == 6 || rest.len() == 7 => {
-                    let s = if rest.len() == 7 {
-                        finite(rest[6], "strength")?
-                    } else {
-                        1.0
-                    };
-                    Command::Direction(DirectionRegion {
-                        x: (num(rest[0], "X0")?, num(rest[2], "X1")?),
-                        y: (num(rest[1], "Y0")?, num(rest[3], "Y1")?),
-                        direction: [finite(rest[4], "DX")?, finite(rest[5], "DY")?],
-                        strength: s,
-                    })
-                }
-                _ => {
-                    return Err(
-                        "prefer: straight W | reuse W | direction X0 Y0 X1 Y1 DX DY [S] | clear"
-                            .into(),
-                    );
-                }
-            },
+            "prefer" => parse_prefer(args)?,
             "palette" => {
                 want(2)?;
                 Command::Palette(num(args[0], "palette X")?, num(args[1], "palette Y")?)
@@ -432,7 +437,7 @@ impl Command {
                         }
                         p.selection.key(*n)
                     }
-                    TileChoice::Key(f, Some(c)) => key_of(*f, *c),
+                    TileChoice::Key(f, Some(c)) => TileKey::from_fluxes(*f, *c),
                     TileChoice::Key(f, None) => {
                         let p = ed.palette(*x, *y)?;
                         let first = |k: usize| {
@@ -441,7 +446,7 @@ impl Command {
                                 .find(|c| c.why_not.is_none())
                                 .map_or(0, |c| c.index)
                         };
-                        key_of(*f, [first(0), first(1), first(2), first(3)])
+                        TileKey::from_fluxes(*f, [first(0), first(1), first(2), first(3)])
                     }
                 };
                 ed.place(*x, *y, key)?;
@@ -521,17 +526,6 @@ impl Command {
                 format!("{self}")
             }
         })
-    }
-}
-
-fn key_of(f: [i32; 4], corners: [u16; 4]) -> TileKey {
-    let [left, bottom, right, top] = f;
-    TileKey {
-        left,
-        bottom,
-        right,
-        top,
-        corners,
     }
 }
 

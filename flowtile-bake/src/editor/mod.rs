@@ -1,4 +1,4 @@
-//! The interactive flow tile editor (issue 18; the paper's fig. 7 tool).
+//! The interactive flow tile editor (the paper's fig. 7 tool).
 //!
 //! The designer paints the region, fixes edge fluxes and corner velocities,
 //! places tiles from a palette that offers only the tiles the exact

@@ -338,18 +338,12 @@ impl Editor {
     /// 8 cells per tile side, free borders, seed 1.
     pub fn blank(width: u32, height: u32) -> Result<Editor, EditError> {
         let set = TileSet::paper(5, 5, 5, 8).map_err(|e| EditError::Invalid(e.to_string()))?;
-        Editor::new(Problem {
+        Editor::new(Problem::new(
             set,
             width,
             height,
-            conditions: Conditions::borders(Border::Free, Border::Free),
-            seed: 1,
-            fill_forced: false,
-            description: None,
-            background: None,
-            preferences: Default::default(),
-            tiles: Vec::new(),
-        })
+            Conditions::borders(Border::Free, Border::Free),
+        ))
     }
 
     /// Opens a baked tiling: its tile set, grid, blocked slots and
@@ -368,16 +362,8 @@ impl Editor {
             }
         }
         Editor::new(Problem {
-            set: b.set.clone(),
-            width: b.width,
-            height: b.height,
-            conditions,
-            seed: 1,
-            fill_forced: false,
-            description: None,
-            background: None,
-            preferences: Default::default(),
             tiles,
+            ..Problem::new(b.set.clone(), b.width, b.height, conditions)
         })
     }
 

@@ -4,7 +4,9 @@
 use std::collections::HashSet;
 
 use super::*;
-use crate::tileset::TileSet;
+use crate::flow::ArcId;
+use crate::rng::Rng;
+use crate::tileset::{TileKey, TileSet};
 
 /// Every complete assignment of fluxes to the distinct arcs (within their
 /// current bounds) that conserves mass at every slot; returns, per slot, the

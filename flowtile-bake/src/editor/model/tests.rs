@@ -34,13 +34,7 @@ fn corridor() -> Editor {
 }
 
 fn key(f: [i32; 4], c: [u16; 4]) -> TileKey {
-    TileKey {
-        left: f[0],
-        bottom: f[1],
-        right: f[2],
-        top: f[3],
-        corners: c,
-    }
+    TileKey::from_fluxes(f, c)
 }
 
 #[test]

@@ -5,30 +5,51 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 
-use flowtile_bake::bake::BakedTiling;
+use flowtile_bake::bake::{BakedTiling, write_atomic};
 use flowtile_bake::editor::commands::run_script;
 use flowtile_bake::editor::model::Editor;
 use flowtile_bake::editor::view::{Background, EditorView, screenshot};
 use flowtile_bake::spec::Problem;
 
-/// The command line of `edit`.
-pub struct EditArgs {
+// The options of `flowtile-bake edit`; its help text is the doc comment of
+// `Command::Edit` in `cli/mod.rs`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// A spec (TOML, also from `region`) or a baked tiling (.ftb); none: a blank grid.
     pub input: Option<PathBuf>,
+    /// Size WxH of the blank grid (without an input).
+    #[arg(long, default_value = "16x12")]
     pub grid: String,
+    /// Commands to apply, one per line (see `flowtile_bake::editor::commands`).
+    #[arg(long)]
     pub script: Option<PathBuf>,
+    /// Write a picture of the editor (PNG) after the script, rendered without a display.
+    #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// Window and screenshot size in pixels, WxH.
+    #[arg(long, default_value = "1280x800")]
     pub size: String,
+    /// Picture (PNG) under the grid, spanning it (default: the spec's `background`).
+    #[arg(long)]
     pub background: Option<PathBuf>,
+    /// Where Save writes the spec (default: the input spec; for others NAME.edited.toml).
+    #[arg(long)]
     pub save_as: Option<PathBuf>,
+    /// Where Bake writes the tiling (default: the spec's name with .ftb).
+    #[arg(long)]
     pub bake_as: Option<PathBuf>,
+    /// Open the window after a script.
+    #[arg(long)]
     pub window: bool,
+    /// Close the window after this many seconds.
+    #[arg(long)]
     pub seconds: Option<f64>,
 }
 
+/// A size `WxH` of `what` (an option), both at least 1.
 fn size(text: &str, what: &str) -> Result<(u32, u32)> {
-    text.split_once(['x', 'X'])
-        .and_then(|(a, b)| Some((a.trim().parse().ok()?, b.trim().parse().ok()?)))
-        .filter(|&(w, h): &(u32, u32)| w > 0 && h > 0)
+    super::wxh(text)
+        .filter(|&(w, h)| w > 0 && h > 0)
         .with_context(|| format!("{what} {text:?}: expected WxH, e.g. 1280x800"))
 }
 
@@ -63,7 +84,7 @@ fn open(input: Option<&Path>, grid: &str) -> Result<(Editor, Option<PathBuf>, Pa
 }
 
 /// Runs `flowtile-bake edit`.
-pub fn edit(a: EditArgs) -> Result<()> {
+pub fn run(a: Args) -> Result<()> {
     let (w, h) = size(&a.size, "--size")?;
     let (mut ed, spec_bg, default_save) = open(a.input.as_deref(), &a.grid)?;
     let bg_path = a.background.clone().or(spec_bg);
@@ -86,8 +107,7 @@ pub fn edit(a: EditArgs) -> Result<()> {
     }
     if let Some(out) = &a.screenshot {
         let png = screenshot(&mut ed, &mut view, w, h).map_err(anyhow::Error::msg)?;
-        flowtile_bake::bake::write_atomic(out, &png)
-            .with_context(|| format!("{}", out.display()))?;
+        write_atomic(out, &png).with_context(|| format!("{}", out.display()))?;
         outln!("wrote {} ({w}x{h})", out.display())?;
     }
     let headless = (a.script.is_some() || a.screenshot.is_some()) && !a.window;
