@@ -70,8 +70,12 @@ for m in "${maps[@]}"; do
         bin=$OLD
         [ $side = new ] && bin=$NEW
         run $side "$name-compile" "$bin/bsp2vdg" -quiet -nolog -o "$OUT/$side/$name.vdg" "$m"
-        # The .err file's text is part of the behaviour too (a refused map).
-        [ -e "$OUT/$side/$name.err" ] && mv "$OUT/$side/$name.err" "$OUT/$side/$name-compile.err"
+        # The .err file's text is part of the behaviour too (a refused map); its first
+        # line repeats the command line, whose output path names the side.
+        if [ -e "$OUT/$side/$name.err" ]; then
+            sed "s#$OUT/$side/#OUT/#g" "$OUT/$side/$name.err" >"$OUT/$side/$name-compile.err"
+            rm "$OUT/$side/$name.err"
+        fi
         if [ -e "$OUT/$side/$name.vdg" ]; then
             routes=(spawns)
             nav="${m%.bsp}.nav"

@@ -20,9 +20,9 @@
 //! # Ok::<(), bsp::BspError>(())
 //! ```
 
-use crate::util::polygon_area as area;
-use crate::util::{cross, dot};
 use rayon::prelude::*;
+use toolbox::vec3::polygon_area as area;
+use toolbox::vec3::{cross, dot};
 
 use crate::oracle::OracleOptions;
 use crate::{Bsp, contents};

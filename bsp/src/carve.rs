@@ -13,7 +13,7 @@
 //! brushes moved out by the player's box ([`crate::oracle::Hull::from_brushes`]).
 
 use crate::map::{Leaf, Node};
-use crate::util::{cross, dot, sub};
+use toolbox::vec3::{cross, dot, sub};
 
 type P = [f64; 3];
 

@@ -34,7 +34,6 @@ pub mod player;
 pub mod quake2;
 pub mod quake3;
 mod read;
-pub mod util;
 mod validate;
 pub mod walls;
 

@@ -16,8 +16,8 @@
 //! # Ok::<(), bsp::BspError>(())
 //! ```
 
-use crate::util::sub;
 use crate::{Bsp, contents};
+use toolbox::vec3::sub;
 
 mod brushes;
 mod player_hull;

@@ -29,6 +29,10 @@ pub(crate) struct LumpNames {
 /// (an unused node or clip node leads to solid, an unused face gets no edges), so that
 /// code walking every record stays safe, and they are counted in
 /// [`Bsp::unused_bad_records`].
+///
+/// One function on purpose: it is the format's checklist, lump by lump in the order
+/// later checks rely on (planes before nodes, nodes before leaves, edges before
+/// faces), each item a few lines; read top to bottom it says what the reader trusts.
 pub(crate) fn validate(bsp: &mut Bsp, names: &LumpNames) -> Result<(), BspError> {
     let (np, nn, nl, nf) = (
         bsp.planes.len(),

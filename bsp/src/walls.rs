@@ -18,7 +18,7 @@ use crate::Bsp;
 use crate::boundary::{self, BoundaryPolygon};
 use crate::faces::FaceClass;
 use crate::oracle::OracleOptions;
-use crate::util::{cross, dot, sub};
+use toolbox::vec3::{cross, dot, sub};
 
 /// A classified face polygon, as [`Walls::from_faces`] takes it.
 pub trait WallFace {

@@ -16,6 +16,7 @@ use bsp2vdg::sample::{self, SampleOptions, grid::PointGrid};
 use mapgen::world::World;
 use std::path::Path;
 use toolbox::SplitMix64;
+use toolbox::vec3::{dot, sub};
 
 fn env_count(name: &str, default: usize) -> usize {
     std::env::var(name)
@@ -250,14 +251,6 @@ fn tree_boundary_is_exactly_the_walls() {
         }
         assert!(checked == 2000, "{}: too few free points", map.display());
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Distance from `p` to a convex planar polygon.

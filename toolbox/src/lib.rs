@@ -11,6 +11,7 @@ mod atomic;
 mod rng;
 mod scratch;
 
+pub mod vec3;
 pub use atomic::{clean_stale_temps, temp_path, write_atomic, write_bytes_atomic};
 pub use rng::SplitMix64;
 pub use scratch::ScratchDir;

@@ -4,7 +4,7 @@
 //! plane out by the box's support distance gives the box's exact collision.
 
 use crate::Bsp;
-use crate::util::dot;
+use toolbox::vec3::dot;
 
 /// One brush as planes `normal · x <= dist` (inside) and its native contents.
 #[derive(Debug, Clone)]

@@ -40,6 +40,11 @@ fn quake3_player(flags: i32) -> i32 {
 impl Hull {
     /// The world's clip hull for the player's box `hull`, built from the brushes, for
     /// the games that keep brushes and no clip hulls (Quake 2, 3); `None` otherwise.
+    ///
+    /// Three steps in one function, marked by comments: every brush's planes moved out
+    /// by the box (the Minkowski sum the game's trace computes on the fly), the world
+    /// tree's leaves carved by those expanded brushes, and the unreached nodes pruned.
+    /// They share the carver's node and leaf lists, which a split would pass around.
     pub fn from_brushes(bsp: &Bsp, hull: PlayerHull) -> Option<Hull> {
         let (mins, maxs, classify, mask): (P, P, fn(i32) -> i32, i32) = match bsp.version.game() {
             Game::Quake2 => {

@@ -10,7 +10,7 @@
 //! open patch becomes a slab [`SLAB`] units thick on each side of every triangle
 //! ([`Grid::slabs`]), which blocks every segment that crosses the surface.
 
-use crate::util::{cross, dot, sub};
+use toolbox::vec3::{cross, dot, norm, sub};
 
 type P = [f64; 3];
 
@@ -38,10 +38,6 @@ pub struct Grid {
 
 fn lerp(a: P, b: P, t: f64) -> P {
     [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]))
-}
-
-fn norm(v: P) -> f64 {
-    dot(v, v).sqrt()
 }
 
 fn unit(v: P) -> Option<P> {

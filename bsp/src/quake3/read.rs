@@ -10,9 +10,9 @@ use crate::entities::parse_entities;
 use crate::error::BspError;
 use crate::lumps::{Directory, check_finite};
 use crate::map::*;
-use crate::util::{cross, dot, sub};
 use crate::validate::{LumpNames, validate};
 use std::ops::Range;
+use toolbox::vec3::{cross, dot, sub};
 
 const LUMP_NAMES: [&str; 17] = [
     "entities",
@@ -180,6 +180,9 @@ struct Reached {
 
 impl Raw {
     /// Checks every index the tools follow, as the game's loaders do.
+    ///
+    /// One function on purpose, as the GoldSrc reader's: the format's checklist, lump
+    /// by lump in the order later checks rely on, each item a few lines.
     fn validate(&self) -> Result<Reached, BspError> {
         if self.models.is_empty() {
             return Err(BspError::Malformed {
@@ -407,7 +410,96 @@ fn normal_of(v: &raw::DrawVert) -> P {
     }
 }
 
+/// The map in the common form: the shaders as textures, the surfaces as triangle
+/// faces, the brushes (and one per patch volume piece) carved into the world's tree and
+/// each brush model's, as the game's collision sees them.
 fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: usize) -> Bsp {
+    let (textures, texinfo) = shader_textures(raw);
+    let mut b = Builder {
+        planes: raw.planes.clone(),
+        vertices: raw.verts.iter().map(|v| v.xyz).collect(),
+        faces: Vec::new(),
+        edges: vec![[0, 0]],
+        surfedges: Vec::new(),
+    };
+    let (face_start, patches) = surface_faces(raw, &mut b);
+    let solids = brushes_with_patches(raw, &mut b, &patches);
+    let planes64: Vec<(P, f64)> = b
+        .planes
+        .iter()
+        .map(|p| (p.normal.map(f64::from), p.dist as f64))
+        .collect();
+    let carve_brushes = carve_brushes(&solids, &planes64, &patches);
+    let mut leaf_lists = leaf_lists(
+        raw,
+        reached,
+        &planes64,
+        &patches,
+        &solids.patch_brushes,
+        &face_start,
+        &carve_brushes,
+    );
+    let mut carver = Carver {
+        planes: &planes64,
+        split_planes: Vec::new(),
+        brushes: &carve_brushes,
+        nodes: raw
+            .nodes
+            .iter()
+            .map(|n| Node {
+                plane: n.plane as u32,
+                children: n.children,
+                first_face: 0,
+                num_faces: 0,
+            })
+            .collect(),
+        leaves: Vec::new(),
+        classify: super::to_quake_contents,
+    };
+    let world_root = carve_world(raw, &mut carver, &leaf_lists);
+    let models = carve_models(
+        raw,
+        &mut carver,
+        world_root,
+        &mut leaf_lists.leaf_brushes,
+        &patches,
+        &solids.patch_brushes,
+        &face_start,
+    );
+    let Carver {
+        nodes,
+        leaves,
+        split_planes,
+        ..
+    } = carver;
+    b.planes
+        .extend(split_planes.into_iter().map(|(n, d)| plane(n, d)));
+    Bsp {
+        version: BspVersion::Quake3,
+        file_size,
+        entities,
+        planes: b.planes,
+        textures,
+        vertices: b.vertices,
+        nodes,
+        texinfo,
+        faces: b.faces,
+        clipnodes: Vec::new(),
+        leaves,
+        marksurfaces: leaf_lists.marksurfaces,
+        edges: b.edges,
+        surfedges: b.surfedges,
+        models,
+        leaf_brushes: leaf_lists.leaf_brushes,
+        brushes: solids.brushes,
+        brush_sides: solids.brush_sides,
+        unused_bad_records: 0,
+    }
+}
+
+/// The shaders as textures (names only: Quake 3 keeps no texture sizes in the map)
+/// and one texinfo per shader carrying its surface and contents flags.
+fn shader_textures(raw: &Raw) -> (Vec<Option<Texture>>, Vec<TexInfo>) {
     let textures = raw
         .shaders
         .iter()
@@ -431,91 +523,120 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             contents: s.contents,
         })
         .collect();
-    let mut b = Builder {
-        planes: raw.planes.clone(),
-        vertices: raw.verts.iter().map(|v| v.xyz).collect(),
-        faces: Vec::new(),
-        edges: vec![[0, 0]],
-        surfedges: Vec::new(),
-    };
+    (textures, texinfo)
+}
+
+/// The triangle faces of every surface (planar faces, triangle soups, tessellated
+/// patches), with where each surface's faces begin (one entry more than surfaces),
+/// and the volumes of the patches that collide.
+fn surface_faces(raw: &Raw, b: &mut Builder) -> (Vec<u32>, Vec<PatchVolume>) {
     // Which model each surface belongs to.
     let mut surface_model = vec![0usize; raw.surfaces.len()];
     for (m, model) in raw.models.iter().enumerate() {
         let first = model.first_surface as usize;
         surface_model[first..first + model.num_surfaces as usize].fill(m);
     }
-    // Faces, surface by surface; patches also give volumes.
     let mut face_start = Vec::with_capacity(raw.surfaces.len() + 1);
     let mut patches = Vec::new();
     for (i, s) in raw.surfaces.iter().enumerate() {
         face_start.push(b.faces.len() as u32);
-        let shader = s.shader as u32;
         let first = s.first_vert as usize;
         let verts = &raw.verts[first..first + s.num_verts.max(0) as usize];
         match s.surface_type {
-            raw::MST_PLANAR | raw::MST_TRIANGLE_SOUP => {
-                let idx = &raw.indexes[s.first_index as usize..][..s.num_indexes as usize];
-                let fan: Vec<i32>;
-                let tris: &[i32] = if idx.len() >= 3 {
-                    idx
-                } else {
-                    // Old compilers wrote planar faces as a fan of their vertices.
-                    fan = (1..verts.len().saturating_sub(1))
-                        .flat_map(|k| [0, k as i32, k as i32 + 1])
-                        .collect();
-                    &fan
-                };
-                for t in tris.chunks_exact(3) {
-                    let toward = t.iter().fold([0.0; 3], |a, &k| {
-                        let n = normal_of(&verts[k as usize]);
-                        [a[0] + n[0], a[1] + n[1], a[2] + n[2]]
-                    });
-                    b.triangle(
-                        [t[0], t[1], t[2]].map(|k| (first + k as usize) as u32),
-                        toward,
-                        shader,
-                    );
-                }
-            }
+            raw::MST_PLANAR | raw::MST_TRIANGLE_SOUP => triangle_faces(raw, s, verts, b),
             raw::MST_PATCH => {
-                let (w, h) = (s.patch_width as usize, s.patch_height as usize);
-                let control: Vec<P> = verts.iter().map(|v| v.xyz.map(f64::from)).collect();
-                let normals: Vec<P> = verts.iter().map(normal_of).collect();
-                let grid = Grid::tessellate(&control, &normals, w, h, patch::TOLERANCE);
-                let base = b.vertices.len() as u32;
-                b.vertices
-                    .extend(grid.points.iter().map(|p| p.map(|x| x as f32)));
-                for t in grid.triangles() {
-                    b.triangle(t.map(|k| base + k as u32), [0.0; 3], shader);
-                }
-                let contents = raw.shaders[s.shader as usize].contents;
-                if contents & q3::RELEVANT != 0 {
-                    let grid = Grid::tessellate(&control, &normals, w, h, patch::VOLUME_TOLERANCE);
-                    let pieces = if grid.closed_across() {
-                        grid.tube_pieces()
-                    } else if grid.transposed().closed_across() {
-                        grid.transposed().tube_pieces()
-                    } else {
-                        grid.slabs()
-                    };
-                    let (lo, hi) = bounds(&grid.points);
-                    let m = patch::SLAB + 1.0;
-                    patches.push(PatchVolume {
-                        pieces,
-                        lo: lo.map(|x| x - m),
-                        hi: hi.map(|x| x + m),
-                        contents,
-                        shader: s.shader,
-                        model: surface_model[i],
-                    });
+                if let Some(volume) = patch_faces(raw, s, verts, b, surface_model[i]) {
+                    patches.push(volume);
                 }
             }
             _ => {}
         }
     }
     face_start.push(b.faces.len() as u32);
+    (face_start, patches)
+}
 
-    // Brushes: the file's, then one per patch volume piece.
+/// The faces of a planar surface or a triangle soup, from its index list.
+fn triangle_faces(raw: &Raw, s: &raw::Surface, verts: &[raw::DrawVert], b: &mut Builder) {
+    let first = s.first_vert as usize;
+    let idx = &raw.indexes[s.first_index as usize..][..s.num_indexes as usize];
+    let fan: Vec<i32>;
+    let tris: &[i32] = if idx.len() >= 3 {
+        idx
+    } else {
+        // Old compilers wrote planar faces as a fan of their vertices.
+        fan = (1..verts.len().saturating_sub(1))
+            .flat_map(|k| [0, k as i32, k as i32 + 1])
+            .collect();
+        &fan
+    };
+    for t in tris.chunks_exact(3) {
+        let toward = t.iter().fold([0.0; 3], |a, &k| {
+            let n = normal_of(&verts[k as usize]);
+            [a[0] + n[0], a[1] + n[1], a[2] + n[2]]
+        });
+        b.triangle(
+            [t[0], t[1], t[2]].map(|k| (first + k as usize) as u32),
+            toward,
+            s.shader as u32,
+        );
+    }
+}
+
+/// The faces of a Bézier patch, tessellated; and, when its shader collides, its
+/// volume: closed pipes and columns as solid tubes, open patches as thin slabs.
+fn patch_faces(
+    raw: &Raw,
+    s: &raw::Surface,
+    verts: &[raw::DrawVert],
+    b: &mut Builder,
+    model: usize,
+) -> Option<PatchVolume> {
+    let (w, h) = (s.patch_width as usize, s.patch_height as usize);
+    let control: Vec<P> = verts.iter().map(|v| v.xyz.map(f64::from)).collect();
+    let normals: Vec<P> = verts.iter().map(normal_of).collect();
+    let grid = Grid::tessellate(&control, &normals, w, h, patch::TOLERANCE);
+    let base = b.vertices.len() as u32;
+    b.vertices
+        .extend(grid.points.iter().map(|p| p.map(|x| x as f32)));
+    for t in grid.triangles() {
+        b.triangle(t.map(|k| base + k as u32), [0.0; 3], s.shader as u32);
+    }
+    let contents = raw.shaders[s.shader as usize].contents;
+    if contents & q3::RELEVANT == 0 {
+        return None;
+    }
+    let grid = Grid::tessellate(&control, &normals, w, h, patch::VOLUME_TOLERANCE);
+    let pieces = if grid.closed_across() {
+        grid.tube_pieces()
+    } else if grid.transposed().closed_across() {
+        grid.transposed().tube_pieces()
+    } else {
+        grid.slabs()
+    };
+    let (lo, hi) = bounds(&grid.points);
+    let m = patch::SLAB + 1.0;
+    Some(PatchVolume {
+        pieces,
+        lo: lo.map(|x| x - m),
+        hi: hi.map(|x| x + m),
+        contents,
+        shader: s.shader,
+        model,
+    })
+}
+
+/// The map's brushes: the file's, then one per patch volume piece.
+struct Solids {
+    brushes: Vec<Brush>,
+    brush_sides: Vec<BrushSide>,
+    /// Per patch volume, the range of its brushes.
+    patch_brushes: Vec<Range<u32>>,
+}
+
+/// The file's brushes and sides, then a brush per patch volume piece (its planes added
+/// to the builder's).
+fn brushes_with_patches(raw: &Raw, b: &mut Builder, patches: &[PatchVolume]) -> Solids {
     let mut brushes: Vec<Brush> = raw
         .brushes
         .iter()
@@ -533,9 +654,8 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             texinfo: s.shader,
         })
         .collect();
-    // Per patch: its brushes.
     let mut patch_brushes: Vec<Range<u32>> = Vec::new();
-    for pv in &patches {
+    for pv in patches {
         let first = brushes.len() as u32;
         for piece in &pv.pieces {
             let first_side = brush_sides.len() as u32;
@@ -554,42 +674,72 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
         }
         patch_brushes.push(first..brushes.len() as u32);
     }
-    let planes64: Vec<(P, f64)> = b
-        .planes
-        .iter()
-        .map(|p| (p.normal.map(f64::from), p.dist as f64))
-        .collect();
-    let mut carve_brushes: Vec<CarveBrush> = brushes
+    Solids {
+        brushes,
+        brush_sides,
+        patch_brushes,
+    }
+}
+
+/// The brushes as the carver takes them; patch pieces have no axial sides, so they
+/// get their patch's box.
+fn carve_brushes(
+    solids: &Solids,
+    planes64: &[(P, f64)],
+    patches: &[PatchVolume],
+) -> Vec<CarveBrush> {
+    let mut carve_brushes: Vec<CarveBrush> = solids
+        .brushes
         .iter()
         .map(|br| {
-            let ids = brush_sides[br.first_side as usize..][..br.num_sides as usize]
+            let ids = solids.brush_sides[br.first_side as usize..][..br.num_sides as usize]
                 .iter()
                 .map(|s| s.plane)
                 .collect();
-            CarveBrush::new(ids, br.contents, &planes64)
+            CarveBrush::new(ids, br.contents, planes64)
         })
         .collect();
-    // Patch pieces have no axial sides: their patch's box.
-    for (pv, range) in patches.iter().zip(&patch_brushes) {
+    for (pv, range) in patches.iter().zip(&solids.patch_brushes) {
         for b in range.clone() {
             carve_brushes[b as usize].lo = pv.lo;
             carve_brushes[b as usize].hi = pv.hi;
         }
     }
-    let carve_brushes = carve_brushes;
-    // Solid first, then the rest; only what the tools tell apart.
-    let carve_order = |list: &mut Vec<u32>| {
-        list.retain(|&i| carve_brushes[i as usize].contents & q3::RELEVANT != 0);
-        list.sort_by_key(|&i| (carve_brushes[i as usize].contents & q3::SOLID == 0, i));
-        list.dedup();
-    };
+    carve_brushes
+}
 
-    // The leaves' lists: the file's brushes plus the patch brushes whose box reaches
-    // the leaf; the faces of the leaf's surfaces.
+/// A brush list in carving order: only the brushes whose contents the tools tell
+/// apart, solid ones first.
+fn carve_order(list: &mut Vec<u32>, carve_brushes: &[CarveBrush]) {
+    list.retain(|&i| carve_brushes[i as usize].contents & q3::RELEVANT != 0);
+    list.sort_by_key(|&i| (carve_brushes[i as usize].contents & q3::SOLID == 0, i));
+    list.dedup();
+}
+
+/// The leaves' lists in the common form, and each reached leaf's brushes in carving
+/// order.
+struct LeafListing {
+    leaf_brushes: Vec<u32>,
+    marksurfaces: Vec<u32>,
+    lists: Vec<LeafLists>,
+    carve_lists: Vec<Vec<u32>>,
+}
+
+/// The leaves' lists: the file's brushes plus the patch brushes whose box reaches the
+/// leaf; the faces of the leaf's surfaces.
+fn leaf_lists(
+    raw: &Raw,
+    reached: &Reached,
+    planes64: &[(P, f64)],
+    patches: &[PatchVolume],
+    patch_brushes: &[Range<u32>],
+    face_start: &[u32],
+    carve_brushes: &[CarveBrush],
+) -> LeafListing {
     let mut leaf_extra: Vec<Vec<u32>> = vec![Vec::new(); raw.leaves.len()];
-    for (pv, range) in patches.iter().zip(&patch_brushes) {
+    for (pv, range) in patches.iter().zip(patch_brushes) {
         if pv.model == 0 {
-            for l in leaves_in_box(raw, &planes64, pv.lo, pv.hi) {
+            for l in leaves_in_box(raw, planes64, pv.lo, pv.hi) {
                 leaf_extra[l].extend(range.clone());
             }
         }
@@ -622,28 +772,22 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             brushes: (first, leaf_brushes.len() as u32 - first),
         };
         let mut c = leaf_brushes[first as usize..].to_vec();
-        carve_order(&mut c);
+        carve_order(&mut c, carve_brushes);
         carve_lists[i] = c;
     }
+    LeafListing {
+        leaf_brushes,
+        marksurfaces,
+        lists,
+        carve_lists,
+    }
+}
 
-    // The world tree: the file's nodes first, every leaf replaced by its carving.
-    let mut carver = Carver {
-        planes: &planes64,
-        split_planes: Vec::new(),
-        brushes: &carve_brushes,
-        nodes: raw
-            .nodes
-            .iter()
-            .map(|n| Node {
-                plane: n.plane as u32,
-                children: n.children,
-                first_face: 0,
-                num_faces: 0,
-            })
-            .collect(),
-        leaves: Vec::new(),
-        classify: super::to_quake_contents,
-    };
+/// The world tree: the file's nodes first, every leaf replaced by its carving. Returns
+/// the world's root.
+fn carve_world(raw: &Raw, carver: &mut Carver, listing: &LeafListing) -> i32 {
+    let planes64 = carver.planes;
+    let carve_brushes = carver.brushes;
     let world = &raw.models[0];
     let cell = model_cell(world);
     // Opaque leaves (cluster -1) are inside structural solid or the filled void
@@ -668,43 +812,54 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
         });
         if inside_passable { 0 } else { q3::SOLID }
     };
-    let world_root = if raw.nodes.is_empty() {
-        carver.carve(
+    let (lists, carve_lists) = (&listing.lists, &listing.carve_lists);
+    if raw.nodes.is_empty() {
+        return carver.carve(
             Some(cell.clone()),
             &carve_lists[0],
             base(0, Some(&cell)),
             lists[0],
-        )
-    } else {
-        let mut stack: Vec<(usize, Option<Cell>)> = vec![(0, Some(cell))];
-        while let Some((n, cell)) = stack.pop() {
-            let node = raw.nodes[n];
-            let (nrm, d) = planes64[node.plane as usize];
-            let pieces = match cell.as_ref().map(|c| c.side(nrm, d)) {
-                None => [None, None],
-                Some(Side::Front) => [cell, None],
-                Some(Side::Back) => [None, cell],
-                Some(Side::Split) => {
-                    let (f, bk) = cell.unwrap().split(nrm, d);
-                    [Some(f), Some(bk)]
-                }
-            };
-            for (side, piece) in pieces.into_iter().enumerate() {
-                let c = node.children[side];
-                if c >= 0 {
-                    stack.push((c as usize, piece));
-                } else {
-                    let l = (-(c + 1)) as usize;
-                    let flags = base(l, piece.as_ref());
-                    let new = carver.carve(piece, &carve_lists[l], flags, lists[l]);
-                    carver.nodes[n].children[side] = new;
-                }
+        );
+    }
+    let mut stack: Vec<(usize, Option<Cell>)> = vec![(0, Some(cell))];
+    while let Some((n, cell)) = stack.pop() {
+        let node = raw.nodes[n];
+        let (nrm, d) = planes64[node.plane as usize];
+        let pieces = match cell.as_ref().map(|c| c.side(nrm, d)) {
+            None => [None, None],
+            Some(Side::Front) => [cell, None],
+            Some(Side::Back) => [None, cell],
+            Some(Side::Split) => {
+                let (f, bk) = cell.unwrap().split(nrm, d);
+                [Some(f), Some(bk)]
+            }
+        };
+        for (side, piece) in pieces.into_iter().enumerate() {
+            let c = node.children[side];
+            if c >= 0 {
+                stack.push((c as usize, piece));
+            } else {
+                let l = (-(c + 1)) as usize;
+                let flags = base(l, piece.as_ref());
+                let new = carver.carve(piece, &carve_lists[l], flags, lists[l]);
+                carver.nodes[n].children[side] = new;
             }
         }
-        0
-    };
+    }
+    0
+}
 
-    // Brush models: their brushes (and patches) carved into their box.
+/// The models in the common form; each brush model's brushes (and patches) carved
+/// into its box.
+fn carve_models(
+    raw: &Raw,
+    carver: &mut Carver,
+    world_root: i32,
+    leaf_brushes: &mut Vec<u32>,
+    patches: &[PatchVolume],
+    patch_brushes: &[Range<u32>],
+    face_start: &[u32],
+) -> Vec<Model> {
     let mut models = Vec::with_capacity(raw.models.len());
     for (m, model) in raw.models.iter().enumerate() {
         let root = if m == 0 {
@@ -713,7 +868,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             let first = leaf_brushes.len() as u32;
             leaf_brushes
                 .extend(model.first_brush as u32..(model.first_brush + model.num_brushes) as u32);
-            for (pv, range) in patches.iter().zip(&patch_brushes) {
+            for (pv, range) in patches.iter().zip(patch_brushes) {
                 if pv.model == m {
                     leaf_brushes.extend(range.clone());
                 }
@@ -723,7 +878,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
                 brushes: (first, leaf_brushes.len() as u32 - first),
             };
             let mut c = leaf_brushes[first as usize..].to_vec();
-            carve_order(&mut c);
+            carve_order(&mut c, carver.brushes);
             carver.carve(Some(model_cell(model)), &c, 0, list)
         };
         let faces = face_start[model.first_surface as usize]
@@ -737,35 +892,7 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
             num_faces: faces.end - faces.start,
         });
     }
-    let Carver {
-        nodes,
-        leaves,
-        split_planes,
-        ..
-    } = carver;
-    b.planes
-        .extend(split_planes.into_iter().map(|(n, d)| plane(n, d)));
-    Bsp {
-        version: BspVersion::Quake3,
-        file_size,
-        entities,
-        planes: b.planes,
-        textures,
-        vertices: b.vertices,
-        nodes,
-        texinfo,
-        faces: b.faces,
-        clipnodes: Vec::new(),
-        leaves,
-        marksurfaces,
-        edges: b.edges,
-        surfedges: b.surfedges,
-        models,
-        leaf_brushes,
-        brushes,
-        brush_sides,
-        unused_bad_records: 0,
-    }
+    models
 }
 
 /// The box a model's cells are cut from.

@@ -67,10 +67,12 @@ mod border;
 mod check;
 mod keep;
 mod mesh;
+mod options;
 mod queue;
 mod raise_back;
 mod remove;
 mod seam;
+mod stats;
 mod swap;
 mod volume;
 
@@ -78,255 +80,15 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
+pub use options::{ReduceOptions, ReductionCost};
+pub use stats::{RaisedBack, ReduceStats, StopReason, Tick};
+
 use crate::graph::Graph;
 use crate::progress::Progress;
 use keep::{KEEP_MARGIN, Keep};
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
 use remove::Refusal;
-
-/// What to reduce to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ReduceOptions {
-    /// Stop when at most this fraction of the vertices is left (`-rl`).
-    pub limit: f64,
-    /// Never reduce below this many vertices (`-rv`), whatever `limit`
-    /// says: a fraction made for maps of thousands of vertices leaves a
-    /// small map a few dozen, whose volume misses a third of the room's
-    /// sight lines (the qbsp example maps: 35 vertices, 38 % of Visible's
-    /// answers wrong, against 15 % unreduced). 0 = no floor (the thesis).
-    pub min_vertices: usize,
-    /// Raise the clearances the operations lowered back towards the
-    /// unreduced graph's afterwards, as far as condition A against the
-    /// unreduced volume allows (the `raise` module). On by default: it is
-    /// what a reduction without the map can do. The compiler turns it off
-    /// and raises towards the walls instead (`voronoi::raise_to_walls`),
-    /// which the map's walls certify and which reaches further: on the
-    /// shared maps the volume holds as much or more without this raise, and
-    /// the compile saves its time (de_cbble `-sd 18.5`: 2.3 of 24 s).
-    pub raise: bool,
-    /// What a removal costs, i.e. which vertices go first (`-rc`).
-    pub cost: ReductionCost,
-    /// The coverage guards: the kept places and the seam phase's deep points stay
-    /// inside the volume (on by default). Off is a measurement switch that shows
-    /// whether the reduction stops above `-rl` because of them or because the
-    /// vertices left have no operation that keeps conditions A–C; never for graphs
-    /// you ship: without the guards the reduction shaves the volume off the floors.
-    pub coverage_guards: bool,
-}
-
-/// The order of the reduction: what a vertex's removal costs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum ReductionCost {
-    /// The model volume the removal loses (4.4): the thesis.
-    #[default]
-    Volume,
-    /// That volume divided by the removed vertex's clearance squared (at
-    /// least 1). The same volume costs more when a small vertex near the
-    /// walls loses it: the volume's skin there is what sight lines along
-    /// the walls run through, and the thesis' cost took it first (its
-    /// small volumes are cheap). On the shared maps Visible's false
-    /// negatives inside the volume fell from 2.47 to 2.39 % (weighted by
-    /// sight lines; lower on 23 maps, higher on 11), the files by 7 %, and
-    /// the camera's replay over 21 maps saw the target in 98.41 / 98.19 % of
-    /// the frames instead of 98.11 / 97.91 % (1/30 / 1/60 s).
-    Relative,
-}
-
-impl ReductionCost {
-    /// The cost of removing a vertex of clearance `r` that loses `volume`.
-    ///
-    /// ```
-    /// use bsp2vdg::reduce::ReductionCost;
-    /// assert_eq!(ReductionCost::Volume.of(100.0, 5.0), 100.0);
-    /// assert_eq!(ReductionCost::Relative.of(100.0, 5.0), 4.0);
-    /// // A vertex on a wall is not free to remove.
-    /// assert_eq!(ReductionCost::Relative.of(100.0, 0.0), 100.0);
-    /// ```
-    pub fn of(self, volume: f64, r: f64) -> f64 {
-        match self {
-            ReductionCost::Volume => volume,
-            ReductionCost::Relative => volume / r.max(1.0).powi(2),
-        }
-    }
-
-    /// The name `-rc` takes and the `.vdg` records.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ReductionCost::Volume => "volume",
-            ReductionCost::Relative => "relative",
-        }
-    }
-
-    /// What [`Self::of`] computes, for the log.
-    pub fn formula(self) -> &'static str {
-        match self {
-            ReductionCost::Volume => "volume",
-            ReductionCost::Relative => "volume / clearance²",
-        }
-    }
-}
-
-impl ReduceOptions {
-    /// Reduce to `limit` (see [`ReduceOptions::limit`]), raising afterwards,
-    /// by the thesis' cost.
-    pub fn new(limit: f64) -> ReduceOptions {
-        ReduceOptions {
-            limit,
-            min_vertices: 0,
-            raise: true,
-            cost: ReductionCost::Volume,
-            coverage_guards: true,
-        }
-    }
-
-    /// The vertex count to reduce `live` vertices to: the fraction
-    /// `limit` of them, but at least `min_vertices` (or all of them, if
-    /// fewer).
-    ///
-    /// ```
-    /// use bsp2vdg::reduce::ReduceOptions;
-    /// let o = ReduceOptions { min_vertices: 1000, ..ReduceOptions::new(0.025) };
-    /// assert_eq!(o.target(100_000), 2500);
-    /// assert_eq!(o.target(8_000), 1000);
-    /// assert_eq!(o.target(600), 600);
-    /// ```
-    pub fn target(&self, live: usize) -> usize {
-        let fraction = (self.limit.clamp(0.0, 1.0) * live as f64).ceil() as usize;
-        fraction.max(self.min_vertices.min(live))
-    }
-
-    /// Whether the floor, not the fraction, sets [`Self::target`].
-    pub fn floor_sets_target(&self, live: usize) -> bool {
-        self.target(live) > (self.limit.clamp(0.0, 1.0) * live as f64).ceil() as usize
-    }
-}
-
-impl Default for ReduceOptions {
-    fn default() -> Self {
-        ReduceOptions::new(0.025)
-    }
-}
-
-/// Why the reduction stopped.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum StopReason {
-    /// The vertex count reached the limit.
-    #[default]
-    LimitReached,
-    /// The vertex count reached the floor ([`ReduceOptions::min_vertices`]),
-    /// which lies above the limit.
-    FloorReached,
-    /// No remaining vertex can be removed without breaking a condition.
-    NothingRemovable,
-}
-
-impl StopReason {
-    /// Short name for `--json`.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            StopReason::LimitReached => "limit",
-            StopReason::FloorReached => "floor",
-            StopReason::NothingRemovable => "nothing_removable",
-        }
-    }
-}
-
-/// What the raise back towards the unreduced clearances did (see
-/// [`ReduceOptions::raise`]).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RaisedBack {
-    /// Vertices whose clearance was raised, and the sum of the raises (units).
-    pub vertices: usize,
-    pub total: f64,
-    /// Seconds the raise took (part of the reduction's time).
-    pub seconds: f64,
-}
-
-/// Counts of a reduction.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ReduceStats {
-    /// Vertices with at least one face, and faces, before.
-    pub vertices_before: usize,
-    pub faces_before: usize,
-    /// The vertex count aimed at ([`ReduceOptions::target`]: `ceil(limit ·
-    /// vertices_before)`, or the floor if higher).
-    pub target: usize,
-    /// The order the removals went in ([`ReduceOptions::cost`]).
-    pub cost: ReductionCost,
-    pub vertices_after: usize,
-    pub faces_after: usize,
-    /// Vertices removed by the main loop (vertices left without a face by a
-    /// one-face removal are not counted here but are gone).
-    pub removals: usize,
-    /// Edge swaps (4.5), one-face removals (4.4), three faces replaced by a
-    /// new face (4.6.2), by an existing face, two faces at a concave corner
-    /// replaced (4.6.1).
-    pub swaps: usize,
-    pub one_face: usize,
-    pub three_faces: usize,
-    pub three_faces_existing: usize,
-    pub two_faces_concave: usize,
-    /// Seam vertices contracted out of their seam, and vertices collapsed
-    /// into a neighbour along an edge (module `seam`).
-    pub seam_contractions: usize,
-    pub seam_collapses: usize,
-    /// Border and seam-end vertices removed fan by fan (module `border`).
-    pub fan_removals: usize,
-    /// Vertices left when the thesis' cases alone stopped and the second
-    /// phase with the seam operations began (`None`: the limit came first).
-    pub seam_phase_at: Option<usize>,
-    /// Seconds the second phase took (part of the reduction's time).
-    pub seam_phase_seconds: f64,
-    /// Deep points the second phase keeps (see `seam::DEEP_CLEARANCE`).
-    pub seam_deep_points: usize,
-    /// The model volume (cubic units) the removals lost.
-    pub lost_volume: f64,
-    /// The raise back towards the unreduced clearances after the reduction
-    /// (the `raise` module), `None` when [`ReduceOptions::raise`] is off.
-    pub raised_back: Option<RaisedBack>,
-    /// Points kept inside the volume (see [`reduce_keeping`]).
-    pub kept_points: usize,
-    /// Batches of the main loop, removals costed in them (initial costs
-    /// and the final sweep not counted), and costed removals put back into
-    /// the queue because their cost had risen above the next one's.
-    pub batches: usize,
-    pub costed: usize,
-    pub requeued: usize,
-    /// Seconds spent on the initial costs, on costing batches (with the
-    /// next batch picked at the same time) and on the rest of the main
-    /// loop (committing, queue upkeep, final sweeps): where the time goes.
-    pub seconds_initial: f64,
-    pub seconds_batches: f64,
-    pub seconds_rest: f64,
-    /// Of those, the seconds spent picking the batches (on one thread, while
-    /// the batch before is costed) and committing them (serial).
-    pub seconds_picking: f64,
-    pub seconds_commits: f64,
-    /// Sweeps over every vertex before giving up (see `run`), the vertices
-    /// they did not cost again because nothing around them had changed since
-    /// a costing refused them, and their seconds (part of `seconds_rest`).
-    pub sweeps: usize,
-    pub sweep_skipped: usize,
-    pub seconds_sweeps: f64,
-    pub stop: StopReason,
-    /// When the reduction stopped with [`StopReason::NothingRemovable`]: per
-    /// refusal reason (see [`refusals`]), how many of the vertices left it
-    /// refuses; empty otherwise.
-    pub refusals: Vec<(&'static str, usize)>,
-}
-
-/// A progress report, about once a second.
-#[derive(Debug, Clone, Copy)]
-pub struct Tick {
-    pub seconds: f64,
-    pub vertices: usize,
-    pub faces: usize,
-    /// Cost of the last removal.
-    pub cost: f64,
-    /// Vertices left / vertices before.
-    pub reduction: f64,
-}
 
 /// Reduces `graph` (see the module docs).
 ///
@@ -459,6 +221,13 @@ pub fn reduce_keeping(
 /// The reduction proper, on `graph` in Hilbert order (see
 /// [`in_hilbert_order`]): the mesh at the end, the statistics so far and
 /// the operation counts.
+///
+/// One function on purpose: every step of the main loop — picking a batch while the
+/// previous one is costed, committing it in heap order, putting risen costs back,
+/// the sweeps before giving up, the switch to the seam phase, the ticks — reads and
+/// writes the same state (the mesh, the queue, the claims, the epochs, the
+/// timers); split up, each piece would take most of it as arguments. The phases
+/// are marked by comments.
 fn run(
     graph: &Graph,
     options: &ReduceOptions,

@@ -1,5 +1,4 @@
-//! The face volume model of thesis 4.3 and the small vector maths the
-//! reduction needs.
+//! The face volume model of thesis 4.3 (the vector maths is `toolbox::vec3`'s).
 //!
 //! The cost of an operation is the free-space volume it loses (thesis 4.4).
 //! The thesis estimates the volume of a face from seven parts — the slab
@@ -11,40 +10,7 @@
 
 use std::f64::consts::PI;
 
-pub(crate) type P3 = [f64; 3];
-
-#[inline]
-pub(crate) fn sub(a: P3, b: P3) -> P3 {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-#[inline]
-pub(crate) fn add(a: P3, b: P3) -> P3 {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-#[inline]
-pub(crate) fn scale(a: P3, s: f64) -> P3 {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-#[inline]
-pub(crate) fn dot(a: P3, b: P3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-#[inline]
-pub(crate) fn cross(a: P3, b: P3) -> P3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-#[inline]
-pub(crate) fn norm(a: P3) -> f64 {
-    dot(a, a).sqrt()
-}
-#[inline]
-pub(crate) fn dist(a: P3, b: P3) -> f64 {
-    norm(sub(a, b))
-}
+pub(crate) use toolbox::vec3::{P3, add, cross, dist, dot, norm, scale, sub};
 
 /// Thesis 4.3: `|k1k2 × k1k3|·r̄ + Σ_edges |e|·π·((ra+rb)/2)² + 4/3·π·r̄³`
 /// with `r̄` the mean clearance, as the formula is printed: a full cylinder

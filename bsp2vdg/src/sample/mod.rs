@@ -424,7 +424,7 @@ pub fn sample_polygon(polygon: &[[f64; 3]], radius: f64, budget: usize) -> (Vec<
     (points, tris)
 }
 
-pub use bsp::util::polygon_area;
+pub use toolbox::vec3::polygon_area;
 
 fn centroid(p: &[[f64; 3]]) -> [f64; 3] {
     let n = p.len().max(1) as f64;

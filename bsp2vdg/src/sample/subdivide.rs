@@ -8,7 +8,7 @@
 //! obtuse (the circumcentre lies inside), otherwise the distance from the obtuse
 //! corner's bisector feet on the longest edge.
 
-use bsp::util::sub;
+use toolbox::vec3::sub;
 
 type P = [f64; 3];
 

@@ -3,8 +3,8 @@
 //! that cospherical samples produce; the 2D Delaunay triangulation of the corners
 //! maximises the smallest angle, and for a convex polygon it covers exactly the polygon.
 
-use bsp::util::{cross, dot, sub};
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation as _};
+use toolbox::vec3::{cross, dot, sub};
 
 struct Corner {
     at: Point2<f64>,

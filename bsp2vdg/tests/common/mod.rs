@@ -44,7 +44,7 @@ pub fn generated_maps() -> Vec<PathBuf> {
 /// A uniform random point of a convex polygon (area-weighted fan triangle, then
 /// uniform barycentric coordinates).
 pub fn point_in_polygon(v: &[[f64; 3]], rng: &mut toolbox::SplitMix64) -> [f64; 3] {
-    use bsp::util::{cross, dot, sub};
+    use toolbox::vec3::{cross, dot, sub};
     let tri_area = |i: usize| {
         let c = cross(sub(v[i], v[0]), sub(v[i + 1], v[0]));
         dot(c, c).sqrt()
