@@ -1,5 +1,5 @@
 //! Oracle throughput on real maps: point-contents queries and segment tests per second
-//! on one core, median of 7 runs. Target (issue 2): ≥ 5 million point queries per
+//! on one core, median of 7 runs. Target: ≥ 5 million point queries per
 //! second per core.
 //!
 //! `cargo bench -p bsp --bench oracle [-- MAP.bsp ...]` — without maps it uses the

@@ -2,7 +2,7 @@
 //!
 //! A map's face list is not the whole boundary of its free space: compilers drop the
 //! faces nobody is meant to see (ZHLT's `NULL` texture, faces inside other brushes),
-//! yet the hull-0 tree still makes those brushes solid. On de_cbble whole blocks under
+//! yet the hull-0 tree still makes those brushes solid. On some maps whole blocks under
 //! walkable rooftops have no faces at all, and a graph built from faces alone reached
 //! into them. The tree, not the face list, is what the engine collides with and what
 //! the oracle answers, so walls are taken from the tree: it splits space into convex

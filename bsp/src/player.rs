@@ -34,9 +34,9 @@ pub const MIN_FLOOR_NORMAL_Z: f32 = 0.7;
 /// `bottom`, from the top down: every place where clip hull 1 turns from free to
 /// blocked going down on a walkable slope, and whose origin the point hull (hull 0)
 /// calls free too. The hulls are compiled separately and do not always agree: on
-/// de_cbble 2 % of the places clip hull 1 offered had their origin inside solid for
-/// hull 0, 100–600 units from any wall of free space — no player stands there, and no
-/// graph of free space can contain them (they were 602 of the 603 places its
+/// some maps a share of the places clip hull 1 offered had their origin inside solid
+/// for hull 0, hundreds of units from any wall of free space — no player stands there,
+/// and no graph of free space can contain them (they were nearly all the places an
 /// unreduced graph missed).
 pub fn column_floors(
     hull: &Hull,
@@ -102,13 +102,12 @@ impl<'o> Crouching<'o> {
     /// right below (within 2 units: the hulls' expansions also find "floors" on the
     /// tops of walls and clip brushes with open space below) and its ceiling less than
     /// a standing player's height above it (straight up), a ceiling that is not the
-    /// sky. On de_dust2 0.15 % of the places a player fits are crouch-only, on c1a1b
-    /// 0.8 %.
+    /// sky. Crouch-only places are a small share of the places a player fits.
     ///
-    /// The sky is the map's lid, not a ceiling: without that test 93 % of de_dust2's
-    /// crouch-only places (691 of 747 in 10⁵ columns), 74 % of de_cbble's and a third
-    /// of de_dust's were the tops of walls and buildings a few dozen units under the
-    /// sky, out of bounds, which the reduction kept and the crouch coverage counted.
+    /// The sky is the map's lid, not a ceiling: without that test most of the
+    /// crouch-only places on open outdoor maps were the tops of walls and buildings a
+    /// few dozen units under the sky, out of bounds, which the reduction kept and the
+    /// crouch coverage counted.
     pub fn column_places(&self, x: f64, y: f64, top: f64, bottom: f64) -> Vec<f64> {
         let oracle = self.oracle;
         let mut out = column_floors(self.duck, oracle, x, y, top, bottom);
@@ -402,8 +401,8 @@ mod tests {
     /// A room whose ceiling is sky over its west half and solid over its east half,
     /// with a block in each half whose top lies 48 units under the ceiling: a
     /// crouching player fits on both tops, but only the east one is a crawl space —
-    /// the west one is the top of a wall under the map's lid (de_dust2's were 93 % of
-    /// its crouch-only places).
+    /// the west one is the top of a wall under the map's lid (on open outdoor maps such
+    /// tops were most of the crouch-only places).
     #[test]
     fn crouch_places_under_the_sky_are_not_crawl_spaces() {
         use mapgen::world::{Aabb, World};

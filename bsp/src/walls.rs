@@ -1,5 +1,5 @@
 //! Exact distance from a point to the map's obstacle faces: the ground truth for
-//! "clearance" in quality measurements (SPEC §8).
+//! "clearance" in quality measurements (docs/design/quality.md).
 //!
 //! The obstacles are bounded by the pieces of the BSP tree's boundary between free and
 //! obstacle leaves ([`boundary`]); the map's faces cover the same walls but miss those

@@ -58,7 +58,7 @@ fn oracle_agrees_with_the_brushes() {
     }
 }
 
-/// The measurement: 10^6 points per map (`cargo test -p bsp --release --test
+/// The full measurement: 10^6 points per map (`cargo test -p bsp --release --test
 /// quake2 -- --ignored`).
 #[test]
 #[ignore]

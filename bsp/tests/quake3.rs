@@ -69,7 +69,7 @@ fn carved_tree_agrees_with_the_brushes() {
     }
 }
 
-/// The measurement: 10^6 points per map (`cargo test -p bsp --release --test
+/// The full measurement: 10^6 points per map (`cargo test -p bsp --release --test
 /// quake3 -- --ignored`).
 #[test]
 #[ignore]

@@ -199,8 +199,7 @@ fn check_route_on(file: &VdgFile, world: &World, name: &str, walk: &Walk, min_vi
 
 /// The `-rv 0` graph here is what made the camera's `inertia_step`: without
 /// it the camera, slowed to the clearance cap as the player stops at the
-/// corner, drifted away along the first leg and lost him (93.5 % visible at
-/// 1/30 s on the relative-cost graph).
+/// corner, drifted away along the first leg and lost him.
 #[test]
 fn follows_round_the_corner_of_an_l_corridor() {
     let walk = Walk {

@@ -306,7 +306,7 @@ fn the_log_goes_beside_the_output() {
     );
 }
 
-/// Compile-tool habits (issue 16): single-dash options of ericw-tools and VHLT are
+/// Compile-tool habits: single-dash options of ericw-tools and VHLT are
 /// accepted, unknown ones are named with the nearest known one (exit 2).
 #[test]
 fn compile_tool_options_and_unknown_options() {

@@ -1,4 +1,4 @@
-//! Maps the game loads must compile (issue 19, step 0). Counter-Strike servers ship
+//! Maps the game loads must compile. Counter-Strike servers ship
 //! maps whose brush models have a clip hull root equal to the clip node count, maps
 //! "protected" against decompilers with garbage in records nothing uses, and entity
 //! text only the engine's lenient parser reads. Each case is built here by mutating a

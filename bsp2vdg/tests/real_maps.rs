@@ -148,7 +148,7 @@ fn edge_distance(poly: &[[f64; 3]], p: [f64; 3]) -> f64 {
 
 /// The obstacle boundary taken from the BSP tree: free space in front of it and an
 /// obstacle behind (the oracle agrees), and every point of it within m of a sample,
-/// also where the compiler left no face (de_cbble's NULL-textured solid blocks).
+/// also where the compiler left no face (solid blocks textured `NULL`).
 #[test]
 fn tree_boundary_bounds_free_space_and_is_sampled() {
     let Some(maps) =

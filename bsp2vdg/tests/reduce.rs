@@ -185,9 +185,9 @@ fn reduced_volume_lies_in_the_unreduced_volume_and_components_are_kept() {
 
 /// The raise towards the walls after the reduction (`voronoi::raise_to_walls`)
 /// takes the reduced volume beyond the unreduced one into the skin along the
-/// walls, where sight lines pass: on pillar_hall `Visible` missed 15 % of the
-/// free sight lines between points of the volume without it (the segments left
-/// the volume beside the pillars and walls), 7 % with it. The volume stays in
+/// walls, where sight lines pass: on pillar_hall `Visible` missed about twice as
+/// many of the free sight lines between points of the volume without it (the
+/// segments left the volume beside the pillars and walls). The volume stays in
 /// free space (the exact world of the manifest) and sees nothing through walls.
 #[test]
 fn raise_to_walls_sees_along_walls_and_stays_free() {
@@ -196,11 +196,10 @@ fn raise_to_walls_sees_along_walls_and_stays_free() {
 
 /// The unreduced graph (`-rl 1.0`) is raised as well: the guard lowered every
 /// vertex by its curvature margin, and without the raise `-rl 1.0` wrote a
-/// graph whose Visible missed more sight lines than `-rl 0.99`'s (c1a0: 2.7
-/// against 2.0 %; 1.8 % with the raise). On pillars (10⁵ check samples) the
-/// raise took the misses from 0.92 to 0.38 %. The skin it adds is thin (0.3
-/// units on average), so random points of the volume rarely fall in it: the
-/// sight lines tell.
+/// graph whose Visible missed more sight lines than `-rl 0.99`'s, and fewer
+/// with the raise. On pillars the raise took the misses to less than half.
+/// The skin it adds is thin (a fraction of a unit on average), so random
+/// points of the volume rarely fall in it: the sight lines tell.
 #[test]
 fn unreduced_graph_is_raised_towards_the_walls_too() {
     raise_sees_along_walls_and_stays_free("pillars", "1.0", 0, 100_000, 0.005, 0.7);
@@ -208,9 +207,9 @@ fn unreduced_graph_is_raised_towards_the_walls_too() {
 
 /// The floor (`-rv`, 1000 by default): a small map keeps that many vertices
 /// whatever `-rl` says, and its Visible misses fewer sight lines. On pillars
-/// (5 038 vertices unreduced) `-rl 0.025` alone stops at 150 vertices and
-/// misses 2.3 % of the sight lines inside the volume (10⁵ check samples); at
-/// the floor 0.9 %.
+/// (some 5 000 vertices unreduced) `-rl 0.025` alone stops at 150 vertices and
+/// misses more than twice as many of the sight lines inside the volume as at
+/// the floor.
 #[test]
 fn reduction_floor_keeps_small_maps_seeing() {
     let map = "pillars";
@@ -562,7 +561,7 @@ fn crawl_duct_keeps_the_crouched_eyes_inside() {
 /// the walls, whose volume is the skin that sight lines along the walls run
 /// through, go last. On a room with pillars the reduction then keeps more of
 /// them than the thesis' order (`-rc volume`) at the same vertex count
-/// (pillar_hall at `-rl 0.05`: 161 instead of 76 of 409 vertices under 40
+/// (pillar_hall at `-rl 0.05`: about twice as many of the vertices under 40
 /// units of clearance), and the volume stays in free space.
 #[test]
 fn relative_cost_keeps_the_vertices_near_the_walls() {

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Instructions per camera update (issue 12): the most stable cost figure on a busy machine.
+# Instructions per camera update: the most stable cost figure on a busy machine.
 # Runs camera_bench under callgrind, cut into one profile per update (the bench calls the
 # never-inlined timed_update and update_done around each one), and prints the median, p90,
 # p99, max and mean instructions over the updates after the first second of warm-up.

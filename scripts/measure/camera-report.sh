@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The camera measured on every GoldSrc map in ../shared/testmaps (issue 13): compiles each
+# The camera measured on every GoldSrc map in ../shared/testmaps: compiles each
 # map's graph, replays the spawn routes (and the nav-mesh routes where a .nav sits beside
 # the map) at each frame time with every camera, and writes
 #   OUT/report.md              Markdown table: one row per map, route source, dt and camera
@@ -119,7 +119,7 @@ with open(os.path.join(out, "report.md"), "w") as f:
     f.write("|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n")
     for m, s, dt, cam, n, c in rows:
         f.write(f"| {m} | {s} ({n}) | {dt} | {cam} | {c['frames']} | {c['solid_frames']} | {c['nearplane_frames']} | {pct(c['visible_fraction'])} | {pct(c['hull_visible_mean'])} | {c['longest_occlusion_s']:.2f} | {c['jumps']} | {c['stalls']} | {c['rms_jerk']:.0f} | {c['mean_abs_dist_error']:.1f} | {c['cuts_per_min']:.2f} | {c['median_us']:.1f} | {pct(c['target_outside_fraction'])} | {pct(c.get('graph_false_occlusion', 0.0))} |\n")
-# All maps together, frames weighted: the issue's acceptance figures.
+# All maps together, frames weighted: the acceptance figures.
 agg = {}
 for m, s, dt, cam, n, c in rows:
     a = agg.setdefault((dt, cam), dict(frames=0, seconds=0.0, solid=0, near=0, vis=0.0, vis_in=0.0, inside=0.0, jumps=0, cuts=0, jerk2=0.0, seen=0.0, false_occl=0.0,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The whole-pipeline time target of issue 5 (≤ 30 s and ≤ 2 GiB for a map of
+# The whole-pipeline time target (≤ 30 s and ≤ 2 GiB for a map of
 # about 180 000 samples on this 2-core machine): compiles one map RUNS times
 # and prints per run the sample count, the seconds per stage, the CPU seconds
 # (user + system: less noisy than the wall clock on a shared machine) and the
@@ -9,7 +9,7 @@
 #   scripts/compile-time.sh [-runs 5] [-sd 18.5] [-threads N] MAP.bsp
 #   BINS="old=/path/to/bsp2vdg new=target/release/bsp2vdg" scripts/compile-time.sh MAP.bsp
 #
-# de_cbble (../shared/testmaps/goldsrc/nonfree) at -sd 18.5 has 181 487 samples.
+# de_cbble (../shared/testmaps/goldsrc/nonfree) at -sd 18.5 is a map of about that size.
 # With BINS the builds run alternately, one run of each per round.
 set -euo pipefail
 cd "$(dirname "$(readlink -f "$0")")/../.."

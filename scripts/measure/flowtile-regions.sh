@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regions from real maps (issue 17 part 1): runs `flowtile-bake region` on every
+# Regions from real maps: runs `flowtile-bake region` on every
 # GoldSrc, Quake 1, Quake 2 and Quake 3 map in ../shared/testmaps (SHARED overrides), tiles each
 # region spec, and prints one line per map: floor, grid, open slots, sources /
 # sinks, extraction seconds (wall and the process's CPU), tiling result, area

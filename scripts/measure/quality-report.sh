@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# Quality of the compiled graphs against each map's own BSP (SPEC §8): compiles every
-# generated map and every GoldSrc, Quake 1, 2 and 3 map in ../shared/testmaps (nonfree too,
-# when present), then runs `vdgview check` with N points (default 10^6) and N/10 segments.
+# Quality of the compiled graphs against each map's own BSP (docs/design/quality.md):
+# compiles every generated map and every GoldSrc, Quake 1, 2 and 3 map in ../shared/testmaps
+# (nonfree too, when present), then runs `vdgview check` with N points (default 10^6) and N/10
+# segments.
 # Prints one row per map: counts, sizes, seconds per stage, leak, coverage, walkable coverage
-# (standing player origin and head, SPEC §8), visible fp/fn (fn_camera: on the sight lines from a
+# (standing player origin and head), visible fp/fn (fn_camera: on the sight lines from a
 # camera's distance to standing origins, both ends inside).
 #   scripts/quality-report.sh [N] [extra bsp2vdg options, e.g. -rl 1.0]
 # Maps with a CS bot nav mesh beside them (MAP.nav) get the walkable sampler cross-checked

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The per-map before/after quality table (docs/quality-per-map.tsv, issue 14): compiles every
+# The per-map before/after quality table (docs/quality-per-map.tsv): compiles every
 # map with two builds of bsp2vdg at their default options (plus the second build unreduced,
 # `-rl 1.0`), checks all three graphs with this checkout's `vdgview check --json --samples N
 # --seed S` (so both builds are judged by the same checker) and prints one TSV row per map:

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Thesis table 7.1 columns for the reduction (issue 5): per map and
+# Thesis table 7.1 columns for the reduction: per map and
 # reduction limit, samples, inner nodes/faces, reduced nodes/faces, .vdg
 # bytes, seconds per stage, peak memory (GNU time), the stop reason and,
 # with -check, coverage, walkable coverage (player origin, head), visible

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Coverage against the reduction ratio (issue 14): compiles each map at several -rl
+# Coverage against the reduction ratio: compiles each map at several -rl
 # values, measures walkable coverage, coverage (>= 32) and Visible's false negatives
 # with both ends inside the volume with `vdgview check`, writes the table and draws it
 # (vdgview example reduction_curve; the sight lines as 100 % - FN). With the keep rule the

@@ -1,7 +1,7 @@
-//! The quality of a graph measured against its map's own BSP (SPEC §8): the figures of
-//! `vdgview check MAP.bsp FILE.vdg` and of `bsp2vdg --baseline`. It lives in the
-//! compiler's library, beside the BSP reader and oracle it measures with, so that both
-//! the viewer (which depends on this crate) and the compiler's CI mode call the same
+//! The quality of a graph measured against its map's own BSP (docs/design/quality.md):
+//! the figures of `vdgview check MAP.bsp FILE.vdg` and of `bsp2vdg --baseline`. It lives
+//! in the compiler's library, beside the BSP reader and oracle it measures with, so that
+//! both the viewer (which depends on this crate) and the compiler's CI mode call the same
 //! code without a dependency cycle; `vdgview::check` re-exports it.
 //!
 //! - **leak**: random points of Volume(VDG) (a face by volume, a point of its triangle,
@@ -667,7 +667,7 @@ fn measure_crouch(
 /// Spacing (units) of the points that test whether a missed segment stays inside the
 /// volume. Fine, because a coarse test blames the query for the graph's gaps: at 2 units
 /// a segment that left the volume between two points (a thin gap) counted as the
-/// query's miss (qbsp-example-halflife reduced: 1.0 % of the segments with both ends
+/// query's miss (on a small reduced map a clear share of the segments with both ends
 /// inside, every one of which leaves the volume when tested every 0.05 units). Only
 /// the misses are tested, so the cost is small.
 pub const ALONG_STEP: f64 = 0.25;

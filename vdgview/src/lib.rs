@@ -1,5 +1,5 @@
 //! vdgview: the tool a level designer opens after a compile. It measures a `.vdg`
-//! against its map's own BSP (`check`), and (issue 7) inspects, queries, renders and
+//! against its map's own BSP (`check`), and inspects, queries, renders and
 //! flies through it. One module per subcommand.
 //!
 //! Issue 7's part: `info` and `query` (thin layers over `vdgformat`'s runtime

@@ -21,7 +21,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Measure a graph against its map's BSP: leak, coverage, walkable and crouch
-    /// coverage, visibility errors on random and on camera sight lines (SPEC §8).
+    /// coverage, visibility errors on random and on camera sight lines.
     /// Exits non-zero when anything leaks or is seen through a wall.
     Check {
         #[arg(value_name = "MAP.bsp")]

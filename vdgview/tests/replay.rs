@@ -1,7 +1,7 @@
 //! `replay` on the generated maps, whose geometry is known exactly (mapgen): the routes
 //! stay on the floor and free for the player's hull, the chase cam and the spring arm
 //! behave as specified at a wall, and the CLI writes every output with the JSON keys
-//! the issue names.
+//! the measuring scripts read.
 
 use bsp::Bsp;
 use bsp::oracle::{Oracle, OracleOptions};
@@ -81,7 +81,7 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
 /// replay measures visibility on (pulled 1 unit in) lie in free space just above the
 /// floor, and the eye (22 above the origin; Quake 2 crouched 2 below it) is free.
 /// With GoldSrc's box the bottom corners were 11 units inside the floor and the
-/// chase cam "saw" 63 % of the hull. Skipped without ../shared/testmaps.
+/// chase cam "saw" only part of the hull. Skipped without ../shared/testmaps.
 #[test]
 fn quake_routes_measure_the_quake_players_box_and_eye() {
     let shared = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/testmaps");

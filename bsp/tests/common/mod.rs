@@ -36,8 +36,8 @@ pub fn shared_maps(dir: &str) -> Option<Vec<PathBuf>> {
 /// level: free tree space within 4 units along an axis, reached by a straight line
 /// that crosses no solid brush. Points within 0.1 units of a brush side are
 /// excepted: qbsp classifies brush fragments against its splitting planes with an
-/// `ON_EPSILON` of 0.1, so leaves may end that far from the brush faces (one point in
-/// 10^6 on lq_e0m4, 0.013 units outside a brush in a solid leaf).
+/// `ON_EPSILON` of 0.1, so leaves may end that far from the brush faces (rare points,
+/// hundredths of a unit outside a brush, in a solid leaf).
 pub fn disagreements(bsp: &Bsp, n: usize, seed: u64, solid_flags: i32) -> usize {
     let oracle = Oracle::new(bsp, &OracleOptions::default());
     let brushes = oracle.brushes().unwrap();

@@ -1,4 +1,4 @@
-//! Exact, degeneracy-proof 3D Delaunay triangulation (SPEC §3.5, thesis 3.5–3.6).
+//! Exact, degeneracy-proof 3D Delaunay triangulation (thesis 3.5–3.6; docs/design/pipeline.md).
 //!
 //! The Voronoi stage needs the Delaunay tetrahedralization of wall samples: points on regular
 //! grids on axis-aligned planes, so most of the input is exactly coplanar and exactly

@@ -19,8 +19,8 @@ use rayon::prelude::*;
 /// Largest grid spacing on a face. 10 since the margin is `h²/(6d)`
 /// ([`curvature_margin`]): at 8 the guard asked half again as many wall distances,
 /// and its reduced graphs missed more sight lines, not fewer (Visible's false
-/// negatives inside, every shared map, weighted by inside lines: 3.84 % with this
-/// grid at 8 and the wall raise's at 6, 3.70 % at 10 and 7; 25 maps lower, 13 higher).
+/// negatives inside, over the shared maps, with this grid at 8 and the wall raise's
+/// at 6 against 10 and 7).
 const CELL: f64 = 10.0;
 /// Most grid divisions per face edge (faces are rarely longer than 64 units).
 const MAX_DIVISIONS: usize = 16;

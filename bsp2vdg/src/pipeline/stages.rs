@@ -222,8 +222,9 @@ pub fn reduce_graph(cx: &mut Context, graph: &Graph, space: &MapSpace) -> Graph 
     };
     // Where a standing player is, the camera's target is: the reduction keeps those
     // places inside the volume (a grid of floor points of clip hull 1), and the eyes
-    // of the places where a player only fits crouching (vents, crawl spaces: c1a1b's
-    // unreduced graph holds 91 % of them, the reduction kept 80 %).
+    // of the places where a player only fits crouching (vents, crawl spaces: the
+    // unreduced graph holds most of them, and without this the reduction would drop
+    // many).
     let mut keep = bsp::player::grid_origins(
         space.oracle,
         space.bounds.0,

@@ -18,16 +18,14 @@ use rayon::prelude::*;
 
 /// Grid spacing (units) of the certificate of [`raise_to_walls`]: finer than the
 /// guard's, since the curvature margin `h²/(6d)` is paid near walls, where the raise
-/// is wanted. 7 and 6 gave the same volume within the noise (10 maps, 10⁵ points:
-/// coverage ± 0.0001, FN inside ± 0.2 points) since the margin shrank to a third;
-/// 7 asks a quarter fewer wall distances.
+/// is wanted. 7 and 6 gave the same volume within the sampling noise since the
+/// margin shrank to a third; 7 asks a quarter fewer wall distances.
 const RAISE_CELL: f64 = 7.0;
 /// Most grid divisions per face edge in [`raise_to_walls`] (reduced faces are long:
 /// on open maps some span over a thousand units). At 64 the grid of such a face grew
 /// coarse and its curvature margin with it; once the reduction's own raise no longer
-/// ran first, allocblock-lightmap-test then held 0.9694 of the points of clearance
-/// ≥ 32, at 128 0.9819 (10⁵ samples; both with the earlier margin `h²/(2d)`), and the
-/// few faces that long cost little.
+/// ran first, such maps lost coverage of the points far from walls that 128 won
+/// back, and the few faces that long cost little.
 const RAISE_MAX_DIVISIONS: usize = 128;
 
 /// What [`raise_to_walls`] did.
@@ -58,11 +56,11 @@ struct SlackGrid {
 /// The wall distances are measured once, in parallel; the result is the same for
 /// any thread count.
 ///
-/// Why (issue 14): the reduction keeps its volume inside the unreduced one
+/// Why: the reduction keeps its volume inside the unreduced one
 /// (condition A), whose clearances the guard lowered and whose faces lie on the
 /// sampled medial sheets; a reduced face spans them with one plane, and its volume
-/// misses a skin along the walls — where sight lines pass, so `Visible` missed 7 %
-/// of the free ones between points of the volume on de_dust2. The walls, not the
+/// misses a skin along the walls — where sight lines pass, so `Visible` missed many
+/// of the free ones between points of the volume. The walls, not the
 /// unreduced volume, bound what a face may hold.
 pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
     raise_with_grids(graph, space).0
@@ -75,20 +73,20 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
 /// node keeps `d − r ≥ h²/(6 d_low)`), on one face instead of all faces around a
 /// vertex.
 ///
-/// Why (issue 14): a vertex's clearance must keep every face around it free, so the
-/// face that bends closest to a wall holds the vertex down for all the others; on
-/// de_dust2 a tenth of the reduced vertices stay 12 units or more below their wall
-/// distance after [`raise_to_walls`]. A face volume only depends on its own three
+/// Why: a vertex's clearance must keep every face around it free, so the
+/// face that bends closest to a wall holds the vertex down for all the others;
+/// many reduced vertices stay well below their wall distance after
+/// [`raise_to_walls`]. A face volume only depends on its own three
 /// corner radii, so each face may raise its corners on its own: the volume is
 /// still the union of certified-free face volumes, and sight lines that graze the
-/// walls stay in it (de_dust2, 2·10⁵ check samples: Visible's false negatives
-/// inside 3.05 → 1.64 %; c1a1b 8.0 → 4.8 %). Per face two rounds, largest room
+/// walls stay in it (Visible's false negatives inside the volume fell by about
+/// half). Per face two rounds, largest room
 /// first, half the allowance and then the rest (as [`raise_to_walls`] shares a
 /// face's slack between its corners). Corners never fall below the vertex
 /// clearance, which the runtime reader checks. The corners are raised on the
 /// vertex raise's own certificate grids (their slacks less what the vertices
 /// took), so they ask no wall distance of their own (on grids of their own they
-/// cost de_cbble `-sd 18.5` 1.5 s). A later lowering of vertex clearances (the
+/// cost a noticeable share of a dense compile's time). A later lowering of vertex clearances (the
 /// reduction check's repair) leaves them certified and above the clearances; the
 /// faces whose volume it found reaching a wall are [`check_corners`](crate::guard::check_corners)' to catch.
 /// The result does not depend on the thread count.
@@ -165,9 +163,8 @@ fn raise_with_grids(
     });
     // Two rounds: each vertex takes half of what it may in the first, the rest
     // in the second, so that one early in the order does not take all the slack
-    // it shares with its neighbours (as the reduction's own raise does; de_dust2,
-    // 10^5 sight lines: Visible's false negatives inside 4.10 % with one round,
-    // 3.85 % with two, 3.92 % with three).
+    // it shares with its neighbours (as the reduction's own raise does; two rounds
+    // left Visible fewer false negatives inside than one, and three no fewer).
     let mut risen = vec![0.0f64; graph.vertices.len()];
     raise_round(graph, &order, &room, &faces_of, &mut grids, &mut risen, 0.5);
     // A vertex that could not rise in the first round cannot in the second:

@@ -4,14 +4,14 @@
 //! `seam`) remove.
 //!
 //! **Where.** With the coverage guards off (`--no-coverage-guards`)
-//! the reduction stopped above `-rl` on c1a0, c1a1b and quake_start with
+//! the reduction stopped above `-rl` on several maps with
 //! the vertices left mostly on borders: a vertex whose faces form one fan
 //! between two border edges (`special[1, 1]`: the thesis swaps the fan down
 //! to two faces and then needs the concave case 4.6.1, whose new edge must
 //! pass through the vertex's ball), and the corner of a *book* — a seam
 //! ending where the border of each of its sheets ends (`special[1, 1, 1, 3]`:
-//! three border edges and one seam edge with three faces, a third of what
-//! was left on c1a0). The collapse along an edge cannot take such a corner
+//! three border edges and one seam edge with three faces, a large part of
+//! what was left). The collapse along an edge cannot take such a corner
 //! without lowering its target to nothing: collapsing it into the seam's
 //! next vertex moves every sheet's faces onto that vertex, whose ball lies
 //! far outside them.
@@ -88,8 +88,7 @@ use super::volume::{add, dot, loss, optimal_linear_reduction, perpendicular_feet
 /// coverage and coverage ≥ 32 stayed within sampling noise of the figures
 /// without the fan removal on the shared maps, with none allowed as with
 /// half (see the README's reduction paragraph); half removes about half as
-/// many vertices again (c1a0 at the default options: 5.58 % of the vertices
-/// left with none, 5.43 % with half, 5.87 % without the operation).
+/// many vertices again as none allowed does.
 pub(crate) const MAX_LOWERING: f64 = 0.5;
 
 /// The fans of a vertex.

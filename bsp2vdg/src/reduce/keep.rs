@@ -238,17 +238,15 @@ impl Bvh {
 /// ([`clearance_bound`]) must lie for [`Bvh::deep_face`] to skip its exact
 /// clearance. The bound is an upper bound of the exact clearance; the margin
 /// covers the rounding of both by twelve orders of magnitude (the exact value
-/// exceeded the bound by at most 4e-13 units over all faces the searches of
-/// de_dust2, c1a0 and allocblock-vis-test evaluated), so a skipped face would
-/// never have been chosen and the search finds the same face. It skips about
-/// 60 % of the exact clearances there.
+/// exceeded the bound only by rounding, around 1e-13 units, on the faces the
+/// searches evaluated), so a skipped face would never have been chosen and the
+/// search finds the same face. It skips most of the exact clearances.
 const SKIP_MARGIN: f64 = 1.0;
 
 /// The radius of the ball each standing place keeps inside the volume: half the
 /// spacing of the kept grid ([`bsp::player::KEEP_SPACING`]). With the places
-/// kept only inside, 0.5 % of de_dust2's standing places fell out between the kept
-/// columns (walkable coverage 0.9858 against 0.9912 unreduced); with this ball,
-/// 0.9911 (and 0.99–1.0 on every shared map whose unreduced graph holds that).
+/// kept only inside, standing places fell out between the kept columns and walkable
+/// coverage dropped below the unreduced graph's; with this ball it matches it.
 pub(crate) const KEEP_MARGIN: f64 = 8.0;
 
 /// How deep (units) a point's first holder must hold it for the search to stop

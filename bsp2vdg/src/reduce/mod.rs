@@ -1,4 +1,5 @@
-//! Reduction of the Voronoi Distance Graph (thesis ch. 4, 6.1.5; SPEC §3.8).
+//! Reduction of the Voronoi Distance Graph (thesis ch. 4, 6.1.5;
+//! docs/design/reduction.md).
 //!
 //! The unreduced graph has hundreds of thousands of vertices; the reduction
 //! removes them one at a time, cheapest first, where the cost of a vertex is
@@ -40,8 +41,8 @@
 //! rings away can make a vertex removable without re-queuing it).
 //!
 //! Not in the thesis: a second phase for the vertices the thesis' cases
-//! cannot remove (seam and border vertices, 2–9 % of the graph on the
-//! shared maps): when the loop stops with nothing removable above the
+//! cannot remove (seam and border vertices, a few per cent of the graph on
+//! most maps): when the loop stops with nothing removable above the
 //! limit, it goes on with three more operations that keep A–C, the seam
 //! contraction and the collapse along an edge (module `seam`, which gives
 //! their design and proofs) and the fan removal for border vertices and
@@ -528,7 +529,7 @@ fn in_hilbert_order(graph: &Graph) -> Graph {
 /// reason (the first condition that fails for a vertex, see the `remove`
 /// module), the number of vertices, largest first; vertices that can be
 /// removed are counted as `"removable"`. A diagnostic for the reduction
-/// stopping early (issue 5); costs one removal attempt per vertex.
+/// stopping early; costs one removal attempt per vertex.
 ///
 /// ```
 /// use bsp2vdg::reduce::refusals;

@@ -9,8 +9,8 @@ pub struct ReduceOptions {
     /// Never reduce below this many vertices (`-rv`), whatever `limit`
     /// says: a fraction made for maps of thousands of vertices leaves a
     /// small map a few dozen, whose volume misses a third of the room's
-    /// sight lines (the qbsp example maps: 35 vertices, 38 % of Visible's
-    /// answers wrong, against 15 % unreduced). 0 = no floor (the thesis).
+    /// sight lines (on small example maps Visible answered more than twice as
+    /// often wrong as unreduced). 0 = no floor (the thesis).
     pub min_vertices: usize,
     /// Raise the clearances the operations lowered back towards the
     /// unreduced graph's afterwards, as far as condition A against the
@@ -19,7 +19,7 @@ pub struct ReduceOptions {
     /// and raises towards the walls instead (`voronoi::raise_to_walls`),
     /// which the map's walls certify and which reaches further: on the
     /// shared maps the volume holds as much or more without this raise, and
-    /// the compile saves its time (de_cbble `-sd 18.5`: 2.3 of 24 s).
+    /// the compile saves its time (about a tenth of a dense compile's).
     pub raise: bool,
     /// What a removal costs, i.e. which vertices go first (`-rc`).
     pub cost: ReductionCost,
@@ -42,10 +42,8 @@ pub enum ReductionCost {
     /// walls loses it: the volume's skin there is what sight lines along
     /// the walls run through, and the thesis' cost took it first (its
     /// small volumes are cheap). On the shared maps Visible's false
-    /// negatives inside the volume fell from 2.47 to 2.39 % (weighted by
-    /// sight lines; lower on 23 maps, higher on 11), the files by 7 %, and
-    /// the camera's replay over 21 maps saw the target in 98.41 / 98.19 % of
-    /// the frames instead of 98.11 / 97.91 % (1/30 / 1/60 s).
+    /// negatives inside the volume fell (on most maps, not all), the files
+    /// shrank, and the camera's replay saw the target in more of the frames.
     Relative,
 }
 

@@ -4,7 +4,7 @@
 //! the vertex id, so the order never depends on timing.
 //!
 //! Entries popped and put back at once (the vertices a batch looked at but
-//! could not take, about two of three popped on de_dust2) wait in a short
+//! could not take, most of those popped) wait in a short
 //! sorted list beside the heap instead of going through it again: they are
 //! cheaper than everything left, so they go to its front.
 

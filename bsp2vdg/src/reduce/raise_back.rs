@@ -1,16 +1,16 @@
 //! Raising the clearances the reduction lowered, as far as condition A
-//! allows (issue 5; not in the thesis).
+//! allows (not in the thesis).
 //!
 //! Every swap and removal case proves condition A against the two or three
 //! faces it replaces, so it lowers `k3`/`k4` until the new face's radius at
 //! the split point `q` is at most the clearance of those faces — which are
 //! themselves the product of earlier, lowered operations. The lowerings
-//! compound: on de_dust2 at 2.5 % the kept vertices lost a median of 20
-//! units of clearance, and the reduced volume missed 12 % of the free points
-//! with clearance ≥ 32 (SPEC §8 coverage), lying a median of 10 units
+//! compound: at strong reductions the kept vertices lost much of their
+//! clearance, and the reduced volume missed a clear share of the free points
+//! with clearance ≥ 32 (the coverage of docs/design/quality.md), lying just
 //! outside it, while the same faces with the vertices' unreduced clearances
-//! would have covered 99.99 %. The unreduced volume is much larger than the
-//! replaced faces' volumes, so there is room to raise.
+//! would have covered nearly all of them. The unreduced volume is much larger
+//! than the replaced faces' volumes, so there is room to raise.
 //!
 //! A raise must keep condition A against the *unreduced* volume `U` (the
 //! guarded graph the reduction started from, which lies in free space). As
@@ -38,8 +38,8 @@
 //! are the cost); then the vertices are raised one by one, those that lost
 //! most first (ties by id), in two rounds (half the allowance, then all of
 //! it), each seeing the raises before it, so the result is the same for
-//! any thread count. On de_dust2 at 2.5 % coverage rose from 0.881 to
-//! 0.967 (ordering by id and one round: 0.953).
+//! any thread count. The raise won back most of the lost coverage, and this
+//! order and the two rounds won more than ordering by id in one round.
 
 use rayon::prelude::*;
 
@@ -54,9 +54,9 @@ const CELL: f64 = 24.0;
 const MAX_DIVISIONS: usize = 16;
 /// How often a cell may be cut in four. Once was enough while the raise
 /// towards the walls (`voronoi::raise_to_walls`) followed this one in the
-/// compiler (it now replaces it there): cutting twice gave the same coverage and `Visible` false negatives
-/// within the noise on de_dust2, c1a0, c1a0d, c1a1, lq_e0m1 and
-/// allocblock-lightmap-test (10⁶ points) and took 15–20 % longer.
+/// compiler (it now replaces it there): cutting twice gave the same coverage
+/// and `Visible` false negatives within the noise on the maps tried, and took
+/// noticeably longer.
 const DEPTH: usize = 1;
 /// A cell is cut while it lets a vertex rise by less than this share of
 /// the vertex's room ...
@@ -644,8 +644,8 @@ mod tests {
             assert!(c > -1e-6, "{p:?} is {c} outside the unreduced volume");
         }
         // Points of the unreduced volume deep inside it (like the free
-        // points ≥ 32 units from walls of SPEC §8) kept by each: 86 % and
-        // 90 % when this was written.
+        // points ≥ 32 units from walls of docs/design/quality.md) kept by each:
+        // the raise must keep clearly more of them.
         let (mut deep, mut kept_lowered, mut kept_raised) = (0, 0, 0);
         while deep < 3000 {
             let p = point_in(&g, &mut rng);

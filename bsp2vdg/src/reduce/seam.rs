@@ -7,8 +7,8 @@
 //! (condition C) and only removes a vertex of edge degree 2 or 3 (4.6), so a
 //! vertex in the middle of a seam, with two sheets or more around it, keeps
 //! at least two neighbours on the seam plus one in each sheet: degree ≥ 4
-//! forever. On the shared maps these vertices were 2–9 % of the graph when
-//! the reduction stopped with "nothing removable" (14 of 16 real maps).
+//! forever. On most real maps these vertices were a few per cent of the graph
+//! when the reduction stopped with "nothing removable".
 //! Two operations take them, both keeping conditions A–C of 4.2:
 //!
 //! **Seam contraction.** A *seam vertex* `k` has exactly two *seam
@@ -84,8 +84,8 @@
 //! `Keep::deep`; a point held less than 1 unit deep is not kept). The free
 //! space is the union of its medial balls, so the points of clearance ≥ 32
 //! are about the union of the shrunk balls, and `vdgview check`'s coverage
-//! counts exactly those: the phase cannot take it. Without them it took up
-//! to 2.4 % of it (c1a1c 0.993 → 0.969); with them coverage stays as the
+//! counts exactly those: the phase cannot take it. Without them it took a
+//! visible share of it; with them coverage stays as the
 //! thesis' cases left it, and the phase stops earlier.
 //!
 //! **When.** These operations run in a second phase only: the reduction
@@ -424,14 +424,14 @@ fn mild(e: &Edit, v: u32, r: f64) -> bool {
 /// volume (or what the volume held of it when the phase began): the points
 /// with clearance ≥ 32, whose share inside the volume `vdgview check` reports
 /// as coverage, lie in the union of those balls. Without them the phase took
-/// up to 2.4 % of that coverage on the shared maps (c1a1c 0.993 → 0.969).
+/// a visible share of that coverage.
 pub(crate) const DEEP_CLEARANCE: f64 = 32.0;
 
 /// The largest share of a clearance the seam operations may take off: none.
 /// Lowering the neighbour's clearance thins the volume around it, and on the
-/// shared maps even a tenth cost walkable coverage (c1a0: 0.9888 with 10 %
-/// against 0.9899 with none, and coverage ≥ 32 fell from 0.999 to 0.985
-/// with no bound at all). Where coverage and ratio conflict, coverage wins.
+/// shared maps even a tenth cost walkable coverage, and coverage ≥ 32 fell
+/// markedly with no bound at all. Where coverage and ratio conflict, coverage
+/// wins.
 const MAX_LOWERING: f64 = 0.0;
 
 /// The two vertices of `t` besides `s`.

@@ -118,8 +118,7 @@ pub(crate) fn screen(e: &Edit, k1: u32, k2: u32) -> Result<Screened, Refusal> {
     // condition-A argument above, which holds wherever `p` falls since the
     // bound at `q` is the exact clearance of the old faces). The thesis
     // also asks `t_p ∈ [0,1]` for its cylinder estimate; requiring it left
-    // about a quarter of the unremovable vertices (seam vertices whose seam
-    // bends slightly) on de_dust2.
+    // many vertices unremovable (seam vertices whose seam bends slightly).
     let tp = tp.clamp(0.0, 1.0);
     if !(0.0..=1.0).contains(&tq) {
         return Err(Refusal::SwapFeetOutside);

@@ -16,9 +16,7 @@ pub(crate) use toolbox::vec3::{P3, add, cross, dist, dot, norm, scale, sub};
 /// with `r̄` the mean clearance, as the formula is printed: a full cylinder
 /// per edge and face. (The prose speaks of "Zylinderhälften"; half
 /// cylinders, used before, weigh the edges half as much and lost more of
-/// the far-from-wall coverage at 2.5 %: allocblock-lightmap-test 0.839 vs
-/// 0.894, complex 0.957 vs 0.981; de_dust2 0.893 at 2.85 % vs 0.899 at
-/// 2.77 %.)
+/// the far-from-wall coverage at the same reduction ratio.)
 pub(crate) fn face_volume(p: [P3; 3], r: [f64; 3]) -> f64 {
     shape_volume(&face_shape(p), r)
 }
@@ -55,12 +53,11 @@ pub(crate) fn shape_volume(s: &Shape, r: [f64; 3]) -> f64 {
 /// (condition A), but the model's parts overlap — every face carries its
 /// own edge cylinders and corner ball — so a swap that replaces the edge
 /// `k1–k2` by a longer `k3–k4` between larger clearances makes the model
-/// volume *grow*: de_cbble logged a cost of −15 693 007.8, a swap whose new
-/// edge's cylinders outweighed the old one's. Such an operation changes the
+/// volume *grow*, by millions of cubic units when the new edge's cylinders
+/// outweigh the old one's. Such an operation changes the
 /// description as much as a loss of that size does, so its magnitude is
 /// the cost (clamping at zero instead made those operations free and lost
-/// more coverage: allocblock-lightmap-test 0.821 vs 0.839, complex 0.904
-/// vs 0.957 at 2.5 %).
+/// more coverage).
 #[inline]
 pub(crate) fn loss(before: f64, after: f64) -> f64 {
     (before - after).abs()

@@ -1,4 +1,4 @@
-//! Where the reduction loses coverage (issue 5): random free points with true
+//! Where the reduction loses coverage: random free points with true
 //! clearance ≥ 32 (as `vdgview check` draws them) that the unreduced graph covers
 //! and the reduced one does not — how far outside the reduced volume they lie,
 //! how deep inside the unreduced one, their true clearance, and where (cells of

@@ -1,4 +1,4 @@
-//! Visible's false negatives against the vertices kept (issue 14): draws what
+//! Visible's false negatives against the vertices kept: draws what
 //! `scripts/measure/reduction-curve.sh` measured with several `-opts` series — per map
 //! and compile options, the share of free sight lines with both ends inside the
 //! volume that Visible misses, against the reduced graph's vertex count on a
@@ -17,7 +17,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use vdgview::replay::plots::{PALETTE, err, png};
 
-/// The target of issue 14: Visible misses at most 2 % of the free sight lines
+/// The reduction's quality target: Visible misses at most 2 % of the free sight lines
 /// with both ends inside the volume.
 const TARGET_PERCENT: f64 = 2.0;
 

@@ -1,4 +1,4 @@
-//! Coverage against the reduction ratio (issue 14): draws what
+//! Coverage against the reduction ratio: draws what
 //! `scripts/measure/reduction-curve.sh` measured — per map, walkable coverage (standing
 //! player origins inside the volume), coverage (free points with clearance ≥ 32)
 //! and, when measured, the free sight lines with both ends inside the volume that

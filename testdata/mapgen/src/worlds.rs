@@ -234,7 +234,7 @@ pub fn extra_worlds() -> Vec<World> {
 /// Two 256 × 256 × 160 rooms joined by a duct 256 units long, 64 wide and 48 high
 /// (`[256,512]×[96,160]×[0,48]`): a player stands in the rooms and only crouches in
 /// the duct (GoldSrc's duck hull is 36 units tall, the standing hull 72). Where the
-/// camera's target crawls (issue 14: crouch coverage).
+/// camera's target crawls, so crouch coverage has something to measure.
 pub fn crawl_duct() -> World {
     let mut w = World::new(
         "crawl_duct",
@@ -250,7 +250,7 @@ pub fn crawl_duct() -> World {
 /// A large open map like an outdoor level: a 3072 × 3072 field under a sky 768
 /// units up, with a few scattered buildings. Clearances reach hundreds of units,
 /// so face volumes span several BBox-tree cells: the map that shows the tree's
-/// size (issue 14: bytes per face).
+/// size (its bytes per face).
 pub fn open_field() -> World {
     let mut w = World::new(
         "open_field",

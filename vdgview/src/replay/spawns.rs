@@ -382,7 +382,7 @@ pub fn routes(
         && let Some(&(start, _)) = pairs.first()
     {
         // No floor path joins any pair of spawns (they sit in areas a player
-        // joins by ladder, lift or door, as on c1a0a and c1a1): tour the floor
+        // joins by ladder, lift or door, as on some single-player maps): tour the floor
         // reachable from the first spawn instead, so every map gets measured.
         let mut rng = SplitMix64::new(seed ^ 0x7f4a_7c15);
         let tour = floor_tour(oracle, start, &mut rng, max);
