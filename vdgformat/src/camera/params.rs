@@ -401,3 +401,25 @@ impl std::fmt::Display for CameraError {
 }
 
 impl std::error::Error for CameraError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thesis_params_turn_every_improvement_off() {
+        let t = CameraParams::thesis();
+        assert_eq!(t.max_substeps, 0);
+        assert!(!t.distance_field && !t.normalized_visibility && !t.cut_to_ideal);
+        assert_eq!(
+            (t.direction_tau, t.look_tau, t.near_margin),
+            (0.0, 0.0, 0.0)
+        );
+        assert_eq!(t.inertia_horizon, 0.0);
+        assert_eq!(
+            (t.vertex_tests, t.sight_hops, t.leaf_searches),
+            (0, u32::MAX, u32::MAX)
+        );
+        t.validate().unwrap();
+    }
+}
