@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::error::{BuildError, WriteError};
 use super::write::write_file_atomic;
-use crate::layout::Vertex;
+use crate::layout::{Vertex, is_metadata_key};
 
 /// Default minimum leaf extent of the BBox tree (thesis 6.1.6, `-bb`).
 pub const DEFAULT_LEAF_SIZE: f32 = 256.0;
@@ -222,10 +222,4 @@ impl VdgBuilder {
         let bytes = self.to_bytes()?;
         write_file_atomic(path.as_ref(), &bytes)
     }
-}
-
-fn is_metadata_key(k: &str) -> bool {
-    !k.is_empty()
-        && k.bytes()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
 }

@@ -6,37 +6,83 @@ use std::borrow::Cow;
 use std::path::Path;
 
 use super::adjacency::{vertex_faces, vertex_neighbours};
-use super::tree::{Reach, build_tree, face_box, face_reach, node_bounds};
+use super::tree::{Reach, Tree, build_tree, face_box, face_reach, node_bounds};
 use super::{BuildError, VdgBuilder, WriteError};
 use crate::geom::Aabb;
 use crate::hash::xxh64;
 use crate::index::{FaceList, IndexList};
 use crate::layout::{
     CHECKSUM_END, CHECKSUM_OFFSET, FORMAT_VERSION, Header, Info, MAGIC,
-    MAX_FACES_FOR_NARROW_LEAVES, MAX_VERTICES_FOR_NARROW_INDICES, SECTION_ALIGN, SectionEntry,
-    section,
+    MAX_FACES_FOR_NARROW_LEAVES, MAX_VERTICES_FOR_NARROW_INDICES, NodeBounds, SECTION_ALIGN,
+    SectionEntry, section,
 };
 
+/// The boxes a file records: every face volume's (the tree is built from
+/// them), the whole volume's (the tree's root cell) and the vertices', with
+/// the largest clearance.
+struct Bounds {
+    face_boxes: Vec<Aabb>,
+    volume: Aabb,
+    vertices: Aabb,
+    max_clearance: f32,
+}
+
+/// Everything the file holds beyond the builder's own vertices and faces.
+struct Derived {
+    /// The `FACE_RADII` section (empty when no face has its own radii).
+    radii: Vec<[f32; 3]>,
+    info: Info,
+    vf_offsets: Vec<u32>,
+    vf_targets: Vec<u32>,
+    vn_offsets: Vec<u32>,
+    vn_targets: Vec<u32>,
+    tree: Tree,
+    node_bounds: Vec<NodeBounds>,
+    metadata: String,
+}
+
 impl VdgBuilder {
-    /// The file of a validated builder.
+    /// The file of a validated builder: what it derives from the builder,
+    /// then those parts laid out as sections.
     pub(super) fn serialise(&self) -> Result<Vec<u8>, BuildError> {
+        Ok(self.sections(&self.derive()?))
+    }
+
+    /// Bounds, adjacency, the tree with its node bounds, the info record
+    /// and the metadata text.
+    fn derive(&self) -> Result<Derived, BuildError> {
         let vcount = self.vertices.len();
         let radii = self.corner_radii();
-        let corners = |i: usize| {
-            crate::layout::corner_radii(FaceList::wide(&self.faces), &self.vertices, &radii, i)
-        };
+        let bounds = self.bounds(&radii);
+        let (vf_offsets, vf_targets) = vertex_faces(vcount, &self.faces);
+        let (vn_offsets, vn_targets) = vertex_neighbours(vcount, &self.faces);
+        let (tree, node_bounds) = self.tree(&radii, &bounds)?;
+        let info = self.info(&bounds, &tree);
+        Ok(Derived {
+            radii,
+            info,
+            vf_offsets,
+            vf_targets,
+            vn_offsets,
+            vn_targets,
+            tree,
+            node_bounds,
+            metadata: self.metadata_text(),
+        })
+    }
+
+    /// Face `i`'s corner radii: its own, or its vertices' clearances.
+    fn corners(&self, radii: &[[f32; 3]], i: usize) -> [f32; 3] {
+        crate::layout::corner_radii(FaceList::wide(&self.faces), &self.vertices, radii, i)
+    }
+
+    fn bounds(&self, radii: &[[f32; 3]]) -> Bounds {
         let face_boxes: Vec<Aabb> = (0..self.faces.len())
-            .map(|i| face_box(&self.vertices, &self.faces[i], corners(i)))
+            .map(|i| face_box(&self.vertices, &self.faces[i], self.corners(radii, i)))
             .collect();
         let mut volume = Aabb::EMPTY;
         for b in &face_boxes {
             volume.grow(b);
-        }
-        if volume.is_empty() {
-            volume = Aabb {
-                min: [0.0; 3],
-                max: [0.0; 3],
-            };
         }
         let mut vbox = Aabb::EMPTY;
         let mut max_clearance = 0.0f32;
@@ -47,46 +93,58 @@ impl VdgBuilder {
             });
             max_clearance = max_clearance.max(v.clearance);
         }
-        if vbox.is_empty() {
-            vbox = Aabb {
-                min: [0.0; 3],
-                max: [0.0; 3],
-            };
+        Bounds {
+            face_boxes,
+            volume: zero_if_empty(volume),
+            vertices: zero_if_empty(vbox),
+            max_clearance,
         }
+    }
 
-        let (vf_offsets, vf_targets) = vertex_faces(vcount, &self.faces);
-        let (vn_offsets, vn_targets) = vertex_neighbours(vcount, &self.faces);
+    /// The BBox tree over the face volumes and its nodes' search bounds.
+    fn tree(
+        &self,
+        radii: &[[f32; 3]],
+        bounds: &Bounds,
+    ) -> Result<(Tree, Vec<NodeBounds>), BuildError> {
         let reach: Vec<Reach> = (0..self.faces.len())
-            .map(|i| face_reach(&self.vertices, &self.faces[i], corners(i)))
+            .map(|i| face_reach(&self.vertices, &self.faces[i], self.corners(radii, i)))
             .collect();
-        let tree = build_tree(&face_boxes, &reach, volume, self.leaf_size);
+        let tree = build_tree(&bounds.face_boxes, &reach, bounds.volume, self.leaf_size);
         let node_bounds = node_bounds(
             &tree.nodes,
             IndexList::wide(&tree.leaf_faces),
             FaceList::wide(&self.faces),
             &self.vertices,
-            &radii,
+            radii,
         );
         if tree.leaf_faces.len() >= u32::MAX as usize || tree.nodes.len() >= u32::MAX as usize {
             return Err(BuildError::TooLarge("tree entries"));
         }
+        Ok((tree, node_bounds))
+    }
 
-        let info = Info {
-            vertex_count: vcount as u32,
+    fn info(&self, bounds: &Bounds, tree: &Tree) -> Info {
+        Info {
+            vertex_count: self.vertices.len() as u32,
             face_count: self.faces.len() as u32,
             tree_node_count: tree.nodes.len() as u32,
             leaf_size: self.leaf_size,
-            vertex_min: vbox.min,
-            max_clearance,
-            vertex_max: vbox.max,
+            vertex_min: bounds.vertices.min,
+            max_clearance: bounds.max_clearance,
+            vertex_max: bounds.vertices.max,
             reserved0: 0,
-            volume_min: volume.min,
+            volume_min: bounds.volume.min,
             reserved1: 0,
-            volume_max: volume.max,
+            volume_max: bounds.volume.max,
             reserved2: 0,
             source_hash: self.source_hash,
             reserved3: 0,
-        };
+        }
+    }
+
+    /// The `METADATA` section: one `key=value` line per entry, by key.
+    fn metadata_text(&self) -> String {
         let mut meta = String::new();
         for (k, v) in &self.metadata {
             meta.push_str(k);
@@ -94,7 +152,12 @@ impl VdgBuilder {
             meta.push_str(v);
             meta.push('\n');
         }
+        meta
+    }
 
+    /// The sections in file order, laid out with header and checksum.
+    fn sections(&self, d: &Derived) -> Vec<u8> {
+        let vcount = self.vertices.len();
         // 16-bit indices wherever every index fits (leaf faces since version
         // 2, the rest since version 4): indices are most of a reduced graph's
         // bytes, and half of them is the difference between ~75 and ~100
@@ -110,20 +173,20 @@ impl VdgBuilder {
         let (vf_id, vf_bytes) = index_section(
             (section::VERTEX_FACES, section::VERTEX_FACES16),
             narrow_faces,
-            &vf_targets,
+            &d.vf_targets,
         );
         let (vn_id, vn_bytes) = index_section(
             (section::VERTEX_NEIGHBOURS, section::VERTEX_NEIGHBOURS16),
             narrow_vertices,
-            &vn_targets,
+            &d.vn_targets,
         );
         let (leaf_id, leaf_bytes) = index_section(
             (section::TREE_LEAF_FACES, section::TREE_LEAF_FACES16),
             narrow_faces,
-            &tree.leaf_faces,
+            &d.tree.leaf_faces,
         );
         let mut sections: Vec<(u32, &[u8], u64)> = vec![
-            (section::INFO, bytemuck::bytes_of(&info), 1),
+            (section::INFO, bytemuck::bytes_of(&d.info), 1),
             (
                 section::VERTICES,
                 bytemuck::cast_slice(&self.vertices),
@@ -132,37 +195,53 @@ impl VdgBuilder {
             (faces_id, &faces_bytes, self.faces.len() as u64),
             (
                 section::VERTEX_FACE_OFFSETS,
-                bytemuck::cast_slice(&vf_offsets),
-                vf_offsets.len() as u64,
+                bytemuck::cast_slice(&d.vf_offsets),
+                d.vf_offsets.len() as u64,
             ),
-            (vf_id, &vf_bytes, vf_targets.len() as u64),
+            (vf_id, &vf_bytes, d.vf_targets.len() as u64),
             (
                 section::VERTEX_NEIGHBOUR_OFFSETS,
-                bytemuck::cast_slice(&vn_offsets),
-                vn_offsets.len() as u64,
+                bytemuck::cast_slice(&d.vn_offsets),
+                d.vn_offsets.len() as u64,
             ),
-            (vn_id, &vn_bytes, vn_targets.len() as u64),
+            (vn_id, &vn_bytes, d.vn_targets.len() as u64),
             (
                 section::TREE_NODES,
-                bytemuck::cast_slice(&tree.nodes),
-                tree.nodes.len() as u64,
+                bytemuck::cast_slice(&d.tree.nodes),
+                d.tree.nodes.len() as u64,
             ),
-            (leaf_id, &leaf_bytes, tree.leaf_faces.len() as u64),
-            (section::METADATA, meta.as_bytes(), meta.len() as u64),
+            (leaf_id, &leaf_bytes, d.tree.leaf_faces.len() as u64),
+            (
+                section::METADATA,
+                d.metadata.as_bytes(),
+                d.metadata.len() as u64,
+            ),
             (
                 section::TREE_NODE_BOUNDS,
-                bytemuck::cast_slice(&node_bounds),
-                node_bounds.len() as u64,
+                bytemuck::cast_slice(&d.node_bounds),
+                d.node_bounds.len() as u64,
             ),
         ];
-        if !radii.is_empty() {
+        if !d.radii.is_empty() {
             sections.push((
                 section::FACE_RADII,
-                bytemuck::cast_slice(&radii),
-                radii.len() as u64,
+                bytemuck::cast_slice(&d.radii),
+                d.radii.len() as u64,
             ));
         }
-        Ok(assemble(&sections))
+        assemble(&sections)
+    }
+}
+
+/// An empty box (no faces, no vertices) as the zero box at the origin.
+fn zero_if_empty(b: Aabb) -> Aabb {
+    if b.is_empty() {
+        Aabb {
+            min: [0.0; 3],
+            max: [0.0; 3],
+        }
+    } else {
+        b
     }
 }
 
