@@ -359,13 +359,7 @@ impl Camera {
         if sc.vis[i] < 0 {
             let v = sc.reach[i];
             let ok = if self.params.vertex_tests == 0 {
-                self.sees(
-                    g,
-                    g.vertex_faces(v).get(0),
-                    g.pos(v),
-                    scene,
-                    Some(Slot::Vertex(v)),
-                )
+                self.sees_vertex(g, scene, v)
             } else {
                 let memo = sc.memo[v as usize];
                 let moved = (V3::from_f32(memo.target) - scene.t_vis).norm();
@@ -373,13 +367,7 @@ impl Camera {
                     memo.visible
                 } else if sc.fresh_left > 0 {
                     sc.fresh_left -= 1;
-                    let ok = self.sees(
-                        g,
-                        g.vertex_faces(v).get(0),
-                        g.pos(v),
-                        scene,
-                        Some(Slot::Vertex(v)),
-                    );
+                    let ok = self.sees_vertex(g, scene, v);
                     sc.memo[v as usize] = VisMemo {
                         target: scene.t_vis.to_f32(),
                         visible: ok,

@@ -37,14 +37,7 @@ impl Camera {
 
     /// One regular frame: candidates, choice, step, face update.
     pub(super) fn step(&mut self, g: &Vdg<'_>, scene: &Scene, mut s: State, heading: V3) -> Pose {
-        s.target_face = scene.face;
-        s.target_prev = scene.t;
-        s.heading = heading;
-        if scene.searched {
-            s.outside_search = Some(scene.t);
-        } else if scene.inside {
-            s.outside_search = None;
-        }
+        remember_target(&mut s, scene, heading);
         if scene.dt <= 0.0 {
             // Re-aim only.
             self.state = Some(s);
@@ -55,14 +48,7 @@ impl Camera {
             return self.finish(s.pos, s.face, s.look, false, visible, scene.inside);
         }
         if self.params.distance_field {
-            // Every VDistance of this update is asked near the camera.
-            let near = s.pos.to_f32();
-            let radius = FIELD_RADIUS;
-            // Ways the camera cannot pass are no ways to the target.
-            self.field
-                .set_min_clearance(self.params.field_min_clearance);
-            self.field
-                .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
+            self.steer_field(g, scene, &s);
         }
         let here_clear = g.fc(s.face, s.pos);
         let margin = self.margin_at(here_clear);
@@ -81,28 +67,9 @@ impl Camera {
             Some(Slot::Line(POSE_HINT)),
         );
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
-
-        // Step rule (thesis 5.3), frac = 1 − e^(−Δt/τ).
-        let frac = 1.0 - (-scene.dt / f64::from(self.params.speed_tau)).exp();
-        let f_cur = f64::from(current.total);
-        // The thesis' command (1 + V)·√f_total has the fixed point
-        // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
-        // costs pass 1. Ours commands at least the target's own speed.
-        let command = ((1.0 + s.speed) * f_cur.sqrt())
-            .max(scene.target_speed * f64::from(self.params.target_speed_floor));
-        let v = ((1.0 - frac) * s.speed + frac * command).min(f64::from(self.params.max_speed));
         let to_best = best_pos - s.pos;
         let dist_best = to_best.norm();
-        // Arrive rather than overshoot: no faster than the camera can brake
-        // to a stop at the best candidate (plus the target's own speed, which
-        // moves that point on). Without it the command winds up to top speed
-        // (f_clear grows with the speed it rates) and a camera behind a
-        // player standing still hunted back and forth across the ideal.
-        let v = if self.params.max_decel > 0.0 {
-            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.target_speed)
-        } else {
-            v
-        };
+        let v = self.speed(scene, &s, f64::from(current.total), dist_best);
         let dir = if dist_best > 1e-9 {
             to_best * (1.0 / dist_best)
         } else {
@@ -136,12 +103,7 @@ impl Camera {
         let visible = self.sees_finally(g, s.face, s.pos, scene);
         s.hidden = if visible { 0.0 } else { s.hidden + scene.dt };
         s.visible = visible;
-        s.look = if self.params.look_tau > 0.0 {
-            let k = 1.0 - (-scene.dt / f64::from(self.params.look_tau)).exp();
-            s.look + (scene.t - s.look) * k
-        } else {
-            scene.t
-        };
+        s.look = self.look_at(scene, s.look);
         self.state = Some(s);
         self.debug.current = current;
         self.debug.field_settled = self.field.settled();
@@ -149,6 +111,53 @@ impl Camera {
         self.debug.moved = moved as f32;
         let _ = best_cost;
         self.finish(s.pos, s.face, s.look, false, visible, scene.inside)
+    }
+
+    /// Steers the update's distance field towards the camera: every
+    /// VDistance of this update is asked near it.
+    fn steer_field(&mut self, g: &Vdg<'_>, scene: &Scene, s: &State) {
+        let near = s.pos.to_f32();
+        let radius = FIELD_RADIUS;
+        // Ways the camera cannot pass are no ways to the target.
+        self.field
+            .set_min_clearance(self.params.field_min_clearance);
+        self.field
+            .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
+    }
+
+    /// The step rule (thesis 5.3): the speed follows the command with
+    /// `frac = 1 − e^(−Δt/τ)`, capped at the top speed and, with
+    /// `max_decel`, at the speed from which the camera can stop at the best
+    /// candidate `dist_best` away. `f_cur` is f_total where the camera is.
+    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_best: f64) -> f64 {
+        let frac = lag_fraction(scene.dt, self.params.speed_tau);
+        // The thesis' command (1 + V)·√f_total has the fixed point
+        // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
+        // costs pass 1. Ours commands at least the target's own speed.
+        let command = ((1.0 + s.speed) * f_cur.sqrt())
+            .max(scene.target_speed * f64::from(self.params.target_speed_floor));
+        let v = ((1.0 - frac) * s.speed + frac * command).min(f64::from(self.params.max_speed));
+        // Arrive rather than overshoot: no faster than the camera can brake
+        // to a stop at the best candidate (plus the target's own speed, which
+        // moves that point on). Without it the command winds up to top speed
+        // (f_clear grows with the speed it rates) and a camera behind a
+        // player standing still hunted back and forth across the ideal.
+        if self.params.max_decel > 0.0 {
+            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.target_speed)
+        } else {
+            v
+        }
+    }
+
+    /// The look-at point after this update: `look` drawn towards the
+    /// target with the lag `look_tau`, or the target itself.
+    fn look_at(&self, scene: &Scene, look: V3) -> V3 {
+        if self.params.look_tau > 0.0 {
+            let k = lag_fraction(scene.dt, self.params.look_tau);
+            look + (scene.t - look) * k
+        } else {
+            scene.t
+        }
     }
 
     /// Our step: the direction of motion follows the best candidate with a
@@ -171,7 +180,7 @@ impl Camera {
         let hops = self.params.max_substeps;
         let desired = dir * v;
         let vel = if self.params.direction_tau > 0.0 {
-            let k = 1.0 - (-scene.dt / f64::from(self.params.direction_tau)).exp();
+            let k = lag_fraction(scene.dt, self.params.direction_tau);
             s.vel + (desired - s.vel) * k
         } else {
             desired
@@ -242,6 +251,27 @@ impl Camera {
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)
     }
+}
+
+/// What the configuration keeps of this frame's target: its face and
+/// position (next frame's hint and teleport test), the heading, and where
+/// the last global search for an outside target ran.
+fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
+    s.target_face = scene.face;
+    s.target_prev = scene.t;
+    s.heading = heading;
+    if scene.searched {
+        s.outside_search = Some(scene.t);
+    } else if scene.inside {
+        s.outside_search = None;
+    }
+}
+
+/// How far a quantity smoothed with time constant `tau` (s) moves towards
+/// its goal in `dt` seconds: `1 − e^(−Δt/τ)`, the same motion at any
+/// frame rate.
+fn lag_fraction(dt: f64, tau: f32) -> f64 {
+    1.0 - (-dt / f64::from(tau)).exp()
 }
 
 /// A blocked move's rest along the boundary: from `p` (where the move to

@@ -321,13 +321,7 @@ impl CameraParams {
             ("speed_tau", self.speed_tau),
             ("max_dt", self.max_dt),
         ];
-        for (name, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(CameraError::Params(format!(
-                    "{name} must be a positive number, got {v}"
-                )));
-            }
-        }
+        require(&positive, "a positive number", |v| v.is_finite() && v > 0.0)?;
         let non_negative = [
             ("inertia_horizon", self.inertia_horizon),
             ("cut_after", self.cut_after),
@@ -341,24 +335,15 @@ impl CameraParams {
             ("inertia_target_speed", self.inertia_target_speed),
             ("target_speed_floor", self.target_speed_floor),
         ];
-        for (name, v) in non_negative {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(CameraError::Params(format!(
-                    "{name} must be zero or positive, got {v}"
-                )));
-            }
-        }
-        for (name, v) in [
+        require(&non_negative, "zero or positive", |v| {
+            v.is_finite() && v >= 0.0
+        })?;
+        let finite = [
             ("angle_mu_yaw_deg", self.angle_mu_yaw_deg),
             ("angle_mu_pitch_deg", self.angle_mu_pitch_deg),
             ("target_height", self.target_height),
-        ] {
-            if !v.is_finite() {
-                return Err(CameraError::Params(format!(
-                    "{name} must be a finite number, got {v}"
-                )));
-            }
-        }
+        ];
+        require(&finite, "a finite number", f32::is_finite)?;
         if self.angle_sigma_deg > 180.0 {
             return Err(CameraError::Params(format!(
                 "angle_sigma_deg must be in (0, 180], got {}",
@@ -378,6 +363,21 @@ impl CameraParams {
             )));
         }
         Ok(())
+    }
+}
+
+/// The first of `fields` (name, value) whose value is not `ok`, as the
+/// error "NAME must be WHAT, got VALUE".
+fn require(
+    fields: &[(&str, f32)],
+    what: &str,
+    ok: impl Fn(f32) -> bool,
+) -> Result<(), CameraError> {
+    match fields.iter().find(|&&(_, v)| !ok(v)) {
+        Some((name, v)) => Err(CameraError::Params(format!(
+            "{name} must be {what}, got {v}"
+        ))),
+        None => Ok(()),
     }
 }
 

@@ -17,7 +17,7 @@ impl Camera {
     /// last one.
     pub(super) fn heading(&self, target: &Target) -> V3 {
         let h = V3::from_f32(target.heading);
-        let horiz = (h.0 * h.0 + h.1 * h.1).sqrt();
+        let horiz = horizontal(h);
         if h.norm() < 1e-9 {
             return self.state.map_or(V3(1.0, 0.0, 0.0), |s| s.heading);
         }
@@ -28,11 +28,7 @@ impl Camera {
         } else {
             self.state.map_or(0.0, |s| s.heading.1.atan2(s.heading.0))
         };
-        V3(
-            pitch.cos() * yaw.cos(),
-            pitch.cos() * yaw.sin(),
-            pitch.sin(),
-        )
+        direction(yaw, pitch)
     }
 
     /// Locates the target in the graph and derives the frame's fixed terms.
@@ -49,15 +45,9 @@ impl Camera {
         let t_vis = if inside { t } else { anchor(g, face, t) };
         let p = &self.params;
         let yaw = heading.1.atan2(heading.0) + f64::from(p.angle_mu_yaw_deg).to_radians();
-        let pitch = heading
-            .2
-            .atan2((heading.0 * heading.0 + heading.1 * heading.1).sqrt())
-            + f64::from(p.angle_mu_pitch_deg).to_radians();
-        let a_n = V3(
-            pitch.cos() * yaw.cos(),
-            pitch.cos() * yaw.sin(),
-            pitch.sin(),
-        );
+        let pitch =
+            heading.2.atan2(horizontal(heading)) + f64::from(p.angle_mu_pitch_deg).to_radians();
+        let a_n = direction(yaw, pitch);
         let (pos, vel, speed, hidden) = state.map_or((t, V3(0.0, 0.0, 0.0), 0.0, 0.0), |s| {
             (s.pos, s.vel, s.speed, s.hidden)
         });
@@ -156,4 +146,18 @@ fn anchor(g: &Vdg<'_>, face: u32, t: V3) -> V3 {
     let [a, b, c] = g.faces.get(face).map(|v| g.pos(v));
     let centroid = (a + b + c) * (1.0 / 3.0);
     V3::from_f32(g.trace(face, centroid.to_f32(), t.to_f32()))
+}
+
+/// The unit vector of azimuth `yaw` and elevation `pitch` (radians, z up).
+fn direction(yaw: f64, pitch: f64) -> V3 {
+    V3(
+        pitch.cos() * yaw.cos(),
+        pitch.cos() * yaw.sin(),
+        pitch.sin(),
+    )
+}
+
+/// The length of `v`'s horizontal part (x, y).
+pub(super) fn horizontal(v: V3) -> f64 {
+    (v.0 * v.0 + v.1 * v.1).sqrt()
 }

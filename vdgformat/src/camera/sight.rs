@@ -112,6 +112,18 @@ impl Camera {
         seen
     }
 
+    /// [`Camera::sees`] from vertex `v` (in its first face), continuing
+    /// that vertex's remembered sight line.
+    pub(super) fn sees_vertex(&mut self, g: &Vdg<'_>, scene: &Scene, v: u32) -> bool {
+        self.sees(
+            g,
+            g.vertex_faces(v).get(0),
+            g.pos(v),
+            scene,
+            Some(Slot::Vertex(v)),
+        )
+    }
+
     /// [`Camera::sees`] for the pose the update returns: `target_visible`
     /// and the hidden-time clock (which makes cuts) rest on it, so it does
     /// not share the candidates' allowance.

@@ -2,6 +2,7 @@
 //! new graph noticed, the target located, then a cut or a regular step,
 //! and the pose made from where the camera ended.
 
+use super::scene::horizontal;
 use super::sight::VertexHints;
 use super::{
     CameraError, CameraParams, FrameDebug, GraphKey, Pose, Scratch, State, Status, Target, VisMemo,
@@ -214,7 +215,7 @@ impl Camera {
         inside: bool,
     ) -> Pose {
         let d = look - eye;
-        let horiz = (d.0 * d.0 + d.1 * d.1).sqrt();
+        let horiz = horizontal(d);
         let (yaw, pitch) = if d.norm() > 1e-6 {
             (
                 d.1.atan2(d.0).to_degrees(),
