@@ -48,6 +48,11 @@
 //! The automatic camera of the thesis (ch. 5, 6.2) and its director are in
 //! [`camera`].
 //!
+//! The feature `camera-toml` (on by default) lets [`camera::CameraParams`]
+//! load from TOML, and is the only reason this crate depends on `serde` and
+//! `toml`; an engine that sets its camera parameters in code turns it off
+//! (`default-features = false`).
+//!
 //! The file layout is documented in `FORMAT.md` next to this crate.
 
 mod build;

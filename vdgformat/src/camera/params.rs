@@ -1,27 +1,32 @@
 //! The camera's constraints (thesis 5.1: optimum μ and tolerance σ per
 //! criterion) and the switches between the thesis' algorithm and ours.
 
-use serde::{Deserialize, Serialize};
-
 /// Everything that shapes a camera's behaviour. Every cost is a variant of
 /// `((x − μ)/σ)²`: there are no separate weights, a smaller σ makes a
 /// criterion matter more (thesis 5.1). Units are Quake units and seconds.
 ///
 /// [`CameraParams::default`] is our improved camera; [`CameraParams::thesis`]
 /// the thesis' algorithm as printed (the switches under "beyond the thesis"
-/// off), so the two can be measured side by side. Any subset of fields can
-/// be loaded from TOML; missing fields keep their default:
+/// off), so the two can be measured side by side. With the feature
+/// `camera-toml` (on by default) any subset of fields can be loaded from
+/// TOML; missing fields keep their default:
 ///
 /// ```
+/// # #[cfg(feature = "camera-toml")] {
 /// use vdgformat::camera::CameraParams;
 /// let p = CameraParams::from_toml_str("distance_mu = 96.0\nangle_sigma_deg = 45.0")?;
 /// assert_eq!(p.distance_mu, 96.0);
 /// assert_eq!(p.inertia_sigma, CameraParams::default().inertia_sigma);
 /// assert!(CameraParams::from_toml_str("distance_mu = -1.0").is_err());
+/// # }
 /// # Ok::<(), vdgformat::camera::CameraError>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "camera-toml",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct CameraParams {
     /// d_μ: the ideal distance to the target. 80, closer than Half-Life's
     /// chase cam (`cl_chasedist` 112): a camera that may not pass through
@@ -299,6 +304,7 @@ impl CameraParams {
     }
 
     /// Parses TOML (any subset of the fields) and validates the result.
+    #[cfg(feature = "camera-toml")]
     pub fn from_toml_str(s: &str) -> Result<CameraParams, CameraError> {
         let p: CameraParams =
             toml::from_str(s).map_err(|e| CameraError::Params(one_line(&e.to_string())))?;
@@ -381,6 +387,7 @@ fn require(
     }
 }
 
+#[cfg(feature = "camera-toml")]
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
