@@ -4,9 +4,9 @@
 //!
 //! `cargo bench -p vdgformat --bench queries`
 //!
-//! Each query is timed on its own (Instant overhead ≈ 20–40 ns, negligible
-//! next to the µs-scale queries); the cheap single-face evaluation is timed
-//! in batches. Medians and p90 are printed, because this machine is noisy.
+//! Each query is timed on its own (the clock's overhead is negligible next
+//! to the queries); the cheap single-face evaluation is timed in batches.
+//! Medians and p90 are printed, because shared machines are noisy.
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -35,7 +35,7 @@
 //!
 //! | query | thesis | cost |
 //! |---|---|---|
-//! | [`Vdg::face_clearance`] | 3.7 | closed form, ~0.1 µs |
+//! | [`Vdg::face_clearance`] | 3.7 | closed form, one evaluation |
 //! | [`Vdg::clearance`], [`Vdg::nearest_face`] | 3.7, 5.2 | one tree leaf inside the volume |
 //! | [`Vdg::track`] | 3.3, 5.2 | the hint face and its neighbours |
 //! | [`Vdg::trace`], [`Vdg::visible`], [`Vdg::visible_from`] | 3.9 | a hop per face volume crossed |

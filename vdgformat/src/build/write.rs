@@ -160,9 +160,9 @@ impl VdgBuilder {
         let vcount = self.vertices.len();
         // 16-bit indices wherever every index fits (leaf faces since version
         // 2, the rest since version 4): indices are most of a reduced graph's
-        // bytes, and half of them is the difference between ~75 and ~100
-        // bytes per face on open maps, or on tiny maps between a file the
-        // fixed header dominates and one it does not.
+        // bytes, and halving them keeps the file within its size bound both
+        // on open maps, where the leaf lists swell, and on tiny maps, where
+        // the fixed header weighs most.
         let narrow_faces = self.faces.len() <= MAX_FACES_FOR_NARROW_LEAVES;
         let narrow_vertices = vcount <= MAX_VERTICES_FOR_NARROW_INDICES;
         let (faces_id, faces_bytes) = index_section(

@@ -100,8 +100,8 @@ impl Camera {
     /// the horizon's reach of the camera: a far candidate in the direction
     /// the camera is already going is a gentle step, not a violent turn (the
     /// thesis compares the candidate itself, so a camera slowed by a narrow
-    /// corridor rated a candidate 54 units back towards a standing player as
-    /// costly as a swerve, and drifted away from him).
+    /// corridor rated a candidate a few dozen units back towards a standing
+    /// player as costly as a swerve, and drifted away from him).
     pub(super) fn inertia_cost(&self, scene: &Scene, k: V3) -> f64 {
         // Squared lengths: no square root for the candidates within reach
         // (all of them with `inertia_step` off, where the reach is infinite).

@@ -6,10 +6,10 @@
 //! (distance, angle, inertia, clearance, visibility, the best local vertex),
 //! pulls them back into the free volume, recombines them once, picks the
 //! cheapest and moves towards it at a speed that grows with the current cost
-//! (thesis 5.2/5.3). `../shared/CAMERA.md` in the project restates the
-//! algorithm and records our decisions where the thesis is silent; each
-//! improvement beyond the thesis is a switch in [`CameraParams`], and
-//! [`CameraParams::thesis`] turns them all off.
+//! (thesis 5.2/5.3). `CAMERA.md` next to this crate records our decisions
+//! where the thesis is silent; each improvement beyond the thesis is a
+//! switch in [`CameraParams`], and [`CameraParams::thesis`] turns them all
+//! off.
 //!
 //! The graph is borrowed per call, so one mapped file serves many cameras;
 //! each camera owns its scratch memory and allocates nothing per frame once
