@@ -4,9 +4,9 @@
 //!
 //! `cargo bench -p vdgformat --bench queries`
 //!
-//! Each query is timed on its own (Instant overhead ≈ 20–40 ns, negligible
-//! next to the µs-scale queries); the cheap single-face evaluation is timed
-//! in batches. Medians and p90 are printed, because this machine is noisy.
+//! Each query is timed on its own (the clock's overhead is negligible next
+//! to the queries); the cheap single-face evaluation is timed in batches.
+//! Medians and p90 are printed, because shared machines are noisy.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -82,8 +82,30 @@ fn time<T>(f: impl FnOnce() -> T) -> (f64, T) {
 }
 
 fn main() {
+    let file = open_graph();
+    let g = file.graph();
+    let info = g.info();
+    println!(
+        "vertices {}  faces {}  tree nodes {}  bytes {}",
+        g.vertex_count(),
+        g.face_count(),
+        info.tree_node_count,
+        file.as_bytes().len()
+    );
+    let mut rng = Rng(toolbox::SplitMix64::new(42));
+    let n = 2000;
+    bench_face_clearance(&g, &mut rng);
+    let inside = bench_point_queries(&g, &mut rng, n);
+    bench_track(&g, &mut rng);
+    bench_visible(&g, &mut rng, n);
+    bench_paths(&g, &mut rng, n);
+    bench_reachable(&g, &inside, n);
+}
+
+/// `VDG_BENCH_FILE`, or the synthetic graph built and opened (both timed).
+fn open_graph() -> VdgFile {
     let t0 = Instant::now();
-    let file = match std::env::var_os("VDG_BENCH_FILE") {
+    match std::env::var_os("VDG_BENCH_FILE") {
         Some(path) => {
             println!("graph: {}", path.to_string_lossy());
             VdgFile::open(&path).expect("VDG_BENCH_FILE must be a valid .vdg")
@@ -105,21 +127,12 @@ fn main() {
             );
             f
         }
-    };
-    let g = file.graph();
-    let info = g.info();
-    println!(
-        "vertices {}  faces {}  tree nodes {}  bytes {}",
-        g.vertex_count(),
-        g.face_count(),
-        info.tree_node_count,
-        file.as_bytes().len()
-    );
-    let mut rng = Rng(toolbox::SplitMix64::new(42));
-    let n = 2000;
+    }
+}
 
-    // Single face evaluation, batched.
-    let pts: Vec<[f32; 3]> = (0..4096).map(|_| point_near_vertex(&g, &mut rng)).collect();
+/// Single face evaluation, batched.
+fn bench_face_clearance(g: &Vdg<'_>, rng: &mut Rng) {
+    let pts: Vec<[f32; 3]> = (0..4096).map(|_| point_near_vertex(g, rng)).collect();
     let faces: Vec<u32> = (0..4096)
         .map(|_| rng.below(g.face_count()) as u32)
         .collect();
@@ -135,8 +148,12 @@ fn main() {
         batch.push(t / pts.len() as f64);
     }
     report("face_clearance (1 face)", batch, "");
+}
 
-    let inside: Vec<[f32; 3]> = (0..n).map(|_| point_near_vertex(&g, &mut rng)).collect();
+/// Clearance, nearest face and containment at points inside and outside
+/// the volume; returns the inside points.
+fn bench_point_queries(g: &Vdg<'_>, rng: &mut Rng, n: usize) -> Vec<[f32; 3]> {
+    let inside: Vec<[f32; 3]> = (0..n).map(|_| point_near_vertex(g, rng)).collect();
     let times = inside.iter().map(|&p| time(|| g.clearance(p)).0).collect();
     report("clearance (inside)", times, "");
     let times = inside
@@ -146,7 +163,7 @@ fn main() {
     report("nearest_face (inside)", times, "");
     let outside: Vec<[f32; 3]> = (0..n)
         .map(|_| {
-            let mut p = point_near_vertex(&g, &mut rng);
+            let mut p = point_near_vertex(g, rng);
             p[2] += 60.0 + rng.f() * 200.0;
             p
         })
@@ -164,12 +181,15 @@ fn main() {
     report("contains (inside)", times, "");
     let times = outside.iter().map(|&p| time(|| g.contains(p)).0).collect();
     report("contains (outside)", times, "");
+    inside
+}
 
-    // Tracking a random walk of 2-unit steps.
+/// Tracking a random walk of 2-unit steps.
+fn bench_track(g: &Vdg<'_>, rng: &mut Rng) {
     let mut times = Vec::new();
     let mut fallbacks = 0;
     for _ in 0..20 {
-        let mut p = point_near_vertex(&g, &mut rng);
+        let mut p = point_near_vertex(g, rng);
         let mut hit = g.nearest_face(p).expect("faces");
         for _ in 0..100 {
             let q = [
@@ -192,12 +212,14 @@ fn main() {
         times,
         &format!("({fallbacks} steps left the volume, skipped)"),
     );
+}
 
-    // Visibility between nearby points (distance up to ~250 units).
+/// Visibility between nearby points (distance up to ~250 units).
+fn bench_visible(g: &Vdg<'_>, rng: &mut Rng, n: usize) {
     let mut times = Vec::new();
     let mut yes = 0;
     for _ in 0..n {
-        let s = point_near_vertex(&g, &mut rng);
+        let s = point_near_vertex(g, rng);
         let e = [
             s[0] + rng.sym(180.0),
             s[1] + rng.sym(180.0),
@@ -212,20 +234,23 @@ fn main() {
         times,
         &format!("({yes}/{n} visible)"),
     );
+}
 
-    // VDistance between points ~500 units apart.
+/// VDistance between points ~500 units apart: A*, the reusable
+/// PathFinder, and vertex-to-vertex paths between the same places.
+fn bench_paths(g: &Vdg<'_>, rng: &mut Rng, n: usize) {
     let mut times = Vec::new();
     let mut lens = Vec::new();
     let mut pairs = Vec::new();
     for _ in 0..n / 4 {
-        let p = point_near_vertex(&g, &mut rng);
-        let mut q = point_near_vertex(&g, &mut rng);
+        let p = point_near_vertex(g, rng);
+        let mut q = point_near_vertex(g, rng);
         for _ in 0..50 {
             let d = ((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2)).sqrt();
             if (300.0..700.0).contains(&d) {
                 break;
             }
-            q = point_near_vertex(&g, &mut rng);
+            q = point_near_vertex(g, rng);
         }
         let (t, d) = time(|| g.vdistance(p, q));
         if let Some(d) = d {
@@ -245,7 +270,7 @@ fn main() {
     let mut finder = vdgformat::query::PathFinder::new();
     let times = pairs
         .iter()
-        .map(|&(p, q)| time(|| finder.path(&g, p, q).map(|x| x.length)).0)
+        .map(|&(p, q)| time(|| finder.path(g, p, q).map(|x| x.length)).0)
         .collect();
     report(
         "vdistance (PathFinder)",
@@ -266,11 +291,13 @@ fn main() {
     report("vertex_path (A* only)", times, "(hash-map state)");
     let times = vpairs
         .iter()
-        .map(|&(a, b)| time(|| finder.vertex_path(&g, a, b).map(|x| x.length)).0)
+        .map(|&(a, b)| time(|| finder.vertex_path(g, a, b).map(|x| x.length)).0)
         .collect();
     report("vertex_path (PathFinder)", times, "(stamped arrays)");
+}
 
-    // Reachable around points inside the volume.
+/// Reachable around points inside the volume.
+fn bench_reachable(g: &Vdg<'_>, inside: &[[f32; 3]], n: usize) {
     let mut times = Vec::new();
     for &p in inside.iter().take(n / 2) {
         if let Some(h) = g.nearest_face(p) {

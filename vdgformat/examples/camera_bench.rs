@@ -170,6 +170,20 @@ fn update_done() {
     std::hint::black_box(());
 }
 
+/// Camera parameters from a TOML file.
+#[cfg(feature = "camera-toml")]
+fn params_from_file(path: &str) -> Result<CameraParams, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
+    CameraParams::from_toml_str(&text).map_err(|e| format!("{path}: {e}"))
+}
+
+#[cfg(not(feature = "camera-toml"))]
+fn params_from_file(path: &str) -> Result<CameraParams, String> {
+    Err(format!(
+        "{path}: --params needs vdgformat's feature camera-toml"
+    ))
+}
+
 fn main() {
     if let Err(e) = run() {
         eprintln!("camera_bench: {e}");
@@ -186,10 +200,7 @@ fn run() -> Result<(), String> {
     }
     let params = match (&args.params, args.thesis) {
         (Some(_), true) => return Err("--params and --thesis exclude each other".into()),
-        (Some(path), false) => {
-            let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-            CameraParams::from_toml_str(&text).map_err(|e| format!("{path}: {e}"))?
-        }
+        (Some(path), false) => params_from_file(path)?,
         (None, true) => CameraParams::thesis(),
         (None, false) => CameraParams::default(),
     };

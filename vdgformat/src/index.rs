@@ -4,8 +4,8 @@
 //!
 //! A reduced graph is mostly indices: faces (three vertex indices), the
 //! vertex → face and vertex → vertex adjacency and the tree's leaf lists. On
-//! every graph of at most 65 536 vertices and faces (every reduced graph of
-//! the shared maps) half of those bytes are zeros in 32 bits.
+//! every graph of at most 65 536 vertices and faces (the usual size of a
+//! reduced graph) half of those bytes are zeros in 32 bits.
 
 /// A list of `u32` indices stored as `u32` or as `u16`: a vertex's faces or
 /// neighbours ([`crate::Vdg::vertex_faces`], [`crate::Vdg::vertex_neighbours`])

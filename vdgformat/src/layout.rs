@@ -264,6 +264,15 @@ pub(crate) fn corner_radii(
     }
 }
 
+/// Whether `k` may be a metadata key: a non-empty word of
+/// `[A-Za-z0-9._-]`. The writer refuses other keys and the reader other
+/// files, so both ask this one rule.
+pub(crate) fn is_metadata_key(k: &str) -> bool {
+    !k.is_empty()
+        && k.bytes()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
+}
+
 /// Node of the BBox (kd) tree. Inner nodes split their cell at `split` on
 /// axis `kind` (0 = x, 1 = y, 2 = z) into children `a` (below) and `b`
 /// (above); leaves (`kind == LEAF`) list `b` faces starting at entry `a` of

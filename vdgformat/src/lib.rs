@@ -35,7 +35,7 @@
 //!
 //! | query | thesis | cost |
 //! |---|---|---|
-//! | [`Vdg::face_clearance`] | 3.7 | closed form, ~0.1 µs |
+//! | [`Vdg::face_clearance`] | 3.7 | closed form, one evaluation |
 //! | [`Vdg::clearance`], [`Vdg::nearest_face`] | 3.7, 5.2 | one tree leaf inside the volume |
 //! | [`Vdg::track`] | 3.3, 5.2 | the hint face and its neighbours |
 //! | [`Vdg::trace`], [`Vdg::visible`], [`Vdg::visible_from`] | 3.9 | a hop per face volume crossed |
@@ -47,6 +47,11 @@
 //!
 //! The automatic camera of the thesis (ch. 5, 6.2) and its director are in
 //! [`camera`].
+//!
+//! The feature `camera-toml` (on by default) lets [`camera::CameraParams`]
+//! load from TOML, and is the only reason this crate depends on `serde` and
+//! `toml`; an engine that sets its camera parameters in code turns it off
+//! (`default-features = false`).
 //!
 //! The file layout is documented in `FORMAT.md` next to this crate.
 

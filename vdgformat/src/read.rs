@@ -7,7 +7,8 @@ use crate::hash::xxh64;
 use crate::index::{FaceList, IndexList};
 use crate::layout::{
     CHECKSUM_END, FORMAT_VERSION, Header, Info, MAGIC, MAX_TREE_DEPTH, NodeBounds,
-    OLDEST_READABLE_VERSION, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, section,
+    OLDEST_READABLE_VERSION, SECTION_ALIGN, SectionEntry, TreeNode, Vertex, is_metadata_key,
+    section,
 };
 
 /// Why a file was rejected. Every malformed-file class has its own variant;
@@ -406,8 +407,20 @@ fn read_pod<T: bytemuck::Pod>(bytes: &[u8], at: usize) -> T {
     bytemuck::pod_read_unaligned(&bytes[at..at + size_of::<T>()])
 }
 
-/// The one validation pass. `bytes` must be 16-byte aligned.
+/// The one validation pass. `bytes` must be 16-byte aligned. The checks
+/// run in a fixed order (header, section table, contents), so a file with
+/// several faults always names the same first one.
 fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
+    let h = check_header(bytes)?;
+    let (entries, table_end) = read_section_table(bytes, &h)?;
+    let layout = locate_sections(&h, &entries, table_end, bytes.len() as u64)?;
+    let g = view(bytes, &layout);
+    validate_contents(bytes, &layout, &g)?;
+    Ok((g, layout))
+}
+
+/// Magic, version, length, checksum and the header's fixed fields.
+fn check_header(bytes: &[u8]) -> Result<Header, ReadError> {
     use ReadError::*;
     let len = bytes.len() as u64;
     let header_len = size_of::<Header>();
@@ -462,14 +475,33 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
     if h.section_table_offset as usize != header_len {
         return Err(BadHeader("section table offset"));
     }
+    Ok(h)
+}
+
+/// The section table's entries and where the table ends.
+fn read_section_table(bytes: &[u8], h: &Header) -> Result<(Vec<SectionEntry>, u64), ReadError> {
+    let header_len = size_of::<Header>();
     let table_end =
         header_len as u64 + u64::from(h.section_count) * size_of::<SectionEntry>() as u64;
-    if table_end > len {
-        return Err(SectionTableOutOfBounds);
+    if table_end > bytes.len() as u64 {
+        return Err(ReadError::SectionTableOutOfBounds);
     }
-    let entries: Vec<SectionEntry> = (0..h.section_count as usize)
+    let entries = (0..h.section_count as usize)
         .map(|i| read_pod(bytes, header_len + i * size_of::<SectionEntry>()))
         .collect();
+    Ok((entries, table_end))
+}
+
+/// Every entry in bounds, aligned and of its section's size; the known
+/// sections each found once, none overlapping another, one of each pair
+/// of alternatives present: their byte ranges.
+fn locate_sections(
+    h: &Header,
+    entries: &[SectionEntry],
+    table_end: u64,
+    len: u64,
+) -> Result<Layout, ReadError> {
+    use ReadError::*;
     let mut layout = Layout {
         version: h.version,
         ..Layout::default()
@@ -479,7 +511,7 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
     // 1 knew no 16-bit leaf faces, version 2 no face radii, ...).
     let known =
         |id: u32| section::elem_size(id).is_some() && section::since_version(id) <= h.version;
-    for e in &entries {
+    for e in entries {
         if e.offset < table_end || e.offset > len || e.byte_len > len - e.offset {
             return Err(SectionOutOfBounds { id: e.id });
         }
@@ -503,16 +535,40 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
         found[slot] = true;
         layout.ranges[slot] = (e.offset as usize, (e.offset + e.byte_len) as usize);
     }
+    check_overlaps(entries)?;
+    check_presence(&found, &mut layout)?;
+    if layout.ranges[0].1 - layout.ranges[0].0 != size_of::<Info>() {
+        return Err(CountMismatch {
+            what: "info record count",
+            expected: 1,
+            found: ((layout.ranges[0].1 - layout.ranges[0].0) / size_of::<Info>()) as u64,
+        });
+    }
+    Ok(layout)
+}
+
+/// No two sections (known or not) share a byte.
+fn check_overlaps(entries: &[SectionEntry]) -> Result<(), ReadError> {
     let mut sorted: Vec<&SectionEntry> = entries.iter().collect();
     sorted.sort_by_key(|e| (e.offset, e.byte_len));
     for w in sorted.windows(2) {
         if w[0].offset + w[0].byte_len > w[1].offset {
-            return Err(SectionOverlap {
+            return Err(ReadError::SectionOverlap {
                 first: w[0].id,
                 second: w[1].id,
             });
         }
     }
+    Ok(())
+}
+
+/// Exactly one of each pair of alternatives (recording which width in
+/// `layout`), and every section that is not optional.
+fn check_presence(
+    found: &[bool; section::KNOWN.len()],
+    layout: &mut Layout,
+) -> Result<(), ReadError> {
+    use ReadError::*;
     for (k, &(wide, narrow)) in section::ALTERNATIVES.iter().enumerate() {
         match (found[slot_of(wide)], found[slot_of(narrow)]) {
             (true, true) => {
@@ -541,16 +597,7 @@ fn validate(bytes: &[u8]) -> Result<(Vdg<'_>, Layout), ReadError> {
     {
         return Err(MissingSection { id: wide });
     }
-    if layout.ranges[0].1 - layout.ranges[0].0 != size_of::<Info>() {
-        return Err(CountMismatch {
-            what: "info record count",
-            expected: 1,
-            found: ((layout.ranges[0].1 - layout.ranges[0].0) / size_of::<Info>()) as u64,
-        });
-    }
-    let g = view(bytes, &layout);
-    validate_contents(bytes, &layout, &g)?;
-    Ok((g, layout))
+    Ok(())
 }
 
 fn check_count(what: &'static str, expected: u64, found: u64) -> Result<(), ReadError> {
@@ -564,8 +611,25 @@ fn check_count(what: &'static str, expected: u64, found: u64) -> Result<(), Read
     Ok(())
 }
 
+/// The sections' contents, in a fixed order: counts, the info record,
+/// vertices and faces, corner radii, the adjacency, the tree, its node
+/// bounds, the metadata.
 fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), ReadError> {
-    use ReadError::*;
+    check_counts(g)?;
+    check_info(g.info)?;
+    check_vertices_and_faces(g)?;
+    check_corner_radii(g)?;
+    check_offsets("vertex-face", g.vf_offsets, g.vf.len())?;
+    check_offsets("vertex-neighbour", g.vn_offsets, g.vn.len())?;
+    check_adjacency(g)?;
+    validate_tree(g)?;
+    check_node_bounds(g)?;
+    let meta = layout.ranges[slot!(METADATA)];
+    validate_metadata(&bytes[meta.0..meta.1])
+}
+
+/// The sections' element counts agree with the info record and each other.
+fn check_counts(g: &Vdg<'_>) -> Result<(), ReadError> {
     let info = g.info;
     let nv = g.vertices.len() as u64;
     let nf = g.faces.len() as u64;
@@ -591,8 +655,13 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
         "tree node bounds count",
         g.nodes.len() as u64,
         g.node_bounds.len() as u64,
-    )?;
+    )
+}
 
+/// The info record's floats are finite, its reserved fields zero and its
+/// volume bounds ordered.
+fn check_info(info: &Info) -> Result<(), ReadError> {
+    use ReadError::*;
     let info_floats = info
         .vertex_min
         .iter()
@@ -614,6 +683,14 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
     if (0..3).any(|i| info.volume_min[i] > info.volume_max[i]) {
         return Err(BadHeader("volume bounds min > max"));
     }
+    Ok(())
+}
+
+/// Vertices finite with a clearance ≥ 0; faces over three distinct
+/// vertices that exist.
+fn check_vertices_and_faces(g: &Vdg<'_>) -> Result<(), ReadError> {
+    use ReadError::*;
+    let nv = g.vertices.len() as u64;
     for (i, v) in g.vertices.iter().enumerate() {
         if !(v.pos.iter().all(|c| c.is_finite()) && v.clearance.is_finite()) {
             return Err(NonFinite {
@@ -640,6 +717,14 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             return Err(DegenerateFace { face: i as u64 });
         }
     }
+    Ok(())
+}
+
+/// Each face's own corner radii (when the file has them) finite and at
+/// least their vertex's clearance.
+fn check_corner_radii(g: &Vdg<'_>) -> Result<(), ReadError> {
+    use ReadError::*;
+    let nf = g.faces.len() as u64;
     if !g.own_radii.is_empty() {
         check_count("face corner radius count", nf, g.own_radii.len() as u64)?;
         for (i, (f, r)) in g.faces.iter().zip(g.own_radii).enumerate() {
@@ -660,48 +745,67 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             }
         }
     }
-    check_offsets("vertex-face", g.vf_offsets, g.vf.len())?;
-    check_offsets("vertex-neighbour", g.vn_offsets, g.vn.len())?;
+    Ok(())
+}
+
+/// The vertex → faces and vertex → vertices rows: in range, ascending,
+/// and each entry really adjacent.
+fn check_adjacency(g: &Vdg<'_>) -> Result<(), ReadError> {
+    let nv = g.vertices.len() as u64;
+    let nf = g.faces.len() as u64;
     // vertex → faces: ascending, in range, and each face really uses the
     // vertex. With 3·F entries, no duplicates and 3 distinct vertices per
     // face, this makes the lists exactly the incidence relation.
     for v in 0..nv as usize {
-        let row = g.vf.between(g.vf_offsets[v], g.vf_offsets[v + 1]);
-        for (k, f) in row.iter().enumerate() {
-            if u64::from(f) >= nf {
-                return Err(IndexOutOfRange {
-                    what: "vertex-face",
-                    at: u64::from(g.vf_offsets[v]) + k as u64,
-                    index: u64::from(f),
-                    limit: nf,
-                });
-            }
-            if (k > 0 && row.get(k - 1) >= f) || !g.faces.get(f).contains(&(v as u32)) {
-                return Err(InconsistentAdjacency {
-                    what: "vertex-face",
-                    vertex: v as u64,
-                });
-            }
+        let (start, end) = (g.vf_offsets[v], g.vf_offsets[v + 1]);
+        check_row("vertex-face", g.vf.between(start, end), start, nf, v, |f| {
+            g.faces.get(f).contains(&(v as u32))
+        })?;
+        let (start, end) = (g.vn_offsets[v], g.vn_offsets[v + 1]);
+        check_row(
+            "vertex-neighbour",
+            g.vn.between(start, end),
+            start,
+            nv,
+            v,
+            |w| w as usize != v,
+        )?;
+    }
+    Ok(())
+}
+
+/// One CSR row of vertex `v`, starting at entry `start` of its list: every
+/// entry below `limit`, ascending, and `adjacent` to `v`.
+fn check_row(
+    what: &'static str,
+    row: IndexList<'_>,
+    start: u32,
+    limit: u64,
+    v: usize,
+    adjacent: impl Fn(u32) -> bool,
+) -> Result<(), ReadError> {
+    for (k, x) in row.iter().enumerate() {
+        if u64::from(x) >= limit {
+            return Err(ReadError::IndexOutOfRange {
+                what,
+                at: u64::from(start) + k as u64,
+                index: u64::from(x),
+                limit,
+            });
         }
-        let row = g.vn.between(g.vn_offsets[v], g.vn_offsets[v + 1]);
-        for (k, w) in row.iter().enumerate() {
-            if u64::from(w) >= nv {
-                return Err(IndexOutOfRange {
-                    what: "vertex-neighbour",
-                    at: u64::from(g.vn_offsets[v]) + k as u64,
-                    index: u64::from(w),
-                    limit: nv,
-                });
-            }
-            if (k > 0 && row.get(k - 1) >= w) || w as usize == v {
-                return Err(InconsistentAdjacency {
-                    what: "vertex-neighbour",
-                    vertex: v as u64,
-                });
-            }
+        if (k > 0 && row.get(k - 1) >= x) || !adjacent(x) {
+            return Err(ReadError::InconsistentAdjacency {
+                what,
+                vertex: v as u64,
+            });
         }
     }
-    validate_tree(g)?;
+    Ok(())
+}
+
+/// The stored node bounds are the ones the faces below each node give.
+fn check_node_bounds(g: &Vdg<'_>) -> Result<(), ReadError> {
+    use ReadError::*;
     // Node bounds steer the nearest-face search; they must be exactly what
     // the faces below each node give (the computation is deterministic).
     let expected =
@@ -712,9 +816,6 @@ fn validate_contents(bytes: &[u8], layout: &Layout, g: &Vdg<'_>) -> Result<(), R
             reason: "stored search bounds do not match the node's faces",
         });
     }
-    let meta = layout.ranges[slot!(METADATA)];
-    let meta = &bytes[meta.0..meta.1];
-    validate_metadata(meta)?;
     Ok(())
 }
 
@@ -878,12 +979,9 @@ fn validate_metadata(meta: &[u8]) -> Result<(), ReadError> {
         });
     }
     for (i, line) in text.lines().enumerate() {
-        let ok = line.split_once('=').is_some_and(|(k, v)| {
-            !k.is_empty()
-                && k.bytes()
-                    .all(|c| c.is_ascii_alphanumeric() || matches!(c, b'.' | b'_' | b'-'))
-                && !v.contains('\r')
-        });
+        let ok = line
+            .split_once('=')
+            .is_some_and(|(k, v)| is_metadata_key(k) && !v.contains('\r'));
         if !ok {
             return Err(ReadError::BadMetadata { line: i as u64 + 1 });
         }

@@ -99,11 +99,11 @@ fn mutate(base: &[u8], rng: &mut Rng) -> Vec<u8> {
     b
 }
 
-#[test]
-fn mutated_files_never_panic() {
-    let mut rng = Rng::new(2026);
-    let bases: Vec<Vec<u8>> = vec![
-        random_soup(60, 150, &mut rng)
+/// The files the mutations start from (and the fuzz target's seed corpus):
+/// a random soup with a deep tree, a flat grid, and the empty graph.
+fn base_files(rng: &mut Rng) -> Vec<Vec<u8>> {
+    vec![
+        random_soup(60, 150, rng)
             .set_leaf_size(80.0)
             .to_bytes()
             .unwrap(),
@@ -112,7 +112,13 @@ fn mutated_files_never_panic() {
             .to_bytes()
             .unwrap(),
         vdgformat::VdgBuilder::new().to_bytes().unwrap(),
-    ];
+    ]
+}
+
+#[test]
+fn mutated_files_never_panic() {
+    let mut rng = Rng::new(2026);
+    let bases = base_files(&mut rng);
     let mut accepted = 0usize;
     let mut errors: BTreeMap<String, usize> = BTreeMap::new();
     for i in 0..ITERATIONS {
@@ -154,18 +160,7 @@ fn write_seed_corpus() {
     };
     let dir = std::path::PathBuf::from(dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let mut rng = Rng::new(2026);
-    let seeds = [
-        random_soup(60, 150, &mut rng)
-            .set_leaf_size(80.0)
-            .to_bytes()
-            .unwrap(),
-        flat(4, 3, 32.0, 12.0)
-            .set_leaf_size(16.0)
-            .to_bytes()
-            .unwrap(),
-        vdgformat::VdgBuilder::new().to_bytes().unwrap(),
-    ];
+    let seeds = base_files(&mut Rng::new(2026));
     for (i, s) in seeds.iter().enumerate() {
         std::fs::write(dir.join(format!("seed{i}.vdg")), s).unwrap();
     }

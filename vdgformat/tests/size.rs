@@ -1,4 +1,4 @@
-//! The file size bound of issue 14 (≤ 100 bytes per face on every map) on a
+//! The file size bound (≤ 100 bytes per face on every map) on a
 //! generated open map, where the BBox tree's leaf lists swell most: big faces
 //! with clearances of hundreds of units reach into many tree cells.
 //!
@@ -18,7 +18,7 @@ use std::path::Path;
 use common::Rng;
 use vdgformat::{DEFAULT_LEAF_SIZE, VdgBuilder, VdgFile};
 
-/// Issue 14's bound, for the whole file: header, section table, metadata and
+/// The bound, for the whole file: header, section table, metadata and
 /// padding count too.
 const MAX_BYTES_PER_FACE: f64 = 100.0;
 
@@ -78,8 +78,8 @@ fn open_map_file_stays_within_100_bytes_per_face() {
     }
 }
 
-/// The same bound on the smallest graphs the shared maps give (the qbsp
-/// examples reduce to 20–25 faces), where the fixed part of the file —
+/// The same bound on the smallest graphs a compile gives (a small map
+/// reduces to a few dozen faces), where the fixed part of the file —
 /// header, section table, info record and the metadata `bsp2vdg` writes —
 /// weighs most: 20 faces with their own corner radii and the fixture's
 /// metadata.

@@ -1,33 +1,38 @@
 //! The camera's constraints (thesis 5.1: optimum μ and tolerance σ per
 //! criterion) and the switches between the thesis' algorithm and ours.
 
-use serde::{Deserialize, Serialize};
-
 /// Everything that shapes a camera's behaviour. Every cost is a variant of
 /// `((x − μ)/σ)²`: there are no separate weights, a smaller σ makes a
 /// criterion matter more (thesis 5.1). Units are Quake units and seconds.
 ///
 /// [`CameraParams::default`] is our improved camera; [`CameraParams::thesis`]
 /// the thesis' algorithm as printed (the switches under "beyond the thesis"
-/// off), so the two can be measured side by side. Any subset of fields can
-/// be loaded from TOML; missing fields keep their default:
+/// off), so the two can be measured side by side. With the feature
+/// `camera-toml` (on by default) any subset of fields can be loaded from
+/// TOML; missing fields keep their default:
 ///
 /// ```
+/// # #[cfg(feature = "camera-toml")] {
 /// use vdgformat::camera::CameraParams;
 /// let p = CameraParams::from_toml_str("distance_mu = 96.0\nangle_sigma_deg = 45.0")?;
 /// assert_eq!(p.distance_mu, 96.0);
 /// assert_eq!(p.inertia_sigma, CameraParams::default().inertia_sigma);
 /// assert!(CameraParams::from_toml_str("distance_mu = -1.0").is_err());
+/// # }
 /// # Ok::<(), vdgformat::camera::CameraError>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(
+    feature = "camera-toml",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct CameraParams {
     /// d_μ: the ideal distance to the target. 80, closer than Half-Life's
     /// chase cam (`cl_chasedist` 112): a camera that may not pass through
     /// walls loses the player round every corner it trails far behind, and
-    /// in the replay of 21 maps 80 kept the player in view in 0.3–0.4
-    /// points more of the frames than 112 did, at the same jerk.
+    /// in the camera replay over many maps 80 kept the player in view more
+    /// often than 112 did, at the same jerk.
     pub distance_mu: f32,
     /// d_σ: distance tolerance. 48 (about a player's width and a half) lets
     /// the camera come in to 32 or back off to 128 at cost 1.
@@ -67,10 +72,10 @@ pub struct CameraParams {
     /// itself. The thesis compares positions, so a slow camera in a narrow
     /// corridor rated a candidate a few dozen units back towards a player
     /// who had stopped as costly as a swerve and drifted away from him, out
-    /// of sight round the corner (`tests/camera_maps.rs`, the L corridor
-    /// reduced without the floor). In the replay of 21 maps it changed
-    /// visibility by −0.1 … +0.3 points and took the longest occlusion at
-    /// 1/30 s from 1.37 to 0.93 s. `false` = the thesis.
+    /// of sight round the corner (bsp2vdg's `tests/camera_maps.rs`, the L
+    /// corridor reduced without the floor). In the camera replay it left
+    /// visibility about as it was and shortened the longest occlusions
+    /// (`CAMERA.md`). `false` = the thesis.
     pub inertia_step: bool,
     /// p_σ: "room for p_σ seconds at the current speed" (f_clear). 0.5 s.
     pub clearance_sigma: f32,
@@ -79,10 +84,10 @@ pub struct CameraParams {
     pub visibility_sigma: f32,
     /// Hidden this long (s), the camera cuts to the target. The thesis gives
     /// no value. 1.5 s = v_σ: one tolerance to find the target on its own
-    /// first; in the replay of 21 maps the camera finds it within that in
+    /// first; in the camera replay it finds the target within that in
     /// most occlusions, and a spectator waiting longer has lost the
-    /// player (3 s: 0.5 points less visibility; 1 s: four times the cuts
-    /// for 0.1 point).
+    /// player (a longer wait lost visibility, a shorter one multiplied the
+    /// cuts for little gain; `CAMERA.md`).
     pub cut_after: f32,
     /// A target that moves farther than this in one update has teleported
     /// (respawn, portal, spectator switch): the camera cuts. 256 units is
@@ -95,8 +100,7 @@ pub struct CameraParams {
     /// τ of the step rule's `frac = 1 − e^(−Δt/τ)` (s): how fast the speed
     /// follows the cost. The thesis leaves `frac` undefined; the exponential
     /// form makes it independent of the frame rate. 0.12 s: 0.2 s lagged
-    /// round corners (0.4 points less visibility in the replay of 21 maps,
-    /// no less jerk).
+    /// round corners (less visibility in the camera replay, no less jerk).
     pub speed_tau: f32,
     /// Updates longer than this (s) are integrated as if they were this long
     /// (a hitch must not fling the camera). 0.1 s.
@@ -124,9 +128,9 @@ pub struct CameraParams {
     pub normalized_visibility: bool,
     /// τ of the smoothing of the camera's velocity (s): the best candidate
     /// changes from frame to frame and the camera turns towards each with
-    /// this lag. 0.18 keeps the RMS jerk at 1/30 s under a tenth of a
-    /// chase cam's (0.12: 14 %) for half a point of visibility. 0 = none
-    /// (the thesis jumps to the best candidate's direction every frame).
+    /// this lag. 0.18 keeps the jerk far below a chase cam's (a shorter lag
+    /// jerks markedly more) for a little visibility. 0 = none (the thesis
+    /// jumps to the best candidate's direction every frame).
     pub direction_tau: f32,
     /// A move blocked by the volume's boundary slides along it (the rest
     /// of the step without its part into the wall) instead of stopping:
@@ -176,9 +180,9 @@ pub struct CameraParams {
     pub vertex_tests: u32,
     /// Face volumes the candidates' and vertices' sight-line tests of one
     /// update may cross together (each test at most 48). A typical test
-    /// crosses 2–5; a camera trailing far behind a hidden target makes
+    /// crosses a few; a camera trailing far behind a hidden target makes
     /// every test long and failing, and without a bound such frames cost
-    /// ten times the median. A test cut short counts as "hidden", which
+    /// many times the median. A test cut short counts as "hidden", which
     /// only makes that candidate look worse. The test of the pose itself
     /// (`target_visible`, the cut clock) has its own 48. The thesis: no
     /// bound (4294967295).
@@ -188,13 +192,11 @@ pub struct CameraParams {
     /// one continues a sight line, at the price of a dozen hops; a hidden
     /// target makes every test fail into one. The pose's own test has an
     /// allowance of its own of the same size, and so have the candidates'
-    /// clamps. 2: on de_dust2 the p99 of an update's instructions is 504k
-    /// against 612k with 3 and 698k with 4, which keeps the p99 under
-    /// 100 µs (88–91 µs against 100–104 µs with 3, same runs); the replay
-    /// of 21 maps sees the target 98.12 / 98.41 % of the frames at 1/60 /
-    /// 1/30 s against 98.44 / 98.75 % with 3 and 98.30 / 98.78 % with 4 —
-    /// engines with time to spare can buy the third of a point back. The
-    /// thesis: no bound (4294967295).
+    /// clamps. 2 keeps the slowest updates on a large map within the
+    /// camera's time budget, which 3 or 4 did not, at the price of a
+    /// fraction of a point of visibility in the camera replay (`CAMERA.md`
+    /// has the measurements); engines with time to spare can buy it back.
+    /// The thesis: no bound (4294967295).
     pub leaf_searches: u32,
     /// While the target is hidden, one more candidate k_path: the point
     /// this far (units of path) along the shortest way through the graph
@@ -299,6 +301,7 @@ impl CameraParams {
     }
 
     /// Parses TOML (any subset of the fields) and validates the result.
+    #[cfg(feature = "camera-toml")]
     pub fn from_toml_str(s: &str) -> Result<CameraParams, CameraError> {
         let p: CameraParams =
             toml::from_str(s).map_err(|e| CameraError::Params(one_line(&e.to_string())))?;
@@ -321,13 +324,7 @@ impl CameraParams {
             ("speed_tau", self.speed_tau),
             ("max_dt", self.max_dt),
         ];
-        for (name, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(CameraError::Params(format!(
-                    "{name} must be a positive number, got {v}"
-                )));
-            }
-        }
+        require(&positive, "a positive number", |v| v.is_finite() && v > 0.0)?;
         let non_negative = [
             ("inertia_horizon", self.inertia_horizon),
             ("cut_after", self.cut_after),
@@ -341,24 +338,15 @@ impl CameraParams {
             ("inertia_target_speed", self.inertia_target_speed),
             ("target_speed_floor", self.target_speed_floor),
         ];
-        for (name, v) in non_negative {
-            if !(v.is_finite() && v >= 0.0) {
-                return Err(CameraError::Params(format!(
-                    "{name} must be zero or positive, got {v}"
-                )));
-            }
-        }
-        for (name, v) in [
+        require(&non_negative, "zero or positive", |v| {
+            v.is_finite() && v >= 0.0
+        })?;
+        let finite = [
             ("angle_mu_yaw_deg", self.angle_mu_yaw_deg),
             ("angle_mu_pitch_deg", self.angle_mu_pitch_deg),
             ("target_height", self.target_height),
-        ] {
-            if !v.is_finite() {
-                return Err(CameraError::Params(format!(
-                    "{name} must be a finite number, got {v}"
-                )));
-            }
-        }
+        ];
+        require(&finite, "a finite number", f32::is_finite)?;
         if self.angle_sigma_deg > 180.0 {
             return Err(CameraError::Params(format!(
                 "angle_sigma_deg must be in (0, 180], got {}",
@@ -381,6 +369,22 @@ impl CameraParams {
     }
 }
 
+/// The first of `fields` (name, value) whose value is not `ok`, as the
+/// error "NAME must be WHAT, got VALUE".
+fn require(
+    fields: &[(&str, f32)],
+    what: &str,
+    ok: impl Fn(f32) -> bool,
+) -> Result<(), CameraError> {
+    match fields.iter().find(|&&(_, v)| !ok(v)) {
+        Some((name, v)) => Err(CameraError::Params(format!(
+            "{name} must be {what}, got {v}"
+        ))),
+        None => Ok(()),
+    }
+}
+
+#[cfg(feature = "camera-toml")]
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
@@ -401,3 +405,25 @@ impl std::fmt::Display for CameraError {
 }
 
 impl std::error::Error for CameraError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn thesis_params_turn_every_improvement_off() {
+        let t = CameraParams::thesis();
+        assert_eq!(t.max_substeps, 0);
+        assert!(!t.distance_field && !t.normalized_visibility && !t.cut_to_ideal);
+        assert_eq!(
+            (t.direction_tau, t.look_tau, t.near_margin),
+            (0.0, 0.0, 0.0)
+        );
+        assert_eq!(t.inertia_horizon, 0.0);
+        assert_eq!(
+            (t.vertex_tests, t.sight_hops, t.leaf_searches),
+            (0, u32::MAX, u32::MAX)
+        );
+        t.validate().unwrap();
+    }
+}

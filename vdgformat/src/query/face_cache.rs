@@ -3,10 +3,10 @@
 //! functions of the faces it evaluated last.
 //!
 //! A tree-leaf search of a sight-line cover tests every face of the leaf
-//! (about a thousand on open maps) for whether its volume's box holds one
-//! point. Derived from the file, that box costs three vertex loads and a
-//! dozen f64 operations per face and axis; stored as six f32 it is six
-//! comparisons (24 bytes per face).
+//! (many on open maps, whose big faces reach into many cells) for whether
+//! its volume's box holds one point. Derived from the file, that box costs
+//! three vertex loads and a dozen f64 operations per face and axis; stored
+//! as six f32 it is six comparisons (24 bytes per face).
 //!
 //! A camera's sight lines of one frame all end at the target and start
 //! near the camera, and the next frame's lie close to them: they cross the

@@ -1,4 +1,4 @@
-//! Runtime queries on a validated [`Vdg`] (SPEC §5, thesis 3.7–3.9, 5.1, 5.3).
+//! Runtime queries on a validated [`Vdg`] (thesis 3.7–3.9, 5.1, 5.3).
 //!
 //! Everything here reads the mapped sections in place. The open-time
 //! validation guarantees every index is in range, so queries do no checks
@@ -188,7 +188,7 @@ impl<'a> Vdg<'a> {
     /// Clearance of `p` for face `f` when it may exceed `floor`; otherwise
     /// some value `≤ floor`. A face's volume lies in the box of its three
     /// vertex balls, and for `p` outside that box the clearance is at most
-    /// minus the distance to it — a test ~10× cheaper than the exact
+    /// minus the distance to it — a test far cheaper than the exact
     /// evaluation that culls most candidates of a leaf.
     #[inline]
     pub(crate) fn fc_above(&self, f: u32, p: V3, floor: f64) -> f64 {

@@ -1,0 +1,435 @@
+//! The candidates of one update (thesis 5.2, 5.3): k_dist, k_angle,
+//! k_inertia from the current configuration; k_clear, k_vis, k_neighb from
+//! the reachable vertices; ours, k_path, while the target is hidden; each
+//! clamped into the free volume, then their cost-weighted recombination
+//! k_comb, and the cheapest chosen.
+
+use super::motion::{CLAMP_TOL, MARGIN_SLACK};
+use super::{Camera, CandidateDebug, Costs, Scene, Slot, State};
+use crate::geom::V3;
+use crate::query::CoverBudget;
+use crate::read::Vdg;
+
+/// Which criterion a candidate stands for (thesis 5.2/5.3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum CandidateKind {
+    /// The camera moved along target→camera to the ideal distance.
+    #[default]
+    Dist,
+    /// The camera rotated about the target by a quarter of the way to a_n.
+    Angle,
+    /// Where inertia alone carries the camera.
+    Inertia,
+    /// The reachable vertex of least f_clear.
+    Clear,
+    /// The reachable vertex of least f_vis.
+    Vis,
+    /// The reachable vertex of least f_total.
+    Neighb,
+    /// Ours, while the target is hidden: a point further along the
+    /// shortest way through the graph to the target (the distance field's
+    /// descent from the reachable vertex nearest the target by VDistance).
+    Path,
+    /// The cost-weighted mean of the others.
+    Comb,
+}
+
+/// Scratch for the reachable vertices of one frame (sized once per graph).
+#[derive(Debug, Default)]
+pub(super) struct Scratch {
+    pub(super) reach: Vec<u32>,
+    /// (sort key, index into `reach`).
+    pub(super) order: Vec<(f64, u32)>,
+    /// Per reachable vertex: cost terms without visibility, VDistance, and
+    /// visibility (-1 unknown, 0 no, 1 yes).
+    pub(super) base: Vec<f64>,
+    pub(super) vd: Vec<f64>,
+    pub(super) vis: Vec<i8>,
+    /// Per graph vertex: the last line-of-sight answer to the target and
+    /// where the target was then (see [`CameraParams::vertex_tests`](super::CameraParams::vertex_tests)).
+    pub(super) memo: Vec<VisMemo>,
+    /// Fresh vertex tests left in this update.
+    pub(super) fresh_left: u32,
+}
+
+/// A remembered Visible(P(v), t).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct VisMemo {
+    pub(super) target: [f32; 3],
+    pub(super) visible: bool,
+    pub(super) known: bool,
+}
+
+/// A vertex's remembered answer is reused without a test while the target
+/// stays this close (units) to where it was tested: about four frames of
+/// running at 60 Hz, two at 30 Hz.
+const MEMO_FRESH: f64 = 16.0;
+
+/// Past this distance (units) from where it was tested, a remembered answer
+/// says nothing (a teleport, a long gap): the vertex counts as unknown
+/// when the update's fresh tests are spent.
+const MEMO_STALE: f64 = 64.0;
+
+/// Edges the pursuit candidate's descent may follow (bounds its cost).
+const PURSUIT_STEPS: usize = 8;
+
+impl Camera {
+    /// Builds, clamps, recombines and rates the candidates (thesis 5.2,
+    /// 5.3); returns the best position and its cost.
+    pub(super) fn choose(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &State,
+        margin: f32,
+    ) -> (V3, f64) {
+        let d_mu = f64::from(self.params.distance_mu);
+        let early_stop = f64::from(self.params.early_stop);
+        let tc = s.pos - scene.t;
+        let r = tc.norm();
+        let u = if r > 1e-6 { tc * (1.0 / r) } else { scene.a_n };
+        let k_dist = scene.t + u * d_mu;
+        let k_angle = scene.t + slerp(u, scene.a_n, 0.25) * r;
+        let k_inertia = s.pos + s.vel * scene.dt;
+        let (k_clear, k_vis, k_neighb, k_path, reachable) = self.local_candidates(g, scene, s);
+        self.debug.reachable = reachable;
+        let wanted = [
+            (CandidateKind::Dist, Some(k_dist)),
+            (CandidateKind::Angle, Some(k_angle)),
+            (CandidateKind::Inertia, Some(k_inertia)),
+            (CandidateKind::Clear, Some(k_clear)),
+            (CandidateKind::Vis, Some(k_vis)),
+            (CandidateKind::Neighb, Some(k_neighb)),
+            (CandidateKind::Path, k_path),
+        ];
+        let mut n = 0;
+        let mut best = (s.pos, f64::INFINITY, 0usize);
+        let (mut wsum, mut wpos) = (0.0, V3(0.0, 0.0, 0.0));
+        let mut stop = false;
+        // Candidates often clamp to the same point (a blocked line, one
+        // vertex best by two criteria): each point's sight line is tested
+        // once.
+        let mut tested = [(V3(0.0, 0.0, 0.0), false); 8];
+        let mut n_tested = 0;
+        let mut rate = |this: &mut Self, pos: V3, face: u32, clear: f64, slot: usize| {
+            let known = tested[..n_tested].iter().find(|e| e.0 == pos).map(|e| e.1);
+            let costs = this.costs_at(g, scene, s, pos, face, clear, known, Some(Slot::Line(slot)));
+            if known.is_none() && n_tested < tested.len() {
+                tested[n_tested] = (pos, costs.vis == 0.0);
+                n_tested += 1;
+            }
+            costs
+        };
+        for (kind, k) in wanted {
+            let Some(k) = k else { continue };
+            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
+            let costs = rate(self, pos, face, clear, n);
+            let total = f64::from(costs.total);
+            self.record(n, kind, k, pos, costs);
+            if total < best.1 {
+                best = (pos, total, n);
+            }
+            n += 1;
+            if total < early_stop {
+                stop = true;
+                break;
+            }
+            let w = 1.0 / total.max(1e-12);
+            wsum += w;
+            wpos = wpos + pos * w;
+        }
+        if !stop && wsum > 0.0 {
+            let k = wpos * (1.0 / wsum);
+            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
+            let costs = rate(self, pos, face, clear, n);
+            self.record(n, CandidateKind::Comb, k, pos, costs);
+            if f64::from(costs.total) < best.1 {
+                best = (pos, f64::from(costs.total), n);
+            }
+            n += 1;
+        }
+        self.debug.count = n;
+        self.debug.best = best.2;
+        (best.0, best.1)
+    }
+
+    fn record(&mut self, i: usize, kind: CandidateKind, wanted: V3, pos: V3, costs: Costs) {
+        self.debug.candidates[i] = CandidateDebug {
+            kind,
+            wanted: wanted.to_f32(),
+            pos: pos.to_f32(),
+            visible: costs.vis == 0.0,
+            costs,
+        };
+    }
+
+    /// Pulls a candidate back into the solution space: the thesis' Trace in
+    /// Volume(f_i), or our advance across faces with the near-plane margin.
+    /// Returns the point, a face holding it and its clearance there.
+    /// `slot` is the candidate's place in the frame's list: its clamp
+    /// follows the way the same candidate's took last frame.
+    fn clamp(&mut self, g: &Vdg<'_>, s: &State, k: V3, margin: f32, slot: usize) -> (V3, u32, f64) {
+        let (p, f) = if self.params.max_substeps == 0 {
+            (
+                V3::from_f32(g.trace(s.face, s.pos.to_f32(), k.to_f32())),
+                s.face,
+            )
+        } else {
+            // Candidates share the update's allowance of leaf searches
+            // for their clamps (as their sight lines do).
+            let mut budget = CoverBudget {
+                hops: self.params.max_substeps,
+                leaf_searches: self.clamp_leaf_searches,
+            };
+            let a = g.advance_tol(
+                s.face,
+                s.pos.to_f32(),
+                k.to_f32(),
+                margin,
+                &mut budget,
+                CLAMP_TOL,
+                Some(&mut self.clamp_hints[slot]),
+                Some(&self.faces),
+            );
+            self.clamp_leaf_searches = budget.leaf_searches;
+            (V3::from_f32(a.point), a.face)
+        };
+        (p, f, g.fc(f, p))
+    }
+
+    /// k_clear, k_vis and k_neighb: the best vertices of
+    /// Reachable(P(c_i), f_i) by f_clear, f_vis and f_total. Visibility is
+    /// the expensive term, so it is tested lazily: k_vis is the first
+    /// visible vertex in order of VDistance (all visible vertices cost 0;
+    /// the nearest by VDistance breaks the tie), k_neighb a branch and bound
+    /// over the cost without visibility (a lower bound).
+    #[allow(clippy::type_complexity)]
+    fn local_candidates(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &State,
+    ) -> (V3, V3, V3, Option<V3>, u32) {
+        let mut sc = std::mem::take(&mut self.scratch);
+        sc.reach.clear();
+        // The thesis' exact Reachable, or (ours) the vertices reachable
+        // within one face volume: the candidates are clamped into the free
+        // volume anyway, and the exact set costs most of an update.
+        let exact = self.params.exact_reachable;
+        g.for_each_local_vertex(s.pos.to_f32(), s.face, exact, |v| sc.reach.push(v));
+        let n = sc.reach.len();
+        if n == 0 {
+            self.scratch = sc;
+            return (s.pos, s.pos, s.pos, None, 0);
+        }
+        sc.base.clear();
+        sc.vd.clear();
+        sc.vis.clear();
+        sc.fresh_left = self.params.vertex_tests;
+        let (mut k_clear, mut best_clear) = (sc.reach[0], f64::INFINITY);
+        for &v in &sc.reach {
+            let pv = g.pos(v);
+            let r = f64::from(g.vertices[v as usize].clearance);
+            let clear = self.clear_cost(s, r);
+            let base = self.dist_cost(scene, pv)
+                + self.angle_cost(scene, pv)
+                + self.inertia_cost(scene, pv)
+                + clear;
+            sc.base.push(base);
+            sc.vd.push(f64::NAN);
+            sc.vis.push(-1);
+            if clear < best_clear {
+                (k_clear, best_clear) = (v, clear);
+            }
+        }
+        // k_vis: every visible vertex costs 0; the thesis leaves the tie
+        // open, we take the one nearest the target (no VDistance needed).
+        // Only when none is visible, the least VDistance.
+        sc.order.clear();
+        sc.order
+            .extend((0..n).map(|i| ((g.pos(sc.reach[i]) - scene.t).norm(), i as u32)));
+        sc.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut k_vis = None;
+        for j in 0..n {
+            let i = sc.order[j].1 as usize;
+            if self.vertex_visible(g, scene, &mut sc, i) {
+                k_vis = Some(sc.reach[i]);
+                break;
+            }
+        }
+        let nearest_by_vd = |this: &mut Self, sc: &mut Scratch| {
+            let mut best = (f64::INFINITY, sc.reach[0]);
+            for i in 0..n {
+                let d = this.vertex_vd(g, scene, sc, i);
+                if d < best.0 {
+                    best = (d, sc.reach[i]);
+                }
+            }
+            best.1
+        };
+        let k_vis = match k_vis {
+            Some(v) => v,
+            None => nearest_by_vd(self, &mut sc),
+        };
+        // k_path: only while the target is hidden (a visible target is
+        // best served by the local candidates) and the field exists.
+        let k_path = (self.params.pursuit_length > 0.0 && !s.visible && self.params.distance_field)
+            .then(|| {
+                let from = nearest_by_vd(self, &mut sc);
+                self.descend(g, from)
+            });
+        // k_neighb: branch and bound on the cost without visibility, a
+        // lower bound; VDistance only for hidden vertices.
+        sc.order.clear();
+        sc.order
+            .extend((0..n).map(|i| (scene.novis * sc.base[i] / 5.0, i as u32)));
+        sc.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let (mut k_neighb, mut best) = (sc.reach[sc.order[0].1 as usize], f64::INFINITY);
+        for j in 0..n {
+            let (lb, i) = (sc.order[j].0, sc.order[j].1 as usize);
+            if lb >= best {
+                break;
+            }
+            let vis = if self.vertex_visible(g, scene, &mut sc, i) {
+                0.0
+            } else {
+                let d = self.vertex_vd(g, scene, &mut sc, i);
+                self.vis_cost(d)
+            };
+            let total = vis / 5.0 + lb;
+            if total < best {
+                (k_neighb, best) = (sc.reach[i], total);
+            }
+        }
+        self.scratch = sc;
+        (
+            g.pos(k_clear),
+            g.pos(k_vis),
+            g.pos(k_neighb),
+            k_path,
+            n as u32,
+        )
+    }
+
+    /// The point [`CameraParams::pursuit_length`](super::CameraParams::pursuit_length) along the distance
+    /// field's descent from vertex `from` towards the target: each step to
+    /// the settled neighbour through which the target is nearest, never to
+    /// a vertex with less clearance than the near-plane margin (the camera
+    /// could not pass it). Bounded by [`PURSUIT_STEPS`] edges.
+    fn descend(&mut self, g: &Vdg<'_>, from: u32) -> V3 {
+        let min_clear = self.params.near_margin + MARGIN_SLACK as f32;
+        let mut v = from;
+        let mut walked = 0.0f64;
+        for _ in 0..PURSUIT_STEPS {
+            let Some(dv) = self.field.settled_distance(v) else {
+                break;
+            };
+            let pv = g.pos(v);
+            let mut next: Option<(f32, u32, f64)> = None;
+            for u in g.vertex_neighbours(v) {
+                let Some(du) = self.field.settled_distance(u) else {
+                    continue;
+                };
+                if du >= dv || g.vertices[u as usize].clearance < min_clear {
+                    continue;
+                }
+                let edge = (g.pos(u) - pv).norm();
+                let via = du + edge as f32;
+                if next.is_none_or(|b| via < b.0 || (via == b.0 && u < b.1)) {
+                    next = Some((via, u, edge));
+                }
+            }
+            let Some((_, u, edge)) = next else { break };
+            v = u;
+            walked += edge;
+            if walked >= f64::from(self.params.pursuit_length) {
+                break;
+            }
+        }
+        g.pos(v)
+    }
+
+    /// Visible(P(v), t) for the `i`-th reachable vertex: asked once per
+    /// update, and with [`CameraParams::vertex_tests`](super::CameraParams::vertex_tests) answered from the
+    /// vertex's memo when the target has hardly moved since its last test
+    /// or the update's fresh tests are spent (unknown counts as hidden).
+    fn vertex_visible(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> bool {
+        if sc.vis[i] < 0 {
+            let v = sc.reach[i];
+            let ok = if self.params.vertex_tests == 0 {
+                self.sees_vertex(g, scene, v)
+            } else {
+                let memo = sc.memo[v as usize];
+                let moved = (V3::from_f32(memo.target) - scene.t_vis).norm();
+                if memo.known && moved < MEMO_FRESH {
+                    memo.visible
+                } else if sc.fresh_left > 0 {
+                    sc.fresh_left -= 1;
+                    let ok = self.sees_vertex(g, scene, v);
+                    sc.memo[v as usize] = VisMemo {
+                        target: scene.t_vis.to_f32(),
+                        visible: ok,
+                        known: true,
+                    };
+                    ok
+                } else {
+                    memo.known && moved < MEMO_STALE && memo.visible
+                }
+            };
+            sc.vis[i] = i8::from(ok);
+        }
+        sc.vis[i] == 1
+    }
+
+    /// VDistance(P(v), t) for the `i`-th reachable vertex, computed once
+    /// per update and only when asked.
+    fn vertex_vd(&mut self, g: &Vdg<'_>, scene: &Scene, sc: &mut Scratch, i: usize) -> f64 {
+        if sc.vd[i].is_nan() {
+            let v = sc.reach[i];
+            sc.vd[i] = self.vdistance(g, scene, g.vertex_faces(v).get(0), g.pos(v));
+        }
+        sc.vd[i]
+    }
+}
+
+/// Rotates unit vector `u` towards unit vector `w` by `frac` of the angle
+/// between them (about the axis `u × w`; for opposite vectors about z, or
+/// x when they are vertical).
+fn slerp(u: V3, w: V3, frac: f64) -> V3 {
+    let cos = u.dot(w).clamp(-1.0, 1.0);
+    let angle = cos.acos();
+    if angle < 1e-9 {
+        return u;
+    }
+    let mut axis = u.cross(w);
+    if axis.norm() < 1e-9 {
+        axis = if u.2.abs() < 0.9 {
+            V3(0.0, 0.0, 1.0)
+        } else {
+            V3(1.0, 0.0, 0.0)
+        };
+        axis = axis - u * axis.dot(u);
+    }
+    let axis = axis * (1.0 / axis.norm());
+    let (sin_t, cos_t) = (angle * frac).sin_cos();
+    // Rodrigues' rotation of u about the axis (u ⟂ axis).
+    u * cos_t + axis.cross(u) * sin_t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slerp_turns_by_the_fraction() {
+        let u = V3(1.0, 0.0, 0.0);
+        let w = V3(0.0, 1.0, 0.0);
+        let q = slerp(u, w, 0.5);
+        assert!((q.0 - q.1).abs() < 1e-12 && (q.norm() - 1.0).abs() < 1e-12);
+        let opposite = slerp(u, V3(-1.0, 0.0, 0.0), 0.25);
+        assert!((opposite.norm() - 1.0).abs() < 1e-12);
+        assert!((opposite.0 - (std::f64::consts::FRAC_PI_4).cos()).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,121 @@
+//! The cost functions (thesis 5.1): f_dist, f_angle, f_inertia, f_clear,
+//! f_vis with its weight f_novis, and f_total, which rates a position.
+
+use super::{Camera, Scene, Slot, State};
+use crate::geom::V3;
+use crate::read::Vdg;
+
+/// The cost terms of one position (thesis 5.1); `total` is
+/// `(vis + novis · (dist + angle + inertia + clear)) / 5`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Costs {
+    pub vis: f32,
+    pub novis: f32,
+    pub dist: f32,
+    pub angle: f32,
+    pub inertia: f32,
+    pub clear: f32,
+    pub total: f32,
+}
+
+impl Camera {
+    /// All cost terms at `k` (in face `face` with clearance `clear`).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn costs_at(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &State,
+        k: V3,
+        face: u32,
+        clear: f64,
+        visible: Option<bool>,
+        slot: Option<Slot>,
+    ) -> Costs {
+        let visible = match visible {
+            Some(v) => v,
+            None => k == scene.t_vis || self.sees(g, face, k, scene, slot),
+        };
+        let vis = if visible {
+            0.0
+        } else {
+            let vd = self.vdistance(g, scene, face, k);
+            self.vis_cost(vd)
+        };
+        let dist = self.dist_cost(scene, k);
+        let angle = self.angle_cost(scene, k);
+        let inertia = self.inertia_cost(scene, k);
+        let clear = self.clear_cost(s, clear);
+        let total = (vis + scene.novis * (dist + angle + inertia + clear)) / 5.0;
+        Costs {
+            vis: vis as f32,
+            novis: scene.novis as f32,
+            dist: dist as f32,
+            angle: angle as f32,
+            inertia: inertia as f32,
+            clear: clear as f32,
+            total: total as f32,
+        }
+    }
+
+    /// VDistance(k, t): from the frame's distance field, or (the thesis) an
+    /// A* per call. Unreachable: a large finite value, so costs stay
+    /// comparable.
+    pub(super) fn vdistance(&mut self, g: &Vdg<'_>, scene: &Scene, face: u32, k: V3) -> f64 {
+        let d = if self.params.distance_field {
+            f64::from(self.field.vdistance(g, face, k.to_f32()))
+        } else {
+            self.finder
+                .path_between_faces(g, face, k.to_f32(), scene.face, scene.t.to_f32())
+                .map_or(f64::INFINITY, |p| f64::from(p.length))
+        };
+        if d.is_finite() { d } else { 1e6 }
+    }
+
+    pub(super) fn vis_cost(&self, vd: f64) -> f64 {
+        if self.params.normalized_visibility {
+            (1.0 + vd / f64::from(self.params.distance_sigma)).powi(2)
+        } else {
+            1.0 + vd
+        }
+    }
+
+    pub(super) fn dist_cost(&self, scene: &Scene, k: V3) -> f64 {
+        let p = &self.params;
+        (((scene.t - k).norm() - f64::from(p.distance_mu)) / f64::from(p.distance_sigma)).powi(2)
+    }
+
+    pub(super) fn angle_cost(&self, scene: &Scene, k: V3) -> f64 {
+        let tc = k - scene.t;
+        let len = tc.norm();
+        let angle = if len > 1e-6 {
+            (tc.dot(scene.a_n) / len).clamp(-1.0, 1.0).acos()
+        } else {
+            std::f64::consts::FRAC_PI_2
+        };
+        (angle / f64::from(self.params.angle_sigma_deg).to_radians()).powi(2)
+    }
+
+    /// f_inertia. With `inertia_step` the candidate is first brought within
+    /// the horizon's reach of the camera: a far candidate in the direction
+    /// the camera is already going is a gentle step, not a violent turn (the
+    /// thesis compares the candidate itself, so a camera slowed by a narrow
+    /// corridor rated a candidate a few dozen units back towards a standing
+    /// player as costly as a swerve, and drifted away from him).
+    pub(super) fn inertia_cost(&self, scene: &Scene, k: V3) -> f64 {
+        // Squared lengths: no square root for the candidates within reach
+        // (all of them with `inertia_step` off, where the reach is infinite).
+        let d = k - scene.pos;
+        let len2 = d.norm2();
+        let k = if len2 > scene.inertia_reach * scene.inertia_reach {
+            scene.pos + d * (scene.inertia_reach / len2.sqrt())
+        } else {
+            k
+        };
+        ((k - scene.c_t).norm() / scene.inertia_scale).powi(2)
+    }
+
+    pub(super) fn clear_cost(&self, s: &State, clearance: f64) -> f64 {
+        (s.clear_speed * f64::from(self.params.clearance_sigma) / clearance.max(1e-3)).powi(2)
+    }
+}

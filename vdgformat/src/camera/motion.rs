@@ -1,0 +1,329 @@
+//! Motion: the step rule's speed, the smoothed direction of travel, the
+//! move across face volumes (sliding along the boundary where it is
+//! blocked) and the smoothed look-at point.
+
+use super::sight::POSE_HINT;
+use super::{Camera, Pose, Scene, Slot, State};
+use crate::geom::V3;
+use crate::query::{CoverBudget, FaceCache};
+use crate::read::Vdg;
+
+/// Clearance the step may lose when the camera starts inside the
+/// near-plane margin (more than the trace's own margin, so it can always
+/// move, towards more room).
+pub(super) const MARGIN_SLACK: f64 = 0.02;
+
+/// The distance field is steered towards the camera: the questions of one
+/// update come from within about this radius of it (its reachable vertices
+/// and clamped candidates).
+const FIELD_RADIUS: f32 = 48.0;
+
+/// How close (units) the camera's clamps and steps go to the boundary of
+/// the volume they are certified in.
+pub(super) const CLAMP_TOL: f64 = 0.125;
+
+impl Camera {
+    /// The margin the camera keeps from the volume's boundary at `pos`:
+    /// the near-plane margin, or a little less than the current clearance
+    /// when the camera is already closer (so it can still move out).
+    pub(super) fn margin_at(&self, clearance: f64) -> f32 {
+        let m = f64::from(self.params.near_margin);
+        if clearance >= m + MARGIN_SLACK {
+            m as f32
+        } else {
+            (clearance - MARGIN_SLACK).clamp(0.0, m) as f32
+        }
+    }
+
+    /// One regular frame: candidates, choice, step, face update.
+    pub(super) fn step(&mut self, g: &Vdg<'_>, scene: &Scene, mut s: State, heading: V3) -> Pose {
+        remember_target(&mut s, scene, heading);
+        if scene.dt <= 0.0 {
+            // Re-aim only.
+            self.state = Some(s);
+            let visible = self.sees_finally(g, s.face, s.pos, scene);
+            if let Some(st) = self.state.as_mut() {
+                st.visible = visible;
+            }
+            return self.finish(s.pos, s.face, s.look, false, visible, scene.inside);
+        }
+        if self.params.distance_field {
+            self.steer_field(g, scene, &s);
+        }
+        let here_clear = g.fc(s.face, s.pos);
+        let margin = self.margin_at(here_clear);
+        // The current position's visibility: last update's answer (the
+        // target moved a few units since) in our variant, a trace in the
+        // thesis'.
+        let known = (self.params.max_substeps > 0).then_some(s.visible);
+        let current = self.costs_at(
+            g,
+            scene,
+            &s,
+            s.pos,
+            s.face,
+            here_clear,
+            known,
+            Some(Slot::Line(POSE_HINT)),
+        );
+        let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
+        let to_best = best_pos - s.pos;
+        let dist_best = to_best.norm();
+        let v = self.speed(scene, &s, f64::from(current.total), dist_best);
+        let dir = if dist_best > 1e-9 {
+            to_best * (1.0 / dist_best)
+        } else {
+            V3(0.0, 0.0, 0.0)
+        };
+        let (new_pos, new_face) = if self.params.max_substeps == 0 {
+            // The thesis: one step inside Volume(f_i), then the best of f_i
+            // and its neighbours.
+            let p = s.pos + dir * (v * scene.dt).min(dist_best);
+            let p = V3::from_f32(p.to_f32());
+            let (f, _) = g.climb(s.face, p, 1);
+            s.vel = dir * v;
+            (p, f)
+        } else {
+            self.move_smoothly(
+                g, scene, &mut s, best_pos, dir, dist_best, v, margin, here_clear,
+            )
+        };
+        let moved = (new_pos - s.pos).norm();
+        s.speed = v;
+        // f_clear's Velocity(c): the thesis uses the commanded speed; ours
+        // the speed actually moved, so a blocked camera whose command winds
+        // up to top speed does not let f_clear outweigh everything.
+        s.clear_speed = if self.params.max_substeps == 0 {
+            v
+        } else {
+            moved / scene.dt
+        };
+        s.pos = new_pos;
+        s.face = new_face;
+        let visible = self.sees_finally(g, s.face, s.pos, scene);
+        s.hidden = if visible { 0.0 } else { s.hidden + scene.dt };
+        s.visible = visible;
+        s.look = self.look_at(scene, s.look);
+        self.state = Some(s);
+        self.debug.current = current;
+        self.debug.field_settled = self.field.settled();
+        self.debug.speed = v as f32;
+        self.debug.moved = moved as f32;
+        let _ = best_cost;
+        self.finish(s.pos, s.face, s.look, false, visible, scene.inside)
+    }
+
+    /// Steers the update's distance field towards the camera: every
+    /// VDistance of this update is asked near it.
+    fn steer_field(&mut self, g: &Vdg<'_>, scene: &Scene, s: &State) {
+        let near = s.pos.to_f32();
+        let radius = FIELD_RADIUS;
+        // Ways the camera cannot pass are no ways to the target.
+        self.field
+            .set_min_clearance(self.params.field_min_clearance);
+        self.field
+            .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
+    }
+
+    /// The step rule (thesis 5.3): the speed follows the command with
+    /// `frac = 1 − e^(−Δt/τ)`, capped at the top speed and, with
+    /// `max_decel`, at the speed from which the camera can stop at the best
+    /// candidate `dist_best` away. `f_cur` is f_total where the camera is.
+    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_best: f64) -> f64 {
+        let frac = lag_fraction(scene.dt, self.params.speed_tau);
+        // The thesis' command (1 + V)·√f_total has the fixed point
+        // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
+        // costs pass 1. Ours commands at least the target's own speed.
+        let command = ((1.0 + s.speed) * f_cur.sqrt())
+            .max(scene.target_speed * f64::from(self.params.target_speed_floor));
+        let v = ((1.0 - frac) * s.speed + frac * command).min(f64::from(self.params.max_speed));
+        // Arrive rather than overshoot: no faster than the camera can brake
+        // to a stop at the best candidate (plus the target's own speed, which
+        // moves that point on). Without it the command winds up to top speed
+        // (f_clear grows with the speed it rates) and a camera behind a
+        // player standing still hunted back and forth across the ideal.
+        if self.params.max_decel > 0.0 {
+            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.target_speed)
+        } else {
+            v
+        }
+    }
+
+    /// The look-at point after this update: `look` drawn towards the
+    /// target with the lag `look_tau`, or the target itself.
+    fn look_at(&self, scene: &Scene, look: V3) -> V3 {
+        if self.params.look_tau > 0.0 {
+            let k = lag_fraction(scene.dt, self.params.look_tau);
+            look + (scene.t - look) * k
+        } else {
+            scene.t
+        }
+    }
+
+    /// Our step: the direction of motion follows the best candidate with a
+    /// lag (frame-rate independent), the move may cross several faces, and
+    /// a move the smoothed direction cannot make falls back to the straight
+    /// line to the best candidate, which is free by construction.
+    #[allow(clippy::too_many_arguments)]
+    fn move_smoothly(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &mut State,
+        best_pos: V3,
+        dir: V3,
+        dist_best: f64,
+        v: f64,
+        margin: f32,
+        here_clear: f64,
+    ) -> (V3, u32) {
+        let hops = self.params.max_substeps;
+        let desired = dir * v;
+        let vel = if self.params.direction_tau > 0.0 {
+            let k = lag_fraction(scene.dt, self.params.direction_tau);
+            s.vel + (desired - s.vel) * k
+        } else {
+            desired
+        };
+        let mut step = vel * scene.dt;
+        let len = step.norm();
+        let mut allowed = (v * scene.dt).min(dist_best);
+        if self.params.max_decel > 0.0 {
+            // The best candidate may be reached (or may jump to the
+            // camera's own position, another criterion winning) while the
+            // camera is fast: it then brakes at `max_decel` and passes the
+            // point a little instead of stopping dead in one frame.
+            let coast = (s.vel.norm() - f64::from(self.params.max_decel) * scene.dt).max(0.0);
+            allowed = allowed.max((coast * scene.dt).min(len));
+        }
+        if len > allowed && len > 0.0 {
+            step = step * (allowed / len);
+        }
+        let from = s.pos.to_f32();
+        let budget = CoverBudget {
+            hops,
+            leaf_searches: u32::MAX,
+        };
+        let a = g.advance_tol(
+            s.face,
+            from,
+            (s.pos + step).to_f32(),
+            margin,
+            &mut budget.clone(),
+            CLAMP_TOL,
+            None,
+            Some(&self.faces),
+        );
+        let (mut p, mut f) = (V3::from_f32(a.point), a.face);
+        if !a.reached && self.params.slide {
+            (p, f) = slide(g, &self.faces, p, f, s.pos + step, margin, hops);
+        }
+        if !a.reached {
+            let left = allowed - (p - s.pos).norm();
+            if left > 1e-6 {
+                let goal = s.pos + dir * allowed;
+                let b = g.advance_tol(
+                    s.face,
+                    from,
+                    goal.to_f32(),
+                    margin,
+                    &mut budget.clone(),
+                    CLAMP_TOL,
+                    None,
+                    Some(&self.faces),
+                );
+                let q = V3::from_f32(b.point);
+                if (q - s.pos).norm() > (p - s.pos).norm() {
+                    (p, f) = (q, b.face);
+                }
+            }
+            let _ = best_pos;
+        }
+        // GetClosestFace: the face of largest clearance near the new point.
+        let (mut f, new_clear) = g.climb(f, p, 4);
+        // Inside the near-plane margin the camera may only gain room: the
+        // relaxed margin lets a segment dip a little, never the end point
+        // (or it would sink a little more every frame).
+        let m = f64::from(self.params.near_margin);
+        if new_clear < m && new_clear < here_clear {
+            (p, f) = (s.pos, s.face);
+        }
+        s.vel = (p - s.pos) * (1.0 / scene.dt);
+        (p, f)
+    }
+}
+
+/// What the configuration keeps of this frame's target: its face and
+/// position (next frame's hint and teleport test), the heading, and where
+/// the last global search for an outside target ran.
+fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
+    s.target_face = scene.face;
+    s.target_prev = scene.t;
+    s.heading = heading;
+    if scene.searched {
+        s.outside_search = Some(scene.t);
+    } else if scene.inside {
+        s.outside_search = None;
+    }
+}
+
+/// How far a quantity smoothed with time constant `tau` (s) moves towards
+/// its goal in `dt` seconds: `1 − e^(−Δt/τ)`, the same motion at any
+/// frame rate.
+fn lag_fraction(dt: f64, tau: f32) -> f64 {
+    1.0 - (-dt / f64::from(tau)).exp()
+}
+
+/// A blocked move's rest along the boundary: from `p` (where the move to
+/// `goal` stopped at the margin), the part of the remaining way that does
+/// not point out of the volume, as far as it goes. A camera grazing a wall
+/// keeps its speed along it instead of stopping dead (a kink in its path
+/// every time its smoothed direction touches the boundary).
+#[allow(clippy::too_many_arguments)]
+fn slide(
+    g: &Vdg<'_>,
+    faces: &FaceCache,
+    p: V3,
+    f: u32,
+    goal: V3,
+    margin: f32,
+    hops: u32,
+) -> (V3, u32) {
+    let rest = goal - p;
+    let Some(n) = inward_normal(g, f, p) else {
+        return (p, f);
+    };
+    let into = rest.dot(n);
+    if into >= 0.0 {
+        return (p, f);
+    }
+    let along = rest - n * into;
+    if along.norm() < 1e-3 {
+        return (p, f);
+    }
+    let b = g.advance_tol(
+        f,
+        p.to_f32(),
+        (p + along).to_f32(),
+        margin,
+        &mut CoverBudget {
+            hops,
+            leaf_searches: 0,
+        },
+        CLAMP_TOL,
+        None,
+        Some(faces),
+    );
+    (V3::from_f32(b.point), b.face)
+}
+
+/// The direction in which face `f`'s clearance grows fastest at `p` (the
+/// volume boundary's inward normal near the boundary), by central
+/// differences; `None` where it is flat.
+fn inward_normal(g: &Vdg<'_>, f: u32, p: V3) -> Option<V3> {
+    const H: f64 = 0.25;
+    let d = |e: V3| g.fc(f, p + e) - g.fc(f, p - e);
+    let n = V3(d(V3(H, 0.0, 0.0)), d(V3(0.0, H, 0.0)), d(V3(0.0, 0.0, H)));
+    let len = n.norm();
+    (len > 1e-9).then(|| n * (1.0 / len))
+}

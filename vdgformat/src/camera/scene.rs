@@ -1,0 +1,163 @@
+//! Where the target stands this frame: its face (a local climb, a tree
+//! leaf, a global search when it is outside the volume), the point
+//! visibility is judged to, the ideal direction a_n and the frame's fixed
+//! cost terms.
+
+use super::{Camera, Scene, State, Target};
+use crate::geom::V3;
+use crate::read::Vdg;
+
+/// Clearance a point needs to count as inside a face volume in the camera's
+/// one-face visibility shortcut (the line-of-sight certificate's margin).
+pub(super) const INSIDE: f64 = 1e-4;
+
+impl Camera {
+    /// The target's heading as a unit vector, with the pitch weighted by
+    /// [`CameraParams::heading_pitch_weight`](super::CameraParams::heading_pitch_weight); a zero heading keeps the
+    /// last one.
+    pub(super) fn heading(&self, target: &Target) -> V3 {
+        let h = V3::from_f32(target.heading);
+        let horiz = horizontal(h);
+        if h.norm() < 1e-9 {
+            return self.state.map_or(V3(1.0, 0.0, 0.0), |s| s.heading);
+        }
+        let w = f64::from(self.params.heading_pitch_weight);
+        let pitch = h.2.atan2(horiz) * w;
+        let yaw = if horiz > 1e-9 {
+            h.1.atan2(h.0)
+        } else {
+            self.state.map_or(0.0, |s| s.heading.1.atan2(s.heading.0))
+        };
+        direction(yaw, pitch)
+    }
+
+    /// Locates the target in the graph and derives the frame's fixed terms.
+    pub(super) fn scene(
+        &mut self,
+        g: &Vdg<'_>,
+        t: V3,
+        heading: V3,
+        hint: u32,
+        state: Option<&State>,
+        dt: f64,
+    ) -> Scene {
+        let (face, inside, searched) = self.locate(g, t, hint, state);
+        let t_vis = if inside { t } else { anchor(g, face, t) };
+        let p = &self.params;
+        let yaw = heading.1.atan2(heading.0) + f64::from(p.angle_mu_yaw_deg).to_radians();
+        let pitch =
+            heading.2.atan2(horizontal(heading)) + f64::from(p.angle_mu_pitch_deg).to_radians();
+        let a_n = direction(yaw, pitch);
+        let (pos, vel, speed, hidden) = state.map_or((t, V3(0.0, 0.0, 0.0), 0.0, 0.0), |s| {
+            (s.pos, s.vel, s.speed, s.hidden)
+        });
+        // The target's speed over the last update (a teleport cuts before
+        // it counts; the cap keeps a hitch from freeing the camera).
+        let target_speed = match state {
+            Some(s) if dt > 0.0 => ((t - s.target_prev).norm() / dt).min(f64::from(p.max_speed)),
+            _ => 0.0,
+        };
+        // f_inertia compares with where inertia carries the camera over the
+        // horizon (the thesis: one frame); the denominator is that travel,
+        // floored so a resting camera's cost stays finite.
+        let horizon = if p.inertia_horizon > 0.0 {
+            f64::from(p.inertia_horizon)
+        } else {
+            dt.max(1e-6)
+        };
+        let c_t = pos + vel * horizon;
+        let inertia_reach = speed
+            .max(f64::from(p.inertia_min_speed))
+            .max(target_speed * f64::from(p.inertia_target_speed))
+            * horizon;
+        let inertia_scale = inertia_reach * f64::from(p.inertia_sigma);
+        let v_sigma = f64::from(p.visibility_sigma);
+        let novis = (v_sigma / (v_sigma + hidden)).powi(2);
+        Scene {
+            t,
+            face,
+            t_vis,
+            inside,
+            target_speed,
+            a_n,
+            dt,
+            c_t,
+            inertia_scale,
+            pos,
+            inertia_reach: if p.inertia_step {
+                inertia_reach
+            } else {
+                f64::INFINITY
+            },
+            novis,
+            searched,
+            t_vis_in_face: g.fc(face, t_vis) > INSIDE,
+        }
+    }
+
+    /// The target's face: a local climb from last frame's face; when that
+    /// ends outside the volume, the tree leaf at the target; when the target
+    /// is outside the volume, a global search — repeated only after the
+    /// target moved 32 units, so a target far outside costs a tree search
+    /// now and then, not every frame. Returns (face, inside, searched).
+    pub(super) fn locate(
+        &self,
+        g: &Vdg<'_>,
+        t: V3,
+        hint: u32,
+        state: Option<&State>,
+    ) -> (u32, bool, bool) {
+        if (hint as usize) < g.faces.len() {
+            // Our variant keeps last frame's face while it holds the target
+            // (any face holding it serves as the field's entry and the
+            // visibility anchor); the thesis climbs to ρ(t)'s face.
+            if !self.params.exact_reachable && g.fc(hint, t) > INSIDE {
+                return (hint, true, false);
+            }
+            let (f, c) = g.climb(hint, t, 32);
+            if c > 0.0 {
+                return (f, true, false);
+            }
+            let leaf = g
+                .leaf_faces_at(t)
+                .iter()
+                .map(|f| (f, g.fc_above(f, t, 0.0)))
+                .fold((f, c), |a, b| if b.1 > a.1 { b } else { a });
+            if leaf.1 > 0.0 {
+                return (leaf.0, true, false);
+            }
+            if let Some(s) = state.and_then(|s| s.outside_search)
+                && (s - t).norm() < 32.0
+            {
+                return (f, false, false);
+            }
+        }
+        match g.nearest_face_f64(t) {
+            Some((f, c)) => (f, c > 0.0, true),
+            None => (0, false, true),
+        }
+    }
+}
+
+/// A point inside the volume of `face` as close to `t` as a straight line
+/// from the triangle's centroid allows: where visibility is judged for a
+/// target standing outside the volume.
+fn anchor(g: &Vdg<'_>, face: u32, t: V3) -> V3 {
+    let [a, b, c] = g.faces.get(face).map(|v| g.pos(v));
+    let centroid = (a + b + c) * (1.0 / 3.0);
+    V3::from_f32(g.trace(face, centroid.to_f32(), t.to_f32()))
+}
+
+/// The unit vector of azimuth `yaw` and elevation `pitch` (radians, z up).
+fn direction(yaw: f64, pitch: f64) -> V3 {
+    V3(
+        pitch.cos() * yaw.cos(),
+        pitch.cos() * yaw.sin(),
+        pitch.sin(),
+    )
+}
+
+/// The length of `v`'s horizontal part (x, y).
+pub(super) fn horizontal(v: V3) -> f64 {
+    (v.0 * v.0 + v.1 * v.1).sqrt()
+}

@@ -1,0 +1,137 @@
+//! Sight lines from candidate positions, vertices and the pose to the
+//! target: the one-face shortcut, the update's allowance of hops and leaf
+//! searches, and the hints that let a test follow the way the same sight
+//! line took last frame.
+
+use super::scene::INSIDE;
+use super::{Camera, Scene};
+use crate::geom::V3;
+use crate::query::{CoverBudget, CoverHint};
+use crate::read::Vdg;
+
+/// Which remembered sight line a test continues.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Slot {
+    /// A candidate's (by its index in the frame) or the pose's.
+    Line(usize),
+    /// A reachable vertex's.
+    Vertex(u32),
+}
+
+/// Hints for the sight lines of the last few vertices tested (the
+/// reachable set changes slowly), replaced oldest first.
+#[derive(Clone, Debug)]
+pub(super) struct VertexHints {
+    vertices: [u32; VERTEX_HINTS],
+    hints: [CoverHint; VERTEX_HINTS],
+    next: usize,
+}
+
+const VERTEX_HINTS: usize = 32;
+
+impl Default for VertexHints {
+    fn default() -> Self {
+        VertexHints {
+            vertices: [u32::MAX; VERTEX_HINTS],
+            hints: [CoverHint::default(); VERTEX_HINTS],
+            next: 0,
+        }
+    }
+}
+
+impl VertexHints {
+    /// The hint of vertex `v`, a fresh one if it has none.
+    pub(super) fn get(&mut self, v: u32) -> &mut CoverHint {
+        let i = match self.vertices.iter().position(|&u| u == v) {
+            Some(i) => i,
+            None => {
+                let i = self.next;
+                self.next = (i + 1) % VERTEX_HINTS;
+                self.vertices[i] = v;
+                self.hints[i] = CoverHint::default();
+                i
+            }
+        };
+        &mut self.hints[i]
+    }
+}
+
+/// A line of sight crossing more face volumes than this counts as blocked
+/// (a camera's sight lines span a few faces; the bound caps the worst case
+/// of an update).
+pub(super) const VISIBILITY_HOPS: u32 = 48;
+
+/// The hint slot of the pose's own sight line (after the 7 candidates').
+pub(super) const POSE_HINT: usize = 8;
+
+impl Camera {
+    /// Visible(k, t) from face `face` (counted in the debug view). When
+    /// `k` lies in the volume of the target's face, which holds `t` too,
+    /// the segment does (the volume is convex): one evaluation instead of a
+    /// trace.
+    ///
+    /// The test's hops and tree-leaf searches come out of the update's
+    /// allowance ([`CameraParams::sight_hops`](super::CameraParams::sight_hops), [`CameraParams::leaf_searches`](super::CameraParams::leaf_searches));
+    /// the pose's own test, [`Camera::sees_finally`], has one of its own.
+    ///
+    /// `slot` names a sight line the camera tests again and again (a
+    /// candidate kind, the pose, a reachable vertex): its [`CoverHint`]
+    /// from the last time guides the test.
+    pub(super) fn sees(
+        &mut self,
+        g: &Vdg<'_>,
+        face: u32,
+        k: V3,
+        scene: &Scene,
+        slot: Option<Slot>,
+    ) -> bool {
+        if scene.t_vis_in_face && g.fc(scene.face, k) > INSIDE {
+            return true;
+        }
+        self.debug.visibility_tests += 1;
+        let hops = self.sight_budget.hops.min(VISIBILITY_HOPS);
+        let mut budget = CoverBudget {
+            hops,
+            leaf_searches: self.sight_budget.leaf_searches,
+        };
+        let hint = match slot {
+            Some(Slot::Line(i)) => Some(&mut self.hints[i]),
+            Some(Slot::Vertex(v)) => Some(self.vertex_hints.get(v)),
+            None => None,
+        };
+        let seen = g.visible_hinted_cached(
+            face,
+            k.to_f32(),
+            scene.t_vis.to_f32(),
+            &mut budget,
+            hint,
+            Some(&self.faces),
+        );
+        self.sight_budget.hops -= hops - budget.hops;
+        self.sight_budget.leaf_searches = budget.leaf_searches;
+        seen
+    }
+
+    /// [`Camera::sees`] from vertex `v` (in its first face), continuing
+    /// that vertex's remembered sight line.
+    pub(super) fn sees_vertex(&mut self, g: &Vdg<'_>, scene: &Scene, v: u32) -> bool {
+        self.sees(
+            g,
+            g.vertex_faces(v).get(0),
+            g.pos(v),
+            scene,
+            Some(Slot::Vertex(v)),
+        )
+    }
+
+    /// [`Camera::sees`] for the pose the update returns: `target_visible`
+    /// and the hidden-time clock (which makes cuts) rest on it, so it does
+    /// not share the candidates' allowance.
+    pub(super) fn sees_finally(&mut self, g: &Vdg<'_>, face: u32, k: V3, scene: &Scene) -> bool {
+        self.sight_budget = CoverBudget {
+            hops: VISIBILITY_HOPS,
+            leaf_searches: self.params.leaf_searches,
+        };
+        self.sees(g, face, k, scene, Some(Slot::Line(POSE_HINT)))
+    }
+}
