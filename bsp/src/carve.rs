@@ -36,6 +36,23 @@ pub(crate) enum Side {
 }
 
 impl Cell {
+    /// What of `cell` (none where the tree's walk left the region) lies in front of
+    /// and behind the plane `n·x = d`: a node's two children's pieces.
+    pub fn pieces(cell: Option<Cell>, n: P, d: f64) -> [Option<Cell>; 2] {
+        match cell.as_ref().map(|c| c.side(n, d)) {
+            None => [None, None],
+            Some(Side::Front) => [cell, None],
+            Some(Side::Back) => [None, cell],
+            Some(Side::Split) => match cell {
+                Some(c) => {
+                    let (front, back) = c.split(n, d);
+                    [Some(front), Some(back)]
+                }
+                None => [None, None],
+            },
+        }
+    }
+
     /// The box `lo..=hi`.
     pub fn cube(lo: P, hi: P) -> Cell {
         let c = |x: usize, y: usize, z: usize| [[lo, hi][x][0], [lo, hi][y][1], [lo, hi][z][2]];

@@ -12,7 +12,7 @@
 //! sum), carved into the cells of the hull-0 tree, whose solid leaves stay solid.
 
 use super::{Hull, HullNode, PlayerHull, hull_node_on};
-use crate::carve::{CarveBrush, Carver, Cell, LeafLists, Side};
+use crate::carve::{CarveBrush, Carver, Cell, LeafLists};
 use crate::map::Node;
 use crate::{Bsp, Game, contents, quake2, quake3};
 
@@ -130,15 +130,7 @@ impl Hull {
             reached[n] = true;
             let node: Node = bsp.nodes[n];
             let (nrm, d) = planes[node.plane as usize];
-            let pieces = match cell.as_ref().map(|c| c.side(nrm, d)) {
-                None => [None, None],
-                Some(Side::Front) => [cell, None],
-                Some(Side::Back) => [None, cell],
-                Some(Side::Split) => {
-                    let (f, b) = cell.unwrap().split(nrm, d);
-                    [Some(f), Some(b)]
-                }
-            };
+            let pieces = Cell::pieces(cell, nrm, d);
             for (side, piece) in pieces.into_iter().enumerate() {
                 let c = node.children[side];
                 if c >= 0 {

@@ -825,15 +825,7 @@ fn carve_world(raw: &Raw, carver: &mut Carver, listing: &LeafListing) -> i32 {
     while let Some((n, cell)) = stack.pop() {
         let node = raw.nodes[n];
         let (nrm, d) = planes64[node.plane as usize];
-        let pieces = match cell.as_ref().map(|c| c.side(nrm, d)) {
-            None => [None, None],
-            Some(Side::Front) => [cell, None],
-            Some(Side::Back) => [None, cell],
-            Some(Side::Split) => {
-                let (f, bk) = cell.unwrap().split(nrm, d);
-                [Some(f), Some(bk)]
-            }
-        };
+        let pieces = Cell::pieces(cell, nrm, d);
         for (side, piece) in pieces.into_iter().enumerate() {
             let c = node.children[side];
             if c >= 0 {
