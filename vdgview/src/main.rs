@@ -193,12 +193,19 @@ struct ViewArgs {
 
 fn main() {
     let cli = Cli::parse();
-    match run(cli) {
+    let verdict = run(cli);
+    // A reader closing the pipe (`vdgview info G | head -1`) is no failure; a report
+    // lost on a full disk is.
+    if let Some(lost) = toolbox::console::stdout_lost() {
+        toolbox::errln!("vdgview: error: {lost}");
+        std::process::exit(1);
+    }
+    match verdict {
         Ok(true) => {}
         // A negative verdict (e.g. a failed check) after its report was printed.
         Ok(false) => std::process::exit(1),
         Err(e) => {
-            eprintln!("vdgview: error: {e:#}");
+            toolbox::errln!("vdgview: error: {e:#}");
             std::process::exit(1);
         }
     }
@@ -222,10 +229,10 @@ fn run(cli: Cli) -> Result<bool> {
                 .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
                 .is_ok_and(|n| bsp::BspVersion::identify(&head[..n]).is_some());
             if is_map {
-                print!("{}", info::map_summary(&scene::open_map(&graph)?));
+                toolbox::out!("{}", info::map_summary(&scene::open_map(&graph)?));
             } else {
                 let file = scene::open_graph(&graph)?;
-                print!("{}", info::summary(&file.graph()));
+                toolbox::out!("{}", info::summary(&file.graph()));
             }
             Ok(true)
         }
@@ -236,7 +243,7 @@ fn run(cli: Cli) -> Result<bool> {
         } => {
             let q = query::Query::parse(&kind, &coords)?;
             let file = scene::open_graph(&graph)?;
-            print!("{}", q.run(&file.graph()));
+            toolbox::out!("{}", q.run(&file.graph()));
             Ok(true)
         }
         Command::Render(args) => run_render(args).map(|()| true),
@@ -277,27 +284,29 @@ fn run_check(
     };
     let r = check(&bsp, &file.graph(), bytes, &options);
     if json {
-        println!("{}", r.to_json());
+        toolbox::outln!("{}", r.to_json());
     } else {
-        println!("check {} against {}", vdg.display(), map.display());
-        println!(
+        toolbox::outln!("check {} against {}", vdg.display(), map.display());
+        toolbox::outln!(
             "  graph      {} vertices, {} faces, {} bytes",
-            r.vertices, r.faces, r.bytes
+            r.vertices,
+            r.faces,
+            r.bytes
         );
-        println!(
+        toolbox::outln!(
             "  leak       {:.6}  ({} of {} volume points in walls)",
             r.leak(),
             r.leaked,
             r.leak_points
         );
-        println!(
+        toolbox::outln!(
             "  coverage   {:.4}  ({} of {} free points with clearance >= {} inside)",
             r.coverage(),
             r.covered,
             r.coverage_points,
             options.coverage_clearance
         );
-        println!(
+        toolbox::outln!(
             "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside, {:.4} staying inside)",
             r.visible_fp(),
             r.false_positives,
@@ -309,7 +318,7 @@ fn run_check(
             r.visible_fn_query()
         );
         let share = |x: Option<f64>| x.map_or("n/a".to_string(), |x| format!("{x:.4}"));
-        println!(
+        toolbox::outln!(
             "  walkable   {}  ({} of {} standing player origins inside), head {} ({} of {})",
             share(r.walkable_coverage()),
             r.walkable_covered,
@@ -318,13 +327,13 @@ fn run_check(
             r.walkable_head_covered,
             r.walkable_head_points
         );
-        println!(
+        toolbox::outln!(
             "  crouching  {}  ({} of {} eyes of places where a player only fits crouching inside)",
             share(r.crouch_coverage()),
             r.crouch_covered,
             r.crouch_points
         );
-        println!(
+        toolbox::outln!(
             "  camera     fn {} ({} of {} free sight lines from a camera's distance to a standing origin, both ends inside), fp {} of {}",
             share(r.visible_fn_camera()),
             r.camera_false_negatives,
@@ -332,7 +341,7 @@ fn run_check(
             r.camera_false_positives,
             r.camera_lines
         );
-        println!(
+        toolbox::outln!(
             "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,
@@ -363,7 +372,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     if mode == Mode::ReductionCost && file.is_some() {
         anyhow::bail!(render::NO_REDUCTION_COST);
@@ -391,7 +400,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
     let pixels = render::render(&scene, &req)?;
     let png = render::encode_png(&pixels, width, height)?;
     render::write_atomic(&args.output, &png)?;
-    eprintln!(
+    toolbox::errln!(
         "vdgview: wrote {} ({width}x{height}, {} wall triangles, {} graph faces, rendered in {:.0} ms)",
         args.output.display(),
         scene.walls.len(),
@@ -409,7 +418,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     let samples = args
         .samples
@@ -492,9 +501,9 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     }
     let walls = bsp::walls::Walls::of_map(&bsp, &options);
     let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
-    eprintln!("replay: making routes ({}) ...", source.label());
+    toolbox::errln!("replay: making routes ({}) ...", source.label());
     let routes = replay::load_routes(&bsp, &oracle, &source, args.seed, args.max_routes)?;
-    eprintln!(
+    toolbox::errln!(
         "replay: {} routes, {:.1} s of play ({} pairs unreachable); {} cameras at dt {:.4} s",
         routes.routes.len(),
         routes.routes.iter().map(|r| r.duration()).sum::<f64>(),
@@ -506,9 +515,9 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         vdgview::render::write_atomic(p, replay::jsonl::write(&routes.routes).as_bytes())?;
     }
     let mut progress = |cam: &str, k: usize, n: usize| {
-        eprint!("\rreplay: {cam:<12} route {k}/{n}   ");
+        toolbox::err!("\rreplay: {cam:<12} route {k}/{n}   ");
         if k == n {
-            eprintln!();
+            toolbox::errln!();
         }
     };
     let report = replay::replay(
@@ -535,11 +544,11 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         replay::frames::contact_sheet(&report, &scene, dir, 6)?;
     }
     if args.json {
-        println!("{}", report.to_json(&args.map, &args.vdg));
+        toolbox::outln!("{}", report.to_json(&args.map, &args.vdg));
     } else {
-        print!("{}", report.table());
+        toolbox::out!("{}", report.table());
     }
-    eprintln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
+    toolbox::errln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 

@@ -16,7 +16,7 @@
 //! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false, game: bsp::Game::GoldSrc };
 //! cam.reset(&t);
 //! let frame = cam.update(&t, 1.0 / 60.0);
-//! println!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
+//! toolbox::outln!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
 //! ```
 
 pub mod cameras;
