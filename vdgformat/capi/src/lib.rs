@@ -236,12 +236,11 @@ pub extern "C" fn vdg_abi_version() -> c_int {
 /// The library's version, e.g. "0.1.0": a static string, never freed.
 #[unsafe(no_mangle)]
 pub extern "C" fn vdg_version() -> *const c_char {
-    const VERSION: &CStr = match CStr::from_bytes_with_nul(
-        concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes(),
-    ) {
-        Ok(v) => v,
-        Err(_) => c"unknown",
-    };
+    const VERSION: &CStr =
+        match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+            Ok(v) => v,
+            Err(_) => c"unknown",
+        };
     VERSION.as_ptr()
 }
 

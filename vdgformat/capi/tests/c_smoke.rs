@@ -490,7 +490,14 @@ fn the_header_is_c89_and_the_error_string_outlives_later_failures() {
     let capi = Path::new(env!("CARGO_MANIFEST_DIR"));
     let exe = dir.join(if cfg!(windows) { "c89.exe" } else { "c89" });
     let out = Command::new(&cc)
-        .args(["-std=c89", "-pedantic", "-Wall", "-Wextra", "-Werror", "-O1"])
+        .args([
+            "-std=c89",
+            "-pedantic",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O1",
+        ])
         .arg("-I")
         .arg(capi.join("include"))
         .arg(capi.join("tests/c/c89.c"))

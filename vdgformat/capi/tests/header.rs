@@ -49,7 +49,15 @@ fn c89(header: &str) -> String {
 
 #[test]
 fn the_header_has_no_line_comments() {
-    let header = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/vdg.h")).unwrap();
-    let line_comments: Vec<&str> = header.lines().filter(|l| l.contains("//") && !l.contains("://")).collect();
-    assert!(line_comments.is_empty(), "C89 has no // comments: {line_comments:?}");
+    let header =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("include/vdg.h"))
+            .unwrap();
+    let line_comments: Vec<&str> = header
+        .lines()
+        .filter(|l| l.contains("//") && !l.contains("://"))
+        .collect();
+    assert!(
+        line_comments.is_empty(),
+        "C89 has no // comments: {line_comments:?}"
+    );
 }
