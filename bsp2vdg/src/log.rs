@@ -16,7 +16,6 @@ pub enum Verbosity {
 }
 
 /// Collects log lines and echoes them to the console.
-#[derive(Debug)]
 pub struct Log {
     verbosity: Verbosity,
     /// Echo to stderr instead of stdout (when stdout carries JSON).
@@ -27,6 +26,21 @@ pub struct Log {
     /// The log file lines are appended to as they are logged, with the prefix of each
     /// line there (a `-logfile` shared by the maps of a batch needs it).
     file: Option<(Mutex<std::fs::File>, String)>,
+    /// Where console lines go instead of plain printing (a progress bar's
+    /// `suspend`, so a line never breaks the bar or leaves a trail of it).
+    console: Mutex<Option<ConsolePrinter>>,
+}
+
+/// Prints one console line.
+pub type ConsolePrinter = Box<dyn Fn(&str) + Send + Sync>;
+
+impl std::fmt::Debug for Log {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Log")
+            .field("verbosity", &self.verbosity)
+            .field("prefix", &self.prefix)
+            .finish_non_exhaustive()
+    }
 }
 
 impl Log {
@@ -37,6 +51,14 @@ impl Log {
             prefix: String::new(),
             lines: Mutex::new(Vec::new()),
             file: None,
+            console: Mutex::new(None),
+        }
+    }
+
+    /// Prints console lines (already prefixed) through `print` from now on.
+    pub fn set_console(&self, print: ConsolePrinter) {
+        if let Ok(mut c) = self.console.lock() {
+            *c = Some(print);
         }
     }
 
@@ -96,7 +118,12 @@ impl Log {
     }
 
     fn emit(&self, line: String, show: bool) {
-        if show {
+        let console = if show { self.console.lock().ok() } else { None };
+        if let Some(console) = &console
+            && let Some(print) = console.as_ref()
+        {
+            print(&format!("{}{line}", self.prefix));
+        } else if show {
             if self.to_stderr {
                 toolbox::errln!("{}{line}", self.prefix);
             } else {

@@ -534,7 +534,9 @@ fn compile_logged(
     let progress: Box<dyn Progress> = if batch || cli.quiet {
         Box::new(NoProgress)
     } else if std::io::stderr().is_terminal() {
-        Box::new(TerminalBar::new(cli.estimate))
+        let bar = TerminalBar::new(cli.estimate);
+        log.set_console(bar.printer(cli.json));
+        Box::new(bar)
     } else if cli.estimate {
         Box::new(PercentLines::with_estimate())
     } else {
