@@ -296,7 +296,8 @@ impl Recent {
         out: &mut Vec<Option<f64>>,
     ) {
         out.clear();
-        let (ask, ask_points, ask_radii) = (&mut self.ask, &mut self.ask_points, &mut self.ask_radii);
+        let (ask, ask_points, ask_radii) =
+            (&mut self.ask, &mut self.ask_points, &mut self.ask_radii);
         ask.clear();
         ask_points.clear();
         ask_radii.clear();
