@@ -9,6 +9,34 @@ use bsp::player::settle;
 pub use navmesh::{NAV_CROUCH, NAV_MAGIC, NavArea, NavMesh};
 use toolbox::SplitMix64;
 
+/// Whether a nav mesh was made for the map at `map`: the bot writes the size of the BSP
+/// it analysed into the mesh (versions 4 and 5), so a mesh of another map (or of
+/// another build of this one) shows a size other than the file's. Meshes that record no
+/// size (0) pass. `Err` names both files.
+pub fn same_map(
+    mesh: &NavMesh,
+    nav: &std::path::Path,
+    map: &std::path::Path,
+) -> Result<(), String> {
+    if mesh.bsp_size == 0 {
+        return Ok(());
+    }
+    let size = std::fs::metadata(map)
+        .map_err(|e| format!("cannot read map {}: {e}", map.display()))?
+        .len();
+    if size == u64::from(mesh.bsp_size) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} was made for another map than {} (it records a {}-byte BSP, the map has {} bytes; give its own map, or --force)",
+            nav.display(),
+            map.display(),
+            mesh.bsp_size,
+            size
+        ))
+    }
+}
+
 /// The floor path through a chain of areas: each centre and the portal to the next.
 pub fn waypoints(mesh: &NavMesh, chain: &[usize]) -> Vec<Waypoint> {
     let mut out = Vec::new();
