@@ -206,12 +206,19 @@ struct ViewArgs {
 
 fn main() {
     let cli = Cli::parse();
-    match run(cli) {
+    let verdict = run(cli);
+    // A reader closing the pipe (`vdgview info G | head -1`) is no failure; a report
+    // lost on a full disk is.
+    if let Some(lost) = toolbox::console::stdout_lost() {
+        toolbox::errln!("vdgview: error: {lost}");
+        std::process::exit(1);
+    }
+    match verdict {
         Ok(true) => {}
         // A negative verdict (e.g. a failed check) after its report was printed.
         Ok(false) => std::process::exit(1),
         Err(e) => {
-            eprintln!("vdgview: error: {e:#}");
+            toolbox::errln!("vdgview: error: {e:#}");
             std::process::exit(1);
         }
     }
@@ -235,10 +242,10 @@ fn run(cli: Cli) -> Result<bool> {
                 .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
                 .is_ok_and(|n| bsp::BspVersion::identify(&head[..n]).is_some());
             if is_map {
-                print!("{}", info::map_summary(&scene::open_map(&graph)?));
+                toolbox::out!("{}", info::map_summary(&scene::open_map(&graph)?));
             } else {
                 let file = scene::open_graph(&graph)?;
-                print!("{}", info::summary(&file.graph()));
+                toolbox::out!("{}", info::summary(&file.graph()));
             }
             Ok(true)
         }
@@ -249,7 +256,7 @@ fn run(cli: Cli) -> Result<bool> {
         } => {
             let q = query::Query::parse(&kind, &coords)?;
             let file = scene::open_graph(&graph)?;
-            print!("{}", q.run(&file.graph()));
+            toolbox::out!("{}", q.run(&file.graph()));
             Ok(true)
         }
         Command::Render(args) => run_render(args).map(|()| true),
@@ -259,9 +266,9 @@ fn run(cli: Cli) -> Result<bool> {
             use vdgview::replay::demo as dem;
             let d = dem::open(&demo).map_err(anyhow::Error::msg)?;
             if json {
-                println!("{}", dem::summary_json(&d));
+                toolbox::outln!("{}", dem::summary_json(&d));
             } else {
-                print!("{}", dem::summary(&d, &demo));
+                toolbox::out!("{}", dem::summary(&d, &demo));
             }
             Ok(true)
         }
@@ -300,27 +307,29 @@ fn run_check(
     };
     let r = check(&bsp, &file.graph(), bytes, &options);
     if json {
-        println!("{}", r.to_json());
+        toolbox::outln!("{}", r.to_json());
     } else {
-        println!("check {} against {}", vdg.display(), map.display());
-        println!(
+        toolbox::outln!("check {} against {}", vdg.display(), map.display());
+        toolbox::outln!(
             "  graph      {} vertices, {} faces, {} bytes",
-            r.vertices, r.faces, r.bytes
+            r.vertices,
+            r.faces,
+            r.bytes
         );
-        println!(
+        toolbox::outln!(
             "  leak       {:.6}  ({} of {} volume points in walls)",
             r.leak(),
             r.leaked,
             r.leak_points
         );
-        println!(
+        toolbox::outln!(
             "  coverage   {:.4}  ({} of {} free points with clearance >= {} inside)",
             r.coverage(),
             r.covered,
             r.coverage_points,
             options.coverage_clearance
         );
-        println!(
+        toolbox::outln!(
             "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside, {:.4} staying inside)",
             r.visible_fp(),
             r.false_positives,
@@ -332,7 +341,7 @@ fn run_check(
             r.visible_fn_query()
         );
         let share = |x: Option<f64>| x.map_or("n/a".to_string(), |x| format!("{x:.4}"));
-        println!(
+        toolbox::outln!(
             "  walkable   {}  ({} of {} standing player origins inside), head {} ({} of {})",
             share(r.walkable_coverage()),
             r.walkable_covered,
@@ -341,13 +350,13 @@ fn run_check(
             r.walkable_head_covered,
             r.walkable_head_points
         );
-        println!(
+        toolbox::outln!(
             "  crouching  {}  ({} of {} eyes of places where a player only fits crouching inside)",
             share(r.crouch_coverage()),
             r.crouch_covered,
             r.crouch_points
         );
-        println!(
+        toolbox::outln!(
             "  camera     fn {} ({} of {} free sight lines from a camera's distance to a standing origin, both ends inside), fp {} of {}",
             share(r.visible_fn_camera()),
             r.camera_false_negatives,
@@ -355,7 +364,7 @@ fn run_check(
             r.camera_false_positives,
             r.camera_lines
         );
-        println!(
+        toolbox::outln!(
             "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,
@@ -386,7 +395,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     if mode == Mode::ReductionCost && file.is_some() {
         anyhow::bail!(render::NO_REDUCTION_COST);
@@ -414,7 +423,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
     let pixels = render::render(&scene, &req)?;
     let png = render::encode_png(&pixels, width, height)?;
     render::write_atomic(&args.output, &png)?;
-    eprintln!(
+    toolbox::errln!(
         "vdgview: wrote {} ({width}x{height}, {} wall triangles, {} graph faces, rendered in {:.0} ms)",
         args.output.display(),
         scene.walls.len(),
@@ -432,7 +441,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     let samples = args
         .samples
@@ -507,7 +516,7 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         if !args.force {
             bail!("{e} (or --force)");
         }
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     let options = bsp::oracle::OracleOptions {
         liquids_are_solid: args.liquids_solid,
@@ -522,7 +531,7 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     }
     let walls = bsp::walls::Walls::of_map(&bsp, &options);
     let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
-    eprintln!("replay: making routes ({}) ...", source.label());
+    toolbox::errln!("replay: making routes ({}) ...", source.label());
     let map_check = replay::MapCheck {
         path: &args.map,
         force: args.force,
@@ -535,7 +544,7 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         args.seed,
         args.max_routes,
     )?;
-    eprintln!(
+    toolbox::errln!(
         "replay: {} routes, {:.1} s of play ({} pairs unreachable); {} cameras at dt {:.4} s",
         routes.routes.len(),
         routes.routes.iter().map(|r| r.duration()).sum::<f64>(),
@@ -547,9 +556,9 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         vdgview::render::write_atomic(p, replay::jsonl::write(&routes.routes).as_bytes())?;
     }
     let mut progress = |cam: &str, k: usize, n: usize| {
-        eprint!("\rreplay: {cam:<12} route {k}/{n}   ");
+        toolbox::err!("\rreplay: {cam:<12} route {k}/{n}   ");
         if k == n {
-            eprintln!();
+            toolbox::errln!();
         }
     };
     let report = replay::replay(
@@ -576,11 +585,11 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         replay::frames::contact_sheet(&report, &scene, dir, 6)?;
     }
     if args.json {
-        println!("{}", report.to_json(&args.map, &args.vdg));
+        toolbox::outln!("{}", report.to_json(&args.map, &args.vdg));
     } else {
-        print!("{}", report.table());
+        toolbox::out!("{}", report.table());
     }
-    eprintln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
+    toolbox::errln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 

@@ -157,7 +157,7 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             }
             _ => String::new(),
         };
-        println!(
+        toolbox::outln!(
             "vdgview: {frames} frames in {wall:.1} s ({}x{}): median draw {:.1} ms{cpu}",
             opts.width,
             opts.height,

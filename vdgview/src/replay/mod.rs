@@ -16,7 +16,7 @@
 //! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false, game: bsp::Game::GoldSrc };
 //! cam.reset(&t);
 //! let frame = cam.update(&t, 1.0 / 60.0);
-//! println!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
+//! toolbox::outln!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
 //! ```
 
 pub mod cameras;
@@ -145,7 +145,7 @@ fn check_source(result: std::result::Result<(), String>, force: bool) -> Result<
     match result {
         Ok(()) => Ok(()),
         Err(e) if force => {
-            eprintln!("vdgview: warning: {e}");
+            toolbox::errln!("vdgview: warning: {e}");
             Ok(())
         }
         Err(e) => bail!("{e}"),
