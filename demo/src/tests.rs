@@ -26,8 +26,8 @@ fn netmsg_v5(b: &mut Vec<u8>, time: f32, simorg: [f32; 3], yaw: f32, view: f32, 
     let mut at = |off: usize, v: f32| body[off..off + 4].copy_from_slice(&v.to_le_bytes());
     // simvel at 92, simorg at 104, viewheight at 116, cl_viewangles at 132.
     at(92, 250.0);
-    for k in 0..3 {
-        at(104 + 4 * k, simorg[k]);
+    for (k, &v) in simorg.iter().enumerate() {
+        at(104 + 4 * k, v);
     }
     at(116 + 8, view);
     at(132 + 4, yaw);

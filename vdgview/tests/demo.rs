@@ -66,8 +66,8 @@ fn write_demo(
         let put = |body: &mut Vec<u8>, off: usize, v: f32| {
             body[off..off + 4].copy_from_slice(&v.to_le_bytes())
         };
-        for k in 0..3 {
-            put(&mut body, 104 + 4 * k, o[k]);
+        for (k, &v) in o.iter().enumerate() {
+            put(&mut body, 104 + 4 * k, v);
         }
         put(&mut body, 124, if crouch(i) { 12.0 } else { 28.0 });
         b.extend_from_slice(&body);

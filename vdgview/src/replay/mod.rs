@@ -165,7 +165,11 @@ pub fn load_routes(
         RouteSource::Spawns => spawns::routes(bsp, oracle, seed, max_routes),
         RouteSource::Nav(p) => {
             let mesh = nav::NavMesh::open(p).map_err(anyhow::Error::msg)?;
-            check_source(nav::same_map(&mesh, p, map.path), map.force)?;
+            match nav::same_map(&mesh, p, map.path, oracle) {
+                Ok(Some(warning)) => eprintln!("vdgview: warning: {warning}"),
+                Ok(None) => {}
+                Err(e) => check_source(Err(e), map.force)?,
+            }
             nav::routes(&mesh, oracle, seed, max_routes)
         }
         RouteSource::Demo(p) => {
