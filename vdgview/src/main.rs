@@ -70,6 +70,14 @@ enum Command {
     /// Measure cameras (VDG camera, chase cam, spring arm) on routes made from the map,
     /// against the map's BSP: solid, near plane, visibility, jumps, jerk, cuts, time.
     Replay(ReplayArgs),
+    /// The header of a GoldSrc demo (.dem): map, game, protocol, duration, frames.
+    Demo {
+        #[arg(value_name = "FILE.dem")]
+        demo: PathBuf,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Chart of `replay --json` reports across maps (one panel per measure).
     ReplaySummary {
         /// Output PNG.
@@ -91,9 +99,14 @@ struct ReplayArgs {
     #[arg(value_name = "MAP.vdg")]
     vdg: PathBuf,
     /// Target routes: spawns (pairs of player spawns walked on the floor), nav:FILE.nav
-    /// (a Counter-Strike bot nav mesh) or FILE.jsonl (recorded frames: t, origin, angles).
+    /// (a Counter-Strike bot nav mesh), demo:FILE.dem (a GoldSrc demo: the recorded
+    /// player) or FILE.jsonl (recorded frames: t, origin, angles).
     #[arg(long, default_value = "spawns")]
     routes: String,
+    /// Replay a graph, nav mesh or demo made for another map than MAP.bsp (refused
+    /// otherwise: the figures would mean nothing).
+    #[arg(long)]
+    force: bool,
     /// Cameras to compare, comma-separated.
     #[arg(long, default_value = vdgview::replay::DEFAULT_CAMERAS)]
     camera: String,
@@ -253,6 +266,16 @@ fn run(cli: Cli) -> Result<bool> {
         Command::Render(args) => run_render(args).map(|()| true),
         Command::View(args) => run_view(args).map(|()| true),
         Command::Replay(args) => run_replay(args).map(|()| true),
+        Command::Demo { demo, json } => {
+            use vdgview::replay::demo as dem;
+            let d = dem::open(&demo).map_err(anyhow::Error::msg)?;
+            if json {
+                toolbox::outln!("{}", dem::summary_json(&d));
+            } else {
+                toolbox::out!("{}", dem::summary(&d, &demo));
+            }
+            Ok(true)
+        }
         Command::ReplaySummary {
             output,
             title,
@@ -441,7 +464,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
         .find_map(|e| e.origin())
         .map(glam::Vec3::from);
     let follow = match &args.follow {
-        Some(route) => follow_poses(&bsp, file.as_ref(), route, &args.follow_camera)?,
+        Some(route) => follow_poses(&bsp, &args.map, file.as_ref(), route, &args.follow_camera)?,
         None => Vec::new(),
     };
     let viewer = vdgview::viewer::Viewer::new(scene, file, spawn);
@@ -503,6 +526,13 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     let bsp = scene::open_map(&args.map)?;
     let file = scene::open_graph(&args.vdg)?;
     let graph = file.graph();
+    // Figures of a graph against another map mean nothing: refuse unless asked.
+    if let Err(e) = scene::same_map(&args.map, &args.vdg, &graph) {
+        if !args.force {
+            bail!("{e} (or --force)");
+        }
+        toolbox::errln!("vdgview: warning: {e}");
+    }
     let options = bsp::oracle::OracleOptions {
         liquids_are_solid: args.liquids_solid,
         ..Default::default()
@@ -517,7 +547,18 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     let walls = bsp::walls::Walls::of_map(&bsp, &options);
     let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
     toolbox::errln!("replay: making routes ({}) ...", source.label());
-    let routes = replay::load_routes(&bsp, &oracle, &source, args.seed, args.max_routes)?;
+    let map_check = replay::MapCheck {
+        path: &args.map,
+        force: args.force,
+    };
+    let routes = replay::load_routes(
+        &bsp,
+        &oracle,
+        &source,
+        map_check,
+        args.seed,
+        args.max_routes,
+    )?;
     toolbox::errln!(
         "replay: {} routes, {:.1} s of play ({} pairs unreachable); {} cameras at dt {:.4} s",
         routes.routes.len(),
@@ -573,6 +614,7 @@ const FOLLOW_DT: f64 = 1.0 / 60.0;
 /// The poses of one camera along the first route of `route` (eye, look-at, target).
 fn follow_poses(
     bsp: &bsp::Bsp,
+    map: &std::path::Path,
     file: Option<&vdgformat::VdgFile>,
     route: &str,
     camera: &str,
@@ -587,7 +629,12 @@ fn follow_poses(
     let oracle = ::bsp::oracle::Oracle::new(bsp, &options);
     let walls = ::bsp::walls::Walls::of_map(bsp, &options);
     let graph = file.graph();
-    let routes = replay::load_routes(bsp, &oracle, &source, 1, 1)?;
+    // A fly-through along another map's routes can still be wanted: warn only.
+    let check = replay::MapCheck {
+        path: map,
+        force: true,
+    };
+    let routes = replay::load_routes(bsp, &oracle, &source, check, 1, 1)?;
     let mut cams = replay::make_cameras(&[camera.to_string()], &oracle, &walls, graph, None)?;
     let states = routes.routes[0].resample(FOLLOW_DT);
     let cam = &mut cams[0];
