@@ -29,6 +29,8 @@ Options:
   --no-cache            compile everything again (the cache is still refreshed)
   --json                the summary as JSON on stdout
   --timeout SECONDS     kill a map's compile after SECONDS; the map fails, the others go on
+  --budget SCALE        bsp2vdg's --budget for each map (its time and memory budget, which
+                        fails a map with the reason; 0 = none); default: bsp2vdg's own
 
 Progress: a line per finished map on stderr (self-updating on a terminal). Each map's
 compile log goes to OUT/NAME.log. Two maps with one file name are refused (exit 2).
@@ -43,12 +45,14 @@ import sys
 import time
 
 
-def compile_step(map_bytes, options, exe, threads, timeout=None):
+def compile_step(map_bytes, options, exe, threads, timeout=None, budget=None):
     """The step a worker runs: bsp2vdg on the map's bytes in a private folder.
 
     Returns a dict with ok, log (the compile's log text), and vdg (bytes) and stats on
     success or error on failure; a failing map is a result, not an exception, so the
-    batch goes on. A compile running longer than `timeout` seconds is killed and fails."""
+    batch goes on. A compile running longer than `timeout` seconds is killed and fails;
+    `budget` is bsp2vdg's `--budget` scale (its own time and memory budget per map, which
+    stops a compile with the reason before the timeout's kill)."""
     import socket
     import tempfile
 
@@ -60,6 +64,8 @@ def compile_step(map_bytes, options, exe, threads, timeout=None):
             f.write(map_bytes)
         log_path = os.path.join(d, "map.log")
         cmd = [exe, *options, "-threads", str(threads), "-quiet", "--json", "-o", out, bsp]
+        if budget is not None:
+            cmd[1:1] = ["--budget", f"{budget:g}"]
         where = f"{socket.gethostname()}:{os.getpid()}"
 
         def log_text():
@@ -149,7 +155,7 @@ class Progress:
 
 
 def bake(maps, options, exe, out_dir, cache_dir, client, threads=1, use_cache=True, on_result=None,
-         timeout=None):
+         timeout=None, budget=None):
     """Compiles `maps` on the Dask `client`; returns one summary row per map, in order.
     Each map's log goes to OUT/NAME.log as its compile finishes.
 
@@ -178,8 +184,10 @@ def bake(maps, options, exe, out_dir, cache_dir, client, threads=1, use_cache=Tr
             continue
         if key in futures.values():  # the same bytes twice: compiled once
             row["same_as_key"] = True
-        fut = client.submit(compile_step, data, options, exe, threads, timeout, key=f"bsp2vdg-{key}",
-                            pure=False)
+        # The budget is left out of the cache key: it decides whether a compile may
+        # finish, never what it writes.
+        fut = client.submit(compile_step, data, options, exe, threads, timeout, budget,
+                            key=f"bsp2vdg-{key}", pure=False)
         futures[fut] = key
         rows[m] = row
     by_key = {}
@@ -238,7 +246,11 @@ def main(argv):
     ap.add_argument("--no-cache", action="store_true")
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--timeout", type=float, default=None)
+    ap.add_argument("--budget", type=float, default=None)
     a = ap.parse_args(argv)
+    if a.budget is not None and not a.budget >= 0:
+        print(f"bake.py: error: --budget must be zero or a positive scale, got {a.budget:g}", file=sys.stderr)
+        return 2
     if a.timeout is not None and not a.timeout > 0:
         print(f"bake.py: error: --timeout must be a positive number of seconds, got {a.timeout:g}",
               file=sys.stderr)
@@ -266,7 +278,7 @@ def main(argv):
     started = time.time()
     try:
         rows = bake(a.maps, options, exe, a.out, a.cache, client, a.threads, not a.no_cache,
-                    on_result=Progress(len(a.maps)), timeout=a.timeout)
+                    on_result=Progress(len(a.maps)), timeout=a.timeout, budget=a.budget)
     finally:
         client.close()
         if cluster:

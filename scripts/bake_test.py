@@ -39,6 +39,11 @@ def main(argv):
     good &= check(not r["ok"] and "timed out" in r["error"], f"--timeout kills a long compile ({r.get('error')})")
     good &= check("Loading model" in r.get("log", ""), "a timed-out step keeps the log written so far")
 
+    r = bake.compile_step(data, ["-rl", "1.0"], exe, 1, budget=0)
+    good &= check(r["ok"], f"--budget is passed to bsp2vdg ({r.get('error')})")
+    r = bake.compile_step(data, ["-rl", "1.0"], exe, 1, budget=-1)
+    good &= check(not r["ok"] and "--budget" in r["error"], f"a bad --budget is bsp2vdg's error ({r.get('error')})")
+
     d = tempfile.mkdtemp(prefix="bake-test-")
     try:
         for sub in ("a", "b"):
