@@ -118,6 +118,14 @@ impl Log {
     }
 
     fn emit(&self, line: String, show: bool) {
+        if let Some((file, prefix)) = &self.file
+            && let Ok(mut f) = file.lock()
+        {
+            // One write per line, before the console's: a killed compile leaves every
+            // line it showed.
+            // A log that cannot be written never stops the compile.
+            let _ = f.write_all(format!("{prefix}{line}\n").as_bytes());
+        }
         let console = if show { self.console.lock().ok() } else { None };
         if let Some(console) = &console
             && let Some(print) = console.as_ref()
@@ -129,13 +137,6 @@ impl Log {
             } else {
                 toolbox::outln!("{}{line}", self.prefix);
             }
-        }
-        if let Some((file, prefix)) = &self.file
-            && let Ok(mut f) = file.lock()
-        {
-            // One write per line: a killed compile leaves every line logged so far.
-            // A log that cannot be written never stops the compile.
-            let _ = f.write_all(format!("{prefix}{line}\n").as_bytes());
         }
         if let Ok(mut lines) = self.lines.lock() {
             lines.push(line);

@@ -114,7 +114,8 @@ fn better(name: &str) -> Option<Better> {
         || name.contains("_fn")
         || name.contains("false_positives")
         || name.contains("false_negatives");
-    if name.starts_with("seconds") {
+    // The sizes of the measurement (point counts) and its times are no quality.
+    if name.starts_with("seconds") || name.ends_with("points") || name.ends_with("covered") {
         None
     } else if error {
         Some(Better::Lower)
