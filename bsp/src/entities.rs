@@ -4,8 +4,11 @@
 //! `ED_ParseEdict`): a token is a quoted string, a brace, or a bare word running to the
 //! next space, brace or quote; `//` starts a comment. So an unquoted key or value, a
 //! quote missing at the end of the lump, stray bytes or a missing final NUL do not stop
-//! a map the game loads. What the engine itself refuses is refused, with the line: a
-//! block that does not open with `{`, a key without a value, an entity left open.
+//! a map the game loads. Nor does an entity left open at the end of the text: the
+//! engine's parser reads to the end and keeps what it read (a key left without its
+//! value there is dropped). What the engine itself refuses is refused, with the line:
+//! a block that does not open with `{`, a `{` inside an entity, a key followed by a
+//! brace instead of its value.
 use super::BspError;
 
 /// One entity: its key/value pairs in file order.
@@ -112,11 +115,9 @@ pub fn parse_entities(bytes: &[u8]) -> Result<Vec<Entity>, BspError> {
         }
         let mut entity = Entity::default();
         loop {
+            // The end of the text ends an entity left open.
             let Some((at, key)) = next_token(text, &mut pos) else {
-                return Err(BspError::Malformed {
-                    lump: "entities",
-                    reason: "the last entity is not closed".into(),
-                });
+                break;
             };
             let key = match key {
                 Token::Close => break,
@@ -126,12 +127,7 @@ pub fn parse_entities(bytes: &[u8]) -> Result<Vec<Entity>, BspError> {
             match next_token(text, &mut pos) {
                 Some((_, Token::Word(value))) => entity.pairs.push((key, value)),
                 Some((at, _)) => return Err(err(at, "key without a value")),
-                None => {
-                    return Err(BspError::Malformed {
-                        lump: "entities",
-                        reason: "the last entity is not closed".into(),
-                    });
-                }
+                None => break,
             }
         }
         entities.push(entity);
@@ -157,14 +153,7 @@ mod tests {
 
     #[test]
     fn rejects_broken_text_with_a_line_number() {
-        for bad in [
-            &b"{ \"a\" \"b\" "[..],
-            b"}",
-            b"{ \"a\" \"b }",
-            b"{ \"a\" }",
-            b"{ x }",
-            b"x { }",
-        ] {
+        for bad in [&b"}"[..], b"{ \"a\" }", b"{ x }", b"x { }"] {
             let msg = parse_entities(bad).unwrap_err().to_string();
             assert!(msg.starts_with("lump entities:"), "{msg}");
         }
@@ -172,6 +161,30 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(msg.contains("line 3"), "{msg}");
+    }
+
+    /// The engine reads an entity left open at the end of the text as ended there.
+    #[test]
+    fn an_unclosed_last_entity_ends_at_the_end_of_the_text() {
+        for (text, pairs) in [
+            (
+                &b"{ \"classname\" \"worldspawn\" } { \"classname\" \"light\" "[..],
+                1,
+            ),
+            (
+                b"{ \"classname\" \"worldspawn\" } { \"classname\" \"light\" \"origin",
+                1,
+            ),
+            (
+                b"{ \"classname\" \"worldspawn\" } { \"classname\" \"light\" \"origin\" \"1 2",
+                2,
+            ),
+        ] {
+            let e = parse_entities(text).unwrap();
+            assert_eq!(e.len(), 2);
+            assert_eq!(e[1].classname(), "light");
+            assert_eq!(e[1].pairs.len(), pairs, "{}", String::from_utf8_lossy(text));
+        }
     }
 
     /// What the game's `COM_Parse` reads must read: bare words, comments, a word

@@ -107,9 +107,11 @@ pub fn polygons(bsp: &crate::Bsp, model: usize) -> impl Iterator<Item = FacePoly
             .map(f64::from)
     };
     let first = m.first_face as usize;
+    // Unusable faces (see `Bsp::unusable_faces`) have no edges and give no polygon.
     bsp.model_faces(m)
         .iter()
         .enumerate()
+        .filter(|(_, face)| face.num_edges > 0)
         .map(move |(k, face)| FacePolygon {
             index: (first + k) as u32,
             polygon: bsp

@@ -265,6 +265,40 @@ pub struct Bsp {
     /// against decompilers carry such garbage; the engines never read it). Their bad
     /// indices were replaced by harmless ones; only reachable records are validated.
     pub unused_bad_records: usize,
+    /// Faces a model reaches that the engine could not draw: their plane, texture or
+    /// edges do not resolve (maps "protected" against decompilers write garbage there
+    /// for faces the game never needs). They were given no edges, so no tool samples
+    /// them; the walls they would show are still in the tree. In face order.
+    pub unusable_faces: Vec<UnusableFace>,
+    /// The game the map is made for: the format's, except for BSP29, which Quake and
+    /// Half-Life's oldest maps share and which is decided from the map itself
+    /// ([`crate::game::decide`]).
+    pub game: Game,
+    /// Why [`Bsp::game`] is what it is, in one line for logs and `vdgview info`.
+    pub game_reason: String,
+}
+
+/// The first `n` unusable faces as "face I (reason)", comma-separated, with "..."
+/// when there are more: for one-line log and error messages.
+pub fn first_unusable_faces(bsp: &Bsp, n: usize) -> String {
+    let mut v: Vec<String> = bsp
+        .unusable_faces
+        .iter()
+        .take(n)
+        .map(|u| format!("face {} ({})", u.index, u.reason))
+        .collect();
+    if bsp.unusable_faces.len() > n {
+        v.push("...".into());
+    }
+    v.join(", ")
+}
+
+/// A face the engine could not draw, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnusableFace {
+    /// Index into [`Bsp::faces`].
+    pub index: u32,
+    pub reason: String,
 }
 
 impl Bsp {
@@ -281,6 +315,54 @@ impl Bsp {
     /// Parses a BSP file held in memory, whichever format its first bytes name.
     pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
         crate::read::parse(bytes)
+    }
+
+    /// The format's name as the map uses it: BSP29 names the game it was decided to
+    /// be (Quake's format, or Half-Life's oldest maps), the others their format.
+    pub fn format_name(&self) -> &'static str {
+        match (self.version, self.game) {
+            (BspVersion::Bsp29, Game::GoldSrc) => "BSP29 (Half-Life)",
+            (v, _) => v.name(),
+        }
+    }
+
+    /// The unusable faces among the world model's own, and how many faces it has.
+    pub fn unusable_world_faces(&self) -> (usize, usize) {
+        let w = self.world();
+        let range = w.first_face..w.first_face + w.num_faces;
+        let bad = self
+            .unusable_faces
+            .iter()
+            .filter(|u| range.contains(&u.index))
+            .count();
+        (bad, w.num_faces as usize)
+    }
+
+    /// Makes the map one of `game`'s (the user's `--game`), saying so in
+    /// [`Bsp::game_reason`]. Only the Quake 1 family's formats can be read as another
+    /// game (GoldSrc or Quake); for the others this is an error naming the format.
+    pub fn force_game(&mut self, game: Game) -> Result<(), String> {
+        let family = matches!(self.game, Game::Quake | Game::GoldSrc);
+        if !family || !matches!(game, Game::Quake | Game::GoldSrc) {
+            return Err(format!(
+                "a {} map cannot be read as a {} map",
+                self.version.name(),
+                game.name()
+            ));
+        }
+        if game != self.game {
+            self.game_reason = format!(
+                "forced by the user (the map itself says: {})",
+                self.game_reason
+            );
+        } else {
+            self.game_reason = format!(
+                "forced by the user, as the map itself says ({})",
+                self.game_reason
+            );
+        }
+        self.game = game;
+        Ok(())
     }
 
     /// The world model (model 0).
@@ -323,7 +405,7 @@ impl Bsp {
     /// What a face is (wall, sky, or skipped and why), from the source the format
     /// has: the texture name in the Quake 1 family, the surface flags in Quake 2.
     pub fn face_class(&self, face: &Face) -> FaceClass {
-        match self.version.game() {
+        match self.game {
             Game::Quake2 => crate::quake2::face_class(
                 self.texinfo[face.texinfo as usize].flags,
                 self.face_texture_name(face),

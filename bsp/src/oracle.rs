@@ -258,6 +258,8 @@ pub struct Oracle {
     /// The world's brushes where the map keeps them (Quake 2).
     brushes: Option<BrushSet>,
     game: crate::Game,
+    /// The world model's bounds, where the map leaks (see [`Oracle::fence`]).
+    fence: Option<([f64; 3], [f64; 3])>,
 }
 
 /// The player's hulls built from a map's brushes, once.
@@ -396,10 +398,7 @@ impl Oracle {
             .collect();
         let clip_hulls = [1, 2, 3].map(|h| Hull::from_clipnodes(bsp, 0, h));
         let built_hulls = (clip_hulls.iter().all(Option::is_none)
-            && matches!(
-                bsp.version.game(),
-                crate::Game::Quake2 | crate::Game::Quake3
-            ))
+            && matches!(bsp.game, crate::Game::Quake2 | crate::Game::Quake3))
         .then(|| {
             std::sync::Arc::new(BuiltHulls {
                 source: bsp.clone(),
@@ -415,8 +414,32 @@ impl Oracle {
             liquids_are_solid: options.liquids_are_solid,
             clip_is_solid: options.clip_is_solid,
             brushes: BrushSet::new(bsp, 0),
-            game: bsp.version.game(),
+            game: bsp.game,
+            fence: crate::leak::outside_is_free(bsp).then(|| {
+                let w = bsp.world();
+                (w.mins.map(f64::from), w.maxs.map(f64::from))
+            }),
         }
+    }
+
+    /// Where free space ends in a map that leaks: the world model's bounds.
+    ///
+    /// A sealed map's compiler fills everything outside its walls with solid; a map
+    /// that leaks (its free space reaches the void around the level, as many community
+    /// maps compiled with warnings do) has an empty outside that stretches as far as
+    /// the tree's planes do. No place a player can reach lies outside the world's
+    /// bounds, so there everything beyond them counts as solid: the oracle's answers
+    /// (contents, free points and segments, clip hulls) are those of the map's inside.
+    /// `None` for a sealed map, whose answers are the tree's own.
+    pub fn fence(&self) -> Option<([f64; 3], [f64; 3])> {
+        self.fence
+    }
+
+    /// Whether `p` lies outside the fence of a leaking map.
+    #[inline]
+    fn fenced_out(&self, p: [f64; 3]) -> bool {
+        self.fence
+            .is_some_and(|(lo, hi)| (0..3).any(|i| p[i] < lo[i] || p[i] > hi[i]))
     }
 
     /// Whether a contents value is an obstacle under these options.
@@ -433,6 +456,9 @@ impl Oracle {
     /// The world's hull-0 contents at `p` (solid models not included).
     #[inline]
     pub fn contents(&self, p: [f64; 3]) -> i32 {
+        if self.fenced_out(p) {
+            return contents::SOLID;
+        }
         self.world.contents(p)
     }
 
@@ -486,7 +512,12 @@ impl Oracle {
 
     /// Contents at `p` in clip hull 1..=3 of the world, if the map has clip hulls.
     pub fn clip_contents(&self, hull: usize, p: [f64; 3]) -> Option<i32> {
-        self.clip_hull(hull).map(|h| h.contents(p))
+        let h = self.clip_hull(hull)?;
+        Some(if self.fenced_out(p) {
+            contents::SOLID
+        } else {
+            h.contents(p)
+        })
     }
 
     /// Clip hull `hull` (1..=3) of the world, if the map has clip hulls. Quake 2 and
@@ -509,7 +540,8 @@ impl Oracle {
     /// Whether `p` is in free space.
     #[inline]
     pub fn is_free(&self, p: [f64; 3]) -> bool {
-        !self.blocks(self.world.contents(p))
+        !self.fenced_out(p)
+            && !self.blocks(self.world.contents(p))
             && self.solid_models.iter().all(|m| {
                 !inside_box(p, m.mins, m.maxs)
                     || m.hull.contents(sub(p, m.origin)) != contents::SOLID
@@ -518,7 +550,10 @@ impl Oracle {
 
     /// Whether the whole closed segment `a`–`b` lies in free space.
     pub fn segment_free(&self, a: [f64; 3], b: [f64; 3]) -> bool {
-        self.world.segment_clear(a, b, |c| self.blocks(c))
+        // The fence is a box: a segment is inside it when both ends are.
+        !self.fenced_out(a)
+            && !self.fenced_out(b)
+            && self.world.segment_clear(a, b, |c| self.blocks(c))
             && self.solid_models.iter().all(|m| {
                 !segment_meets_box(a, b, m.mins, m.maxs)
                     || m.hull

@@ -421,7 +421,7 @@ mod tests {
         let oracle = Oracle::new(&bsp, &OracleOptions::default());
         let eyes = grid_crouch_eyes(
             &oracle,
-            bsp.version.game(),
+            bsp.game,
             [0.0, 0.0, 0.0],
             [256.0, 256.0, 160.0],
             8.0,
@@ -441,7 +441,7 @@ mod tests {
         let (bsp, oracle) = duct();
         let w = bsp.world();
         let (lo, hi) = (w.mins.map(f64::from), w.maxs.map(f64::from));
-        let eyes = grid_crouch_eyes(&oracle, bsp.version.game(), lo, hi, 8.0);
+        let eyes = grid_crouch_eyes(&oracle, bsp.game, lo, hi, 8.0);
         // The duct's floor under its 48-unit ceiling (x from 256 to 512; in its
         // mouths, 16 units either side, a player cannot stand either, but the
         // ceiling straight up is the room's), where the duck hull clears the side

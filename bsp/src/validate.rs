@@ -10,9 +10,6 @@ pub(crate) struct LumpNames {
     pub nodes: &'static str,
     pub leaves: &'static str,
     pub marksurfaces: &'static str,
-    pub faces: &'static str,
-    pub surfedges: &'static str,
-    pub edges: &'static str,
     pub models: &'static str,
     pub clipnodes: &'static str,
     pub leafbrushes: &'static str,
@@ -157,60 +154,37 @@ pub(crate) fn validate(bsp: &mut Bsp, names: &LumpNames) -> Result<(), BspError>
             )?;
         }
     }
+    // Faces: a face whose plane, texture or edge chain cannot be resolved is one the
+    // engine never draws (a protector's garbage, or a face it has no use for); it is
+    // not an error but an unusable face, named in `Bsp::unusable_faces` and given no
+    // edges. The walls it would have shown are still found from the tree.
     let mut surfedge_used = vec![false; bsp.surfedges.len()];
-    for (i, f) in bsp.faces.iter().enumerate().filter(|(i, _)| face_used[*i]) {
-        check(names.faces, i, "plane", f.plane as i32 as i64, np)?;
-        check(
-            names.faces,
-            i,
-            "texinfo",
-            f.texinfo as i32 as i64,
-            bsp.texinfo.len(),
-        )?;
-        if f.num_edges < 3 {
-            return Err(BspError::Malformed {
-                lump: names.faces,
-                reason: format!("face {i} has {} edges (at least 3 needed)", f.num_edges),
-            });
-        }
-        check(
-            names.faces,
-            i,
-            "first_edge",
-            f.first_edge as i32 as i64,
-            bsp.surfedges.len(),
-        )?;
-        check_range(
-            names.faces,
-            i,
-            "edge range end",
-            f.first_edge,
-            f.num_edges,
-            bsp.surfedges.len(),
-        )?;
-        mark(&mut surfedge_used, f.first_edge, f.num_edges);
-    }
     let mut edge_used = vec![false; bsp.edges.len()];
-    for (i, &se) in bsp
-        .surfedges
-        .iter()
-        .enumerate()
-        .filter(|(i, _)| surfedge_used[*i])
-    {
-        check(
-            names.surfedges,
-            i,
-            "edge",
-            se.unsigned_abs() as i64,
-            bsp.edges.len(),
-        )?;
-        edge_used[se.unsigned_abs() as usize] = true;
-    }
-    for (i, e) in bsp.edges.iter().enumerate().filter(|(i, _)| edge_used[*i]) {
-        for v in e {
-            check(names.edges, i, "vertex", *v as i64, bsp.vertices.len())?;
+    let mut unusable = Vec::new();
+    for (i, f) in bsp.faces.iter().enumerate().filter(|(i, _)| face_used[*i]) {
+        match face_problem(bsp, f) {
+            Some(reason) => unusable.push(UnusableFace {
+                index: i as u32,
+                reason,
+            }),
+            None => {
+                mark(&mut surfedge_used, f.first_edge, f.num_edges);
+                for &se in &bsp.surfedges[f.first_edge as usize..][..f.num_edges as usize] {
+                    edge_used[se.unsigned_abs() as usize] = true;
+                }
+            }
         }
     }
+    for u in &unusable {
+        bsp.faces[u.index as usize] = Face {
+            plane: 0,
+            back_side: false,
+            first_edge: 0,
+            num_edges: 0,
+            texinfo: 0,
+        };
+    }
+    bsp.unusable_faces = unusable;
     // Clip hulls: the engines copy the headnodes unchecked and trace a hull only for
     // the model's own entity. Compilers write the clip node count as the headnode of a
     // hull that has no node at all, so an out-of-range headnode is an unused hull
@@ -246,7 +220,64 @@ pub(crate) fn validate(bsp: &mut Bsp, names: &LumpNames) -> Result<(), BspError>
         &edge_used,
         &clip_used,
     );
+    (bsp.game, bsp.game_reason) = crate::game::decide(bsp);
     Ok(())
+}
+
+/// Why the engine could not draw a face, or `None` when every index it holds
+/// resolves: plane, texture, at least three edges, each edge and its vertices.
+fn face_problem(bsp: &Bsp, f: &Face) -> Option<String> {
+    let (np, nt, ns, ne, nv) = (
+        bsp.planes.len(),
+        bsp.texinfo.len(),
+        bsp.surfedges.len(),
+        bsp.edges.len(),
+        bsp.vertices.len(),
+    );
+    if f.plane as usize >= np {
+        return Some(format!("plane {} out of range (0..{np})", f.plane as i32));
+    }
+    if f.texinfo as usize >= nt {
+        return Some(format!(
+            "texinfo {} out of range (0..{nt})",
+            f.texinfo as i32
+        ));
+    }
+    if f.num_edges < 3 {
+        return Some(format!("{} edges (at least 3 needed)", f.num_edges));
+    }
+    // Quake 3 takes a face's surface and contents flags from its shader: a shader
+    // record whose name is no name was read from bytes that are not shaders (a lump
+    // offset off by a few records), and its flags are garbage too.
+    if bsp.version == BspVersion::Quake3 {
+        let name = bsp.face_texture_name(f);
+        if name.is_empty() || !name.bytes().all(|b| b.is_ascii_graphic()) {
+            return Some(format!("shader {:?} is not a shader name", name));
+        }
+    }
+    let end = f.first_edge as u64 + f.num_edges as u64;
+    if end > ns as u64 {
+        return Some(format!(
+            "edges {}..{end} out of range (0..{ns})",
+            f.first_edge as i32
+        ));
+    }
+    for (k, &se) in bsp.surfedges[f.first_edge as usize..][..f.num_edges as usize]
+        .iter()
+        .enumerate()
+    {
+        let e = se.unsigned_abs() as usize;
+        let Some(edge) = bsp.edges.get(e) else {
+            return Some(format!(
+                "surfedge {} has edge {e} out of range (0..{ne})",
+                f.first_edge as usize + k
+            ));
+        };
+        if let Some(&v) = edge.iter().find(|&&v| v as usize >= nv) {
+            return Some(format!("edge {e} has vertex {v} out of range (0..{nv})"));
+        }
+    }
+    None
 }
 
 fn check(

@@ -27,7 +27,7 @@ fn standing_places_settle_and_ground_agree_on_every_generated_map() {
         let Some(hull) = oracle.clip_hull(1) else {
             continue;
         };
-        let half = standing_origin_above_ground(bsp.version.game());
+        let half = standing_origin_above_ground(bsp.game);
         assert_eq!(
             half, 36.0,
             "{}: a GoldSrc player stands 36 units up",

@@ -19,7 +19,7 @@ fn every_quake2_map_reads_with_spawns_free() {
     let Some(maps) = quake2_maps() else { return };
     for m in &maps {
         let bsp = Bsp::open(m).unwrap_or_else(|e| panic!("{}: {e}", m.display()));
-        assert_eq!(bsp.version.game(), Game::Quake2, "{}", m.display());
+        assert_eq!(bsp.game, Game::Quake2, "{}", m.display());
         assert!(!bsp.faces.is_empty() && !bsp.brushes.is_empty());
         let oracle = Oracle::new(&bsp, &OracleOptions::default());
         let spawns = bsp.spawns();

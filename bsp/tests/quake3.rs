@@ -21,7 +21,7 @@ fn every_quake3_map_reads_with_spawns_free() {
     let Some(maps) = quake3_maps() else { return };
     for m in &maps {
         let bsp = Bsp::open(m).unwrap_or_else(|e| panic!("{}: {e}", m.display()));
-        assert_eq!(bsp.version.game(), Game::Quake3, "{}", m.display());
+        assert_eq!(bsp.game, Game::Quake3, "{}", m.display());
         assert!(!bsp.brushes.is_empty());
         let walls = bsp::faces::polygons(&bsp, 0)
             .filter(|f| f.class == FaceClass::Wall)

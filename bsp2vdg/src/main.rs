@@ -150,6 +150,20 @@ struct Cli {
     /// Random points per quality figure measured for a baseline.
     #[arg(long, value_name = "N", default_value_t = 100_000)]
     check_samples: usize,
+    /// Read a BSP29/BSP30 map as this game's whatever the map itself says (by default
+    /// its clip hulls and entities decide: Half-Life's oldest maps are BSP29 too).
+    #[arg(long, value_enum, value_name = "GAME")]
+    game: Option<GameArg>,
+    /// Scale of each map's time and memory budget (base + share per MB of map; a map
+    /// over it fails with the reason and a batch goes on); 0 = no budget.
+    #[arg(long, value_name = "F", default_value_t = 1.0)]
+    budget: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
+enum GameArg {
+    Goldsrc,
+    Quake,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, ValueEnum)]
@@ -288,6 +302,12 @@ fn check_options(cli: &Cli) -> Result<()> {
         usage!(
             "-bb must be a positive number of units, got {}",
             cli.tree_leaf_size
+        );
+    }
+    if !(cli.budget.is_finite() && cli.budget >= 0.0) {
+        usage!(
+            "--budget must be zero or a positive scale, got {}",
+            cli.budget
         );
     }
     if cli.threads > 4096 {
@@ -652,6 +672,11 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
         },
         wall_raise: !cli.no_wall_raise,
         coverage_guards: !cli.no_coverage_guards,
+        game: cli.game.map(|g| match g {
+            GameArg::Goldsrc => bsp::Game::GoldSrc,
+            GameArg::Quake => bsp::Game::Quake,
+        }),
+        budget: cli.budget,
     }
 }
 

@@ -103,6 +103,12 @@ pub struct CompileOptions {
     /// switch that shows whether the reduction stops above `-rl` because of them;
     /// never for graphs you ship. Recorded in the `.vdg` when off.
     pub coverage_guards: bool,
+    /// `--game`: read a Quake-family map as this game's (GoldSrc or Quake) whatever the
+    /// map itself says (see [`bsp::game`]); `None` lets the map decide.
+    pub game: Option<bsp::Game>,
+    /// `--budget`: the scale of each map's time and memory budget (see
+    /// [`crate::pipeline::Budget`]); 0 gives no budget.
+    pub budget: f64,
 }
 
 impl CompileOptions {
@@ -125,6 +131,8 @@ impl CompileOptions {
             source_name: None,
             wall_raise: true,
             coverage_guards: true,
+            game: None,
+            budget: 1.0,
         }
     }
 }
@@ -172,6 +180,10 @@ pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
     }
     if !options.coverage_guards {
         v.push(("coverage_guards".to_string(), "false".to_string()));
+    }
+    // A forced game shapes the graph (the player's body); the map's own is not recorded.
+    if let Some(game) = options.game {
+        v.push(("game".to_string(), game.name().to_string()));
     }
     if let Some(name) = &options.source_name {
         v.push(("source.name".to_string(), name.clone()));

@@ -196,24 +196,87 @@ fn unused_records_are_neutralised_and_counted() {
     assert!(bsp.models[0].clip_headnode(1, n).is_some());
 }
 
+/// The map with face `face`'s first surfedge (`edge`) or plane (`plane`) set to garbage.
+fn garbage_in_face(bytes: &[u8], bsp: &Bsp, face: usize, edge: bool) -> Vec<u8> {
+    let mut b = bytes.to_vec();
+    if edge {
+        let first = bsp.faces[face].first_edge as usize;
+        let at = lump(bytes, SURFEDGES).0 + 4 * first;
+        b[at..at + 4].copy_from_slice(&2136128767i32.to_le_bytes());
+    } else {
+        let at = lump(bytes, FACES).0 + 20 * face;
+        b[at..at + 2].copy_from_slice(&17376u16.to_le_bytes());
+    }
+    b
+}
+
+/// Protectors write garbage into the edges or plane of faces the engine never draws:
+/// such a face is not sampled but named, the map compiles, its walls come from the tree.
 #[test]
-fn garbage_in_records_the_map_uses_is_still_an_error() {
+fn faces_with_garbage_indices_are_unusable_not_fatal() {
     let original = testdata("complex.bsp");
-    // The first face's first surfedge is used: corrupt it.
     let bsp = Bsp::parse(&original).unwrap();
-    let first = bsp.faces[bsp.world().first_face as usize].first_edge as usize;
-    let mut b = original.clone();
-    let at = lump(&original, SURFEDGES).0 + 4 * first;
-    b[at..at + 4].copy_from_slice(&2136128757i32.to_le_bytes());
-    let msg = Bsp::parse(&b).unwrap_err().to_string();
-    assert!(msg.starts_with("lump surfedges: record"), "{msg}");
-    // A world clip hull reaching a garbage node.
+    assert!(bsp.unusable_faces.is_empty());
+    let face = bsp.world().first_face as usize;
+    for edge in [true, false] {
+        let b = garbage_in_face(&original, &bsp, face, edge);
+        let m = Bsp::parse(&b).unwrap_or_else(|e| panic!("edge {edge}: {e}"));
+        assert_eq!(m.unusable_faces.len(), 1, "edge {edge}");
+        assert_eq!(m.unusable_faces[0].index as usize, face);
+        let reason = &m.unusable_faces[0].reason;
+        assert!(
+            reason.contains(if edge {
+                "edge 2136128767"
+            } else {
+                "plane 17376"
+            }),
+            "{reason}"
+        );
+        assert!(bsp::faces::polygons(&m, 0).all(|f| f.index as usize != face));
+        let vdg = compile(&b, if edge { "bad-edge" } else { "bad-plane" });
+        assert_eq!(leaks(&m, &vdg), 0, "edge {edge}");
+    }
+    // A world clip hull reaching a garbage node is still an error: the engine walks it.
     let mut b = original.clone();
     let root = bsp.world().headnode[1] as usize;
     let at = lump(&original, CLIPNODES).0 + 8 * root;
     b[at..at + 4].copy_from_slice(&(-2136128596i32).to_le_bytes());
     let msg = Bsp::parse(&b).unwrap_err().to_string();
     assert!(msg.starts_with("lump clipnodes: record"), "{msg}");
+}
+
+/// Where more than half of the world's faces are unusable the map is not what its
+/// file claims: the compile fails with that reason instead of a quiet poor graph.
+#[test]
+fn a_map_with_mostly_unusable_faces_fails_with_the_reason() {
+    let original = testdata("complex.bsp");
+    let bsp = Bsp::parse(&original).unwrap();
+    let w = bsp.world();
+    let mut b = original.clone();
+    let half = w.num_faces as usize / 2 + 1;
+    for f in w.first_face as usize..w.first_face as usize + half {
+        b = garbage_in_face(&b, &bsp, f, false);
+    }
+    let m = Bsp::parse(&b).unwrap();
+    assert_eq!(m.unusable_world_faces(), (half, w.num_faces as usize));
+    let dir = tempdir();
+    let map = dir.join("mostly-bad.bsp");
+    std::fs::write(&map, &b).unwrap();
+    let err = pipeline::compile(
+        &map,
+        &CompileOptions::new(dir.join("mostly-bad.vdg")),
+        &Log::new(Verbosity::Quiet, true),
+        &NoProgress,
+    )
+    .unwrap_err();
+    assert!(
+        matches!(err, pipeline::CompileError::UnusableFaces { .. }),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains(&format!("{half} of the world's")),
+        "{err}"
+    );
 }
 
 /// The same mutations on every shared GoldSrc map (skipped when they are absent).

@@ -240,7 +240,7 @@ fn quake2_and_3_crouch_places_agree_with_the_player_boxes() {
     for path in &maps {
         let bsp = Bsp::open(path).unwrap();
         let oracle = Oracle::new(&bsp, &OracleOptions::default());
-        let eye_above_ground = match bsp.version.game() {
+        let eye_above_ground = match bsp.game {
             Game::Quake2 => 24.0 - 2.0,
             Game::Quake3 => 24.0 + 12.0,
             g => panic!("{}: {g:?}", path.display()),

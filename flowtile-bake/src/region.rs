@@ -347,7 +347,7 @@ pub fn extract_with(
     let hulls = match oracle.clip_hull(1) {
         Some(hull) => Collision {
             hull,
-            half: standing_origin_above_ground(bsp.version.game()),
+            half: standing_origin_above_ground(bsp.game),
             stand: Stand::Hull,
         },
         None => {
@@ -359,9 +359,9 @@ pub fn extract_with(
                 .player_contents(PlayerHull::Standing, probe)
                 .is_some()
             {
-                Stand::Box(&oracle, standing_origin_above_ground(bsp.version.game()))
+                Stand::Box(&oracle, standing_origin_above_ground(bsp.game))
             } else {
-                Stand::Headroom(2.0 * standing_origin_above_ground(bsp.version.game()))
+                Stand::Headroom(2.0 * standing_origin_above_ground(bsp.game))
             };
             Collision {
                 hull: &point_hull,
@@ -511,9 +511,8 @@ fn level_under_spawns(bsp: &Bsp, hulls: &Collision<'_>, nav: Option<&NavIndex<'_
             let feet = hulls.ground_below(s[0], s[1], s[2] + 1.0, s[2] - 512.0);
             match nav {
                 Some(nav) => {
-                    let limit = feet
-                        .unwrap_or(s[2] - standing_origin_above_ground(bsp.version.game()))
-                        + 18.0;
+                    let limit =
+                        feet.unwrap_or(s[2] - standing_origin_above_ground(bsp.game)) + 18.0;
                     nav.floors(s[0], s[1])
                         .filter(|&g| g <= limit)
                         .max_by(f64::total_cmp)

@@ -5,9 +5,12 @@
 # median seconds of every stage the compile's --json reports, the median
 # CPU seconds (user + system, steadier than the wall clock on a shared
 # machine) and the median peak memory, and the ratio old/new of each median
-# (above 1: the new build is faster). Both builds must write the same .vdg
-# bytes for a speed comparison to mean what it says: the script says whether
-# they do (a build that changes the graph on purpose says "differ").
+# (above 1: the new build is faster). Both builds must write the same graph
+# for a speed comparison to mean what it says: the script says whether they
+# do: "same" (the same bytes), "same-graph" (the files differ, but `vdgview
+# info` says the same of both but for the build identity `tool.build`, which
+# every build records), or "differ" (a build that changes the graph on
+# purpose). `vdgview` is taken from VDGVIEW, else from beside NEW_BIN.
 #
 #   scripts/measure/compile-bench.sh [-runs 3] [-threads N] [-maps "NAME ..."] OLD_BIN NEW_BIN
 #
@@ -35,6 +38,7 @@ NEW="$(readlink -f "$2")"
 for b in "$OLD" "$NEW"; do
     [[ -x "$b" ]] || { echo "not an executable: $b" >&2; exit 2; }
 done
+VDGVIEW="${VDGVIEW:-$(dirname "$NEW")/vdgview}"
 MAPS=../shared/testmaps
 if [[ ! -d "$MAPS" ]]; then
     echo "skipped: $MAPS is absent"
@@ -76,6 +80,10 @@ for name in $PICK; do
     done
     if cmp -s "$TMP/$name/old.vdg" "$TMP/$name/new.vdg"; then
         echo same > "$TMP/$name/identical"
+    elif [[ -x "$VDGVIEW" ]] && diff -q \
+        <("$VDGVIEW" info "$TMP/$name/old.vdg" | grep -v 'tool\.build') \
+        <("$VDGVIEW" info "$TMP/$name/new.vdg" | grep -v 'tool\.build') > /dev/null; then
+        echo same-graph > "$TMP/$name/identical"
     else
         echo differ > "$TMP/$name/identical"
     fi

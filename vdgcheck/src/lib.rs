@@ -624,7 +624,7 @@ pub fn camera_lines(
 /// chunks with their own seeds, where the eye is in free space. Empty unless the map's
 /// players crouch ([`bsp::player::Crouching::of`]).
 pub fn crouch_eyes(bsp: &Bsp, oracle: &Oracle, columns: usize, seed: u64) -> Vec<[f64; 3]> {
-    let Some(crouching) = bsp::player::Crouching::of(oracle, bsp.version.game()) else {
+    let Some(crouching) = bsp::player::Crouching::of(oracle, bsp.game) else {
         return Vec::new();
     };
     let (lo, hi) = free_bounds(bsp);

@@ -153,8 +153,9 @@ fn min_clearance_line(g: &Vdg<'_>, sorted: &[f32]) -> Option<String> {
 /// A human-readable overview of a map: its game and format, what it holds, bounds.
 pub fn map_summary(bsp: &bsp::Bsp) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "game           {}", bsp.version.game().name());
-    let _ = writeln!(s, "format         {}", bsp.version.name());
+    let _ = writeln!(s, "game           {}", bsp.game.name());
+    let _ = writeln!(s, "game because   {}", bsp.game_reason);
+    let _ = writeln!(s, "format         {}", bsp.format_name());
     let _ = writeln!(s, "file size      {} bytes", bsp.file_size);
     let _ = writeln!(
         s,
@@ -181,6 +182,15 @@ pub fn map_summary(bsp: &bsp::Bsp) -> String {
             s,
             "unused records {} with bad indices (never read)",
             bsp.unused_bad_records
+        );
+    }
+    if !bsp.unusable_faces.is_empty() {
+        let (world_bad, world_faces) = bsp.unusable_world_faces();
+        let _ = writeln!(
+            s,
+            "unusable faces {} ({world_bad} of the world's {world_faces}): {}",
+            bsp.unusable_faces.len(),
+            bsp::first_unusable_faces(bsp, 3)
         );
     }
     s

@@ -202,6 +202,10 @@ struct ViewArgs {
     /// Camera for --follow: vdg, vdg-thesis, chase or springarm.
     #[arg(long, default_value = "vdg")]
     follow_camera: String,
+    /// Write the view as a PNG and exit, without a window or a display (after
+    /// --exec; with --follow, the pose of frame --frames, default the first).
+    #[arg(long, value_name = "OUT.png")]
+    screenshot: Option<PathBuf>,
 }
 
 fn main() {
@@ -474,18 +478,29 @@ fn run_view(args: ViewArgs) -> Result<()> {
                 .collect()
         })
         .unwrap_or_default();
-    vdgview::view::run(
-        viewer,
-        &vdgview::view::ViewOptions {
-            width,
-            height,
-            exec,
-            frames: args.frames,
-            seconds: args.seconds,
-            follow,
-            follow_dt: FOLLOW_DT,
-        },
-    )
+    let options = options_of(&args, width, height, exec, follow);
+    match &args.screenshot {
+        Some(path) => vdgview::view::screenshot(viewer, &options, path),
+        None => vdgview::view::run(viewer, &options),
+    }
+}
+
+fn options_of(
+    args: &ViewArgs,
+    width: usize,
+    height: usize,
+    exec: Vec<String>,
+    follow: Vec<vdgview::view::FollowPose>,
+) -> vdgview::view::ViewOptions {
+    vdgview::view::ViewOptions {
+        width,
+        height,
+        exec,
+        frames: args.frames,
+        seconds: args.seconds,
+        follow,
+        follow_dt: FOLLOW_DT,
+    }
 }
 
 fn run_replay(args: ReplayArgs) -> Result<()> {

@@ -44,9 +44,6 @@ const NAMES: LumpNames = LumpNames {
     nodes: "nodes",
     leaves: "leaves",
     marksurfaces: "marksurfaces",
-    faces: "faces",
-    surfedges: "surfedges",
-    edges: "edges",
     models: "models",
     clipnodes: "clipnodes",
     leafbrushes: "leafbrushes",
@@ -127,6 +124,9 @@ pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
         brushes: Vec::new(),
         brush_sides: Vec::new(),
         unused_bad_records: 0,
+        unusable_faces: Vec::new(),
+        game: Game::Quake,
+        game_reason: String::new(),
     };
     validate(&mut bsp, &NAMES)?;
     Ok(bsp)

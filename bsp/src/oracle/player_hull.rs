@@ -46,7 +46,7 @@ impl Hull {
     /// tree's leaves carved by those expanded brushes, and the unreached nodes pruned.
     /// They share the carver's node and leaf lists, which a split would pass around.
     pub fn from_brushes(bsp: &Bsp, hull: PlayerHull) -> Option<Hull> {
-        let (mins, maxs, classify, mask): (P, P, fn(i32) -> i32, i32) = match bsp.version.game() {
+        let (mins, maxs, classify, mask): (P, P, fn(i32) -> i32, i32) = match bsp.game {
             Game::Quake2 => {
                 let (lo, hi) = hull.quake2_box();
                 use quake2::contents as c;
@@ -202,7 +202,7 @@ impl Hull {
 
 /// The liquid flags of the map's game (liquids do not end the carving of a piece).
 fn contents_liquids(bsp: &Bsp) -> i32 {
-    match bsp.version.game() {
+    match bsp.game {
         Game::Quake2 => quake2::contents::LAVA | quake2::contents::SLIME | quake2::contents::WATER,
         _ => quake3::contents::LAVA | quake3::contents::SLIME | quake3::contents::WATER,
     }

@@ -168,6 +168,7 @@ mod tests {
             clip_is_solid: false,
             brushes: None,
             game: crate::Game::GoldSrc,
+            fence: None,
         }
     }
 

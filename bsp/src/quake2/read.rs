@@ -48,9 +48,6 @@ const NAMES: LumpNames = LumpNames {
     nodes: "nodes",
     leaves: "leaves",
     marksurfaces: "leaffaces",
-    faces: "faces",
-    surfedges: "surfedges",
-    edges: "edges",
     models: "models",
     clipnodes: "clipnodes",
     leafbrushes: "leafbrushes",
@@ -103,6 +100,9 @@ pub fn parse(bytes: &[u8]) -> Result<Bsp, BspError> {
         brushes,
         brush_sides: Vec::new(),
         unused_bad_records: 0,
+        unusable_faces: Vec::new(),
+        game: Game::Quake,
+        game_reason: String::new(),
     };
     if wide {
         read_wide(&dir, &mut bsp)?;

@@ -38,9 +38,6 @@ const NAMES: LumpNames = LumpNames {
     nodes: "nodes",
     leaves: "leafs",
     marksurfaces: "leafsurfaces",
-    faces: "surfaces",
-    surfedges: "surfaces",
-    edges: "surfaces",
     models: "models",
     clipnodes: "nodes",
     leafbrushes: "leafbrushes",
@@ -494,6 +491,9 @@ fn build(raw: &Raw, reached: &Reached, entities: Vec<crate::Entity>, file_size: 
         brushes: solids.brushes,
         brush_sides: solids.brush_sides,
         unused_bad_records: 0,
+        unusable_faces: Vec::new(),
+        game: Game::Quake,
+        game_reason: String::new(),
     }
 }
 

@@ -45,6 +45,12 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "map": map.display().to_string(),
                 "ok": true,
                 "version": s.version,
+                "game": s.game,
+                "game_reason": s.game_reason,
+                "unusable_faces": s.unusable_faces,
+                "unusable_examples": s.unusable_examples,
+                "leak": s.leak,
+                "pointfile": s.pointfile.as_ref().map(|p| p.display().to_string()),
                 "file_size": s.file_size,
                 "bounds": [s.bounds.0, s.bounds.1],
                 "faces": s.faces,
@@ -105,8 +111,8 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
 /// The batch summary table, one line per map.
 pub fn summary_lines(results: &[(PathBuf, Outcome)]) -> Vec<String> {
     let mut lines = vec![format!(
-        "{:<32} {:>6} {:>8} {:>9} {:>8} {:>9}  status",
-        "map", "faces", "sampled", "samples", "spacing", "time"
+        "{:<32} {:>6} {:>8} {:>8} {:>9} {:>8} {:>9}  status",
+        "map", "faces", "sampled", "unusable", "samples", "spacing", "time"
     )];
     for (map, r) in results {
         let name = map
@@ -116,19 +122,21 @@ pub fn summary_lines(results: &[(PathBuf, Outcome)]) -> Vec<String> {
         let dash = "-";
         lines.push(match r {
             Outcome::Built(s) => format!(
-                "{:<32} {:>6} {:>8} {:>9} {:>8.2} {:>9}  ok",
+                "{:<32} {:>6} {:>8} {:>8} {:>9} {:>8.2} {:>9}  ok{}",
                 name,
                 s.faces,
                 s.sampled_faces,
+                s.unusable_faces,
                 s.samples,
                 s.sample_spacing,
-                secs(s.seconds.last().map_or(0.0, |x| x.1))
+                secs(s.seconds.last().map_or(0.0, |x| x.1)),
+                if s.leak.is_some() { " (leaks)" } else { "" }
             ),
             Outcome::Current { .. } => format!(
-                "{name:<32} {dash:>6} {dash:>8} {dash:>9} {dash:>8} {dash:>9}  up to date (skipped; -force rebuilds)"
+                "{name:<32} {dash:>6} {dash:>8} {dash:>8} {dash:>9} {dash:>8} {dash:>9}  up to date (skipped; -force rebuilds)"
             ),
             Outcome::Failed(e) => format!(
-                "{name:<32} {dash:>6} {dash:>8} {dash:>9} {dash:>8} {dash:>9}  FAILED: {e}"
+                "{name:<32} {dash:>6} {dash:>8} {dash:>8} {dash:>9} {dash:>8} {dash:>9}  FAILED: {e}"
             ),
         });
     }

@@ -14,6 +14,8 @@ pub struct Context<'a> {
     pub log: &'a Log,
     pub progress: &'a dyn Progress,
     pub stats: Stats,
+    /// The map's budget, if it has one ([`super::Budget`]).
+    pub budget: Option<super::Budget>,
     /// When the compile began.
     began: Instant,
     /// When the running stage began.
@@ -28,6 +30,7 @@ impl<'a> Context<'a> {
             log,
             progress,
             stats: Stats::default(),
+            budget: None,
             began: now,
             stage_began: now,
         }
@@ -36,6 +39,9 @@ impl<'a> Context<'a> {
     /// Runs `stage` as the stage `name`: its seconds are recorded under that name in
     /// [`Stats::seconds`], in the order the stages ran.
     pub fn stage<T>(&mut self, name: &'static str, stage: impl FnOnce(&mut Self) -> T) -> T {
+        if let Some(b) = &self.budget {
+            b.check_time(name);
+        }
         self.stage_began = Instant::now();
         let out = stage(self);
         let seconds = self.stage_seconds();

@@ -29,6 +29,19 @@ pub enum CompileError {
         path: PathBuf,
         format: String,
     },
+    /// So many of the world's faces are unusable that a graph could not be trusted.
+    UnusableFaces {
+        unusable: usize,
+        world_faces: usize,
+        examples: String,
+    },
+    /// `--game` names a game the map's format cannot be read as.
+    Game(String),
+    /// A stage went over the map's time or memory budget.
+    OverBudget {
+        stage: &'static str,
+        what: String,
+    },
     /// No vertex (or no face) survived: nothing to write.
     EmptyGraph {
         min_clearance: f64,
@@ -58,6 +71,19 @@ impl fmt::Display for CompileError {
             CompileError::EmptyGraph { min_clearance } => write!(
                 f,
                 "the graph is empty: no free space with at least -md {min_clearance} units of clearance survived (is the map sealed, or -md too large?); nothing written"
+            ),
+            CompileError::UnusableFaces {
+                unusable,
+                world_faces,
+                examples,
+            } => write!(
+                f,
+                "{unusable} of the world's {world_faces} faces are unusable (their plane, texture or edges do not resolve: {examples}); more than half, so a graph of this map could not be trusted"
+            ),
+            CompileError::Game(why) => write!(f, "--game: {why}"),
+            CompileError::OverBudget { stage, what } => write!(
+                f,
+                "the {stage} stage went over the map's budget ({what}); --budget scales it, --budget 0 lifts it"
             ),
             CompileError::NotBuilt(stage) => write!(
                 f,

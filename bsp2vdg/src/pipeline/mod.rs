@@ -9,11 +9,13 @@
 //! after them repairs a face where a guarantee evidently failed; the corner check does
 //! the same for the faces' own corner radii.
 
+mod budget;
 mod context;
 mod error;
 pub mod stages;
 mod stats;
 
+pub use budget::Budget;
 pub use context::Context;
 pub use error::{CompileError, other_format};
 pub use stats::Stats;
@@ -25,14 +27,70 @@ use crate::space::MapSpace;
 use bsp::walls::Walls;
 use std::path::Path;
 
-/// Compiles one map as `options` say.
+/// Compiles one map as `options` say, within the map's budget ([`Budget`]).
 pub fn compile(
     map: &Path,
     options: &CompileOptions,
     log: &Log,
     progress: &dyn Progress,
 ) -> Result<Stats, CompileError> {
+    let size = std::fs::metadata(map).map(|m| m.len()).unwrap_or(0);
+    let budgeted = budget::Budgeted {
+        inner: progress,
+        budget: Budget::for_map(size, options.budget),
+        label: Default::default(),
+    };
+    // A stage over its time unwinds to here (with no panic message): its work is
+    // dropped on the way and the map fails with the stage named.
+    let run = std::panic::AssertUnwindSafe(|| compile_within(map, options, log, &budgeted));
+    match std::panic::catch_unwind(run) {
+        Ok(result) => result,
+        Err(payload) => match payload.downcast::<budget::OutOfTime>() {
+            Ok(out) => {
+                progress.finish();
+                Err(CompileError::OverBudget {
+                    stage: stage_name(&out.stage),
+                    what: format!(
+                        "{:.0} s for a map of {} kB",
+                        out.seconds,
+                        size.div_ceil(1024)
+                    ),
+                })
+            }
+            Err(other) => std::panic::resume_unwind(other),
+        },
+    }
+}
+
+/// The stage names the budget reports, as `&'static str`.
+fn stage_name(stage: &str) -> &'static str {
+    const NAMES: [&str; 10] = [
+        "load",
+        "sample",
+        "delaunay",
+        "voronoi",
+        "guard",
+        "reduce",
+        "wall_raise",
+        "check",
+        "corner_check",
+        "write",
+    ];
+    NAMES
+        .iter()
+        .find(|n| stage.starts_with(*n))
+        .copied()
+        .unwrap_or("compile")
+}
+
+fn compile_within(
+    map: &Path,
+    options: &CompileOptions,
+    log: &Log,
+    progress: &budget::Budgeted,
+) -> Result<Stats, CompileError> {
     let mut cx = Context::new(options, log, progress);
+    cx.budget = progress.budget;
     let bsp = cx.stage("load", |cx| stages::load_map(cx, map))?;
     let sampled = cx.stage("sample", |cx| stages::sample_walls(cx, &bsp));
     if options.save_samples {
@@ -43,7 +101,7 @@ pub fn compile(
         oracle: &sampled.oracle,
         walls: Walls::from_boundary(&sampled.boundary),
         bounds: (world.mins.map(f64::from), world.maxs.map(f64::from)),
-        game: bsp.version.game(),
+        game: bsp.game,
     };
     build_graph(&mut cx, map, &sampled.samples, &space)?;
     let total = cx.total_seconds();
@@ -66,6 +124,16 @@ fn build_graph(
     if samples.points.len() < 4 {
         return Err(CompileError::NoFreeSpace(samples.points.len()));
     }
+    if let Some(b) = cx.budget {
+        // About 6.5 tetrahedra per point, each with its vertices, neighbours and
+        // circumsphere (~100 bytes), and the Voronoi graph built from them.
+        let n = samples.points.len() as f64;
+        b.check_memory(
+            "delaunay",
+            n * 6.5 * 200.0,
+            &format!("{} samples", samples.points.len()),
+        )?;
+    }
     let tri = cx.stage("delaunay", |cx| stages::tetrahedralize(cx, samples))?;
     if stopped_after(cx, Stage::Delaunay) {
         return Ok(());
@@ -78,6 +146,20 @@ fn build_graph(
     }
     let graph = cx.stage("guard", |cx| stages::guard_volume(cx, graph, space));
     let reduced = options.reduction_limit < 1.0;
+    if let Some(b) = cx.budget {
+        // The reduction's mesh, queue and volume bookkeeping: a few hundred bytes per
+        // vertex and face of its input.
+        let (v, f) = (graph.vertices.len() as f64, graph.faces.len() as f64);
+        b.check_memory(
+            "reduce",
+            v * 600.0 + f * 300.0,
+            &format!(
+                "a graph of {} vertices and {} faces",
+                graph.vertices.len(),
+                graph.faces.len()
+            ),
+        )?;
+    }
     let mut graph = if reduced {
         cx.stage("reduce", |cx| stages::reduce_graph(cx, &graph, space))
     } else {

@@ -22,7 +22,7 @@ use std::path::Path;
 /// read that the reader refuses (truncated, corrupt) keeps the reader's own error,
 /// which names the lump and the problem.
 pub fn load_map(cx: &mut Context, map: &Path) -> Result<Bsp, CompileError> {
-    let bsp = Bsp::open(map).map_err(|error| match other_engine(&error, map) {
+    let mut bsp = Bsp::open(map).map_err(|error| match other_engine(&error, map) {
         Some(format) => CompileError::OtherFormat {
             path: map.to_path_buf(),
             format,
@@ -32,15 +32,20 @@ pub fn load_map(cx: &mut Context, map: &Path) -> Result<Bsp, CompileError> {
             error,
         },
     })?;
+    if let Some(game) = cx.options.game {
+        bsp.force_game(game).map_err(CompileError::Game)?;
+    }
     let world = bsp.world();
-    cx.stats.version = bsp.version.name().to_string();
+    cx.stats.version = bsp.format_name().to_string();
+    cx.stats.game = bsp.game.name().to_string();
+    cx.stats.game_reason = bsp.game_reason.clone();
     cx.stats.file_size = bsp.file_size;
     cx.stats.bounds = (world.mins, world.maxs);
     cx.log.info(format!(
         "Loading model: {} ({} kB), {}, {} models, {} entities",
         map.display(),
         bsp.file_size.div_ceil(1024),
-        bsp.version.name(),
+        bsp.format_name(),
         bsp.models.len(),
         bsp.entities.len()
     ));
@@ -50,6 +55,9 @@ pub fn load_map(cx: &mut Context, map: &Path) -> Result<Bsp, CompileError> {
             bsp.unused_bad_records
         ));
     }
+    cx.log
+        .info(format!("Game: {} ({})", bsp.game.name(), bsp.game_reason));
+    check_unusable_faces(cx, &bsp)?;
     cx.log.info(format!(
         "Bounding Box ({:.1},{:.1},{:.1})-({:.1},{:.1},{:.1})",
         world.mins[0], world.mins[1], world.mins[2], world.maxs[0], world.maxs[1], world.maxs[2]
@@ -65,6 +73,31 @@ fn other_engine(error: &bsp::BspError, map: &Path) -> Option<String> {
         }
         _ => None,
     }
+}
+
+/// Faces the engine could not draw are not sampled (the tree still gives their
+/// walls); the log names the first few. Where they are more than half of the world's
+/// faces, the map is not what its file claims and the compile stops.
+fn check_unusable_faces(cx: &mut Context, bsp: &Bsp) -> Result<(), CompileError> {
+    if bsp.unusable_faces.is_empty() {
+        return Ok(());
+    }
+    let examples = bsp::first_unusable_faces(bsp, 3);
+    cx.stats.unusable_faces = bsp.unusable_faces.len();
+    cx.stats.unusable_examples = examples.clone();
+    let (bad, world_faces) = bsp.unusable_world_faces();
+    if 2 * bad > world_faces {
+        return Err(CompileError::UnusableFaces {
+            unusable: bad,
+            world_faces,
+            examples,
+        });
+    }
+    cx.log.warn(format!(
+        "{} unusable faces not sampled (their plane, texture or edges do not resolve; the game never draws them): {examples}",
+        bsp.unusable_faces.len()
+    ));
+    Ok(())
 }
 
 /// The map's free space as the later stages ask about it, and the samples on its walls.
@@ -94,7 +127,11 @@ pub fn sample_walls(cx: &mut Context, bsp: &Bsp) -> SampledMap {
         solid_models: sampling.models.clone(),
     };
     let oracle = Oracle::new(bsp, &oracle_options);
-    let boundary = boundary::of_map(bsp, &oracle_options);
+    let mut boundary = boundary::of_map(bsp, &oracle_options);
+    if let Some(fence) = oracle.fence() {
+        report_leak(cx, bsp);
+        fence_boundary(&mut boundary, fence, bsp, sampling.spacing);
+    }
     let faces = sample::wall_faces(bsp, &sampling.models, &oracle, &boundary);
     cx.log.info(format!(
         "Sampling from {} faces and {} pieces of the BSP's obstacle boundary ...",
@@ -127,6 +164,119 @@ pub fn sample_walls(cx: &mut Context, bsp: &Bsp) -> SampledMap {
         oracle,
         boundary,
         samples,
+    }
+}
+
+/// A leaking map: the warning names where (the path from a player start out of the
+/// world's bounds), and the path is written as a pointfile beside the output for the
+/// editor.
+fn report_leak(cx: &mut Context, bsp: &Bsp) {
+    let fmt = |p: [f64; 3]| format!("({:.0} {:.0} {:.0})", p[0], p[1], p[2]);
+    let leak = bsp::leak::find(bsp);
+    let text = match &leak {
+        Some(l) => format!(
+            "the map leaks: free space from {} at {} reaches outside the world's bounds past {}",
+            l.entity,
+            fmt(l.from),
+            fmt(l.exit)
+        ),
+        None => "the map leaks: free space reaches outside the world's bounds (no entity in free space has a path out at the search's resolution)".to_string(),
+    };
+    let mut line = format!("{text}; compiling the inside of the bounds");
+    if let Some(l) = &leak {
+        let path = cx
+            .options
+            .output
+            .with_extension(bsp::leak::pointfile_extension(bsp.game));
+        match toolbox::write_bytes_atomic(&path, bsp::leak::pointfile(&l.path).as_bytes()) {
+            Ok(()) => {
+                line.push_str(&format!("; pointfile {}", path.display()));
+                cx.stats.pointfile = Some(path);
+            }
+            Err(e) => line.push_str(&format!(
+                "; cannot write the pointfile {}: {e}",
+                path.display()
+            )),
+        }
+    }
+    cx.log.warn(line.clone());
+    cx.stats.leak = Some(text);
+}
+
+/// The walls of a leaking map's inside: the tree's boundary pieces outside the world's
+/// bounds go (they bound the void), and where free space crosses the bounds the
+/// bounds themselves become wall, in squares of twice the sample spacing.
+fn fence_boundary(
+    boundary: &mut Vec<BoundaryPolygon>,
+    (lo, hi): ([f64; 3], [f64; 3]),
+    bsp: &Bsp,
+    spacing: f64,
+) {
+    let inside = |p: [f64; 3]| (0..3).all(|i| p[i] >= lo[i] - 0.5 && p[i] <= hi[i] + 0.5);
+    boundary.retain(|b| {
+        let n = b.vertices.len().max(1) as f64;
+        let c = b.vertices.iter().fold([0.0; 3], |a, v| {
+            [a[0] + v[0] / n, a[1] + v[1] / n, a[2] + v[2] / n]
+        });
+        inside(c)
+    });
+    let raw = bsp::oracle::Hull::from_nodes(bsp, 0);
+    let open = |p: [f64; 3]| {
+        let c = raw.contents(p);
+        c != bsp::contents::SOLID && c != bsp::contents::SKY
+    };
+    let cell = (2.0 * spacing).max(8.0);
+    for axis in 0..3 {
+        let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+        let nu = ((hi[u] - lo[u]) / cell).ceil().max(1.0) as usize;
+        let nv = ((hi[v] - lo[v]) / cell).ceil().max(1.0) as usize;
+        for (side, plane, inward) in [(0, lo[axis], 1.0), (1, hi[axis], -1.0)] {
+            let _ = side;
+            for i in 0..nu {
+                for j in 0..nv {
+                    let (u0, u1) = (
+                        lo[u] + i as f64 * cell,
+                        (lo[u] + (i + 1) as f64 * cell).min(hi[u]),
+                    );
+                    let (v0, v1) = (
+                        lo[v] + j as f64 * cell,
+                        (lo[v] + (j + 1) as f64 * cell).min(hi[v]),
+                    );
+                    let at = |a: f64, b: f64, off: f64| {
+                        let mut p = [0.0; 3];
+                        p[axis] = plane + off;
+                        p[u] = a;
+                        p[v] = b;
+                        p
+                    };
+                    let (cu, cv) = ((u0 + u1) * 0.5, (v0 + v1) * 0.5);
+                    // Free space crosses the bounds here: free just inside and outside.
+                    if !(open(at(cu, cv, inward)) && open(at(cu, cv, -inward))) {
+                        continue;
+                    }
+                    let mut vertices = vec![
+                        at(u0, v0, 0.0),
+                        at(u1, v0, 0.0),
+                        at(u1, v1, 0.0),
+                        at(u0, v1, 0.0),
+                    ];
+                    let mut normal = [0.0; 3];
+                    normal[axis] = inward;
+                    // Wound counter-clockwise seen from the free side.
+                    let e1 = [0, 1, 2].map(|k| vertices[1][k] - vertices[0][k]);
+                    let e2 = [0, 1, 2].map(|k| vertices[2][k] - vertices[0][k]);
+                    let cross = toolbox::vec3::cross(e1, e2);
+                    if toolbox::vec3::dot(cross, normal) < 0.0 {
+                        vertices.reverse();
+                    }
+                    boundary.push(BoundaryPolygon {
+                        vertices,
+                        normal,
+                        obstacle: bsp::contents::SOLID,
+                    });
+                }
+            }
+        }
     }
 }
 
@@ -398,7 +548,13 @@ pub fn write_graph(
     corners: Option<&[[f64; 3]]>,
 ) -> Result<(), CompileError> {
     let options = cx.options;
-    let bytes = write::write_vdg(map, options, graph, corners)?;
+    let bytes = write::write_vdg(
+        map,
+        options,
+        graph,
+        corners,
+        (&cx.stats.game, &cx.stats.version),
+    )?;
     cx.log.info(format!(
         "Writing {} ...Wrote file, size {} [{}]",
         options.output.display(),

@@ -32,4 +32,14 @@ pub struct Stats {
     /// The reduction's counts, when it ran (`-rl` < 1).
     pub reduce: Option<crate::reduce::ReduceStats>,
     pub output: Option<PathBuf>,
+    /// The game the map was read as, and why (see [`bsp::game`]).
+    pub game: String,
+    pub game_reason: String,
+    /// Faces the engine could not draw (not sampled), and the first few named.
+    pub unusable_faces: usize,
+    pub unusable_examples: String,
+    /// Where the map leaks (free space reaching outside the world's bounds), and the
+    /// pointfile written for the editor.
+    pub leak: Option<String>,
+    pub pointfile: Option<PathBuf>,
 }

@@ -10,30 +10,30 @@ use std::path::Path;
 
 /// Writes the graph with its build parameters and the source map's name and hash.
 /// `corners`: the faces' own corner radii, one per face, if raised
-/// ([`crate::raise::raise_to_walls_and_corners`]).
+/// ([`crate::raise::raise_to_walls_and_corners`]). `source`: the game the map was read
+/// as and its format's name (`Bsp::format_name`), recorded for `vdgview info`.
 pub fn write_vdg(
     map: &Path,
     options: &CompileOptions,
     graph: &Graph,
     corners: Option<&[[f64; 3]]>,
+    source: (&str, &str),
 ) -> Result<usize, CompileError> {
     let vdg_err = |error: String| CompileError::Vdg {
         path: options.output.clone(),
         error,
     };
-    let source =
+    let source_bytes =
         std::fs::read(map).map_err(|e| vdg_err(format!("cannot read the map again: {e}")))?;
     let mut b = graph.to_builder(corners);
-    b.set_source_hash(vdgformat::xxh64(&source, 0))
+    b.set_source_hash(vdgformat::xxh64(&source_bytes, 0))
         .set_leaf_size(options.tree_leaf_size as f32);
     for (key, value) in recorded_options(options) {
         b.set_metadata(&key, &value);
     }
-    // What the source is, for `vdgview info` (from its bytes: no path recorded).
-    if let Some(v) = bsp::BspVersion::identify(&source) {
-        b.set_metadata("source.game", v.game().name());
-        b.set_metadata("source.format", v.name());
-    }
+    // What the source is, for `vdgview info` (no path recorded).
+    b.set_metadata("source.game", source.0);
+    b.set_metadata("source.format", source.1);
     let bytes = b.to_bytes().map_err(|e| vdg_err(e.to_string()))?;
     let len = bytes.len();
     write_atomic(&options.output, |w| w.write_all(&bytes))?;

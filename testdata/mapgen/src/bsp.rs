@@ -12,10 +12,10 @@ use std::collections::HashMap;
 
 use crate::geometry::{EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, split_polygon};
 use crate::tree::{
-    Child, FaceKind, Tree, TreeFace, build_box_model, build_world_clip_hull, build_world_hull0,
-    extract_faces,
+    Child, FaceKind, Tree, TreeFace, build_box_model, build_box_model_shaped,
+    build_world_clip_hull_shaped, build_world_hull0, extract_faces,
 };
-use crate::world::{Contents, SurfaceClass, World};
+use crate::world::{Aabb, Contents, HullSet, SurfaceClass, World};
 
 /// BSP version number of GoldSrc maps.
 pub const BSP_VERSION: i32 = 30;
@@ -76,9 +76,15 @@ pub struct Compiled {
 /// assert_eq!(c.models[0].hull0.contents([100.0, 100.0, 100.0]), w.contents([100.0, 100.0, 100.0]));
 /// ```
 pub fn compile(world: &World) -> Compiled {
+    compile_for(world, HullSet::GoldSrc)
+}
+
+/// [`compile`] with the clip hulls of `hulls`' player boxes.
+pub fn compile_for(world: &World, hulls: HullSet) -> Compiled {
     let mut planes = PlaneSet::default();
     let hull0 = build_world_hull0(world, &mut planes);
-    let clip = [1, 2, 3].map(|h| build_world_clip_hull(world, &hull0, h, &mut planes));
+    let clip =
+        [1, 2, 3].map(|h| build_world_clip_hull_shaped(world, &hull0, hulls.shape(h), &mut planes));
     let faces = extract_faces(&hull0, &|c| c.is_free());
     let textures = faces
         .iter()
@@ -100,7 +106,7 @@ pub fn compile(world: &World) -> Compiled {
     for (i, e) in world.brush_entities.iter().enumerate() {
         let (lo, hi) = (e.bounds.lo(), e.bounds.hi());
         let hull0 = build_box_model(lo, hi, 0, &mut planes);
-        let clip = [1, 2, 3].map(|h| build_box_model(lo, hi, h, &mut planes));
+        let clip = [1, 2, 3].map(|h| build_box_model_shaped(lo, hi, hulls.shape(h), &mut planes));
         let faces = extract_faces(&hull0, &|c| c == Contents::Empty);
         let textures = vec![e.texture.clone(); faces.len()];
         let (faces, textures) = subdivide_for_lightmaps(faces, textures);
@@ -212,6 +218,28 @@ fn brush_entity_keys(classname: &str, texture: &str, model: usize) -> Vec<(Strin
 /// ```
 pub fn write_world(world: &World) -> Vec<u8> {
     write(world, &compile(world))
+}
+
+/// A BSP29 file of `world` (Quake's format, which Half-Life's oldest maps use too)
+/// with the clip hulls of `hulls`: the same lumps as v30, version 29.
+///
+/// ```
+/// use mapgen::{bsp, world::HullSet, worlds};
+/// let bytes = bsp::write_v29(&worlds::box_room(), HullSet::Quake);
+/// assert_eq!(&bytes[..4], &29i32.to_le_bytes());
+/// ```
+pub fn write_v29(world: &World, hulls: HullSet) -> Vec<u8> {
+    let mut bytes = write(world, &compile_for(world, hulls));
+    bytes[..4].copy_from_slice(&29i32.to_le_bytes());
+    bytes
+}
+
+/// The bytes of `world` with the world model's bounds set to `bounds` (for
+/// [`crate::worlds::leaking_room`]: free space outside the written bounds).
+pub fn write_with_world_bounds(world: &World, bounds: Aabb) -> Vec<u8> {
+    let mut compiled = compile(world);
+    compiled.models[0].bounds = (bounds.lo(), bounds.hi());
+    write(world, &compiled)
 }
 
 /// The entity lump text: worldspawn, player starts at the spawn points, the

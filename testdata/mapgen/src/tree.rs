@@ -19,7 +19,7 @@
 use crate::geometry::{
     ConvexCell, EPS, Plane, PlaneSet, Polygon, Side, V3, polygon_area, snap_normal, split_polygon,
 };
-use crate::world::{Contents, HULL_HALF_EXTENTS, SurfaceClass, WallPolygon, World};
+use crate::world::{Contents, HullSet, HullShape, SurfaceClass, WallPolygon, World};
 
 /// Margin between the world's primitives and the root cell of its trees; it
 /// exceeds every hull's half extent so the outer cells are solid in all hulls.
@@ -428,6 +428,12 @@ pub fn build_world_hull0(world: &World, planes: &mut PlaneSet) -> Tree {
 /// half-spaces of the cell's face normals, the axes and the cross products of
 /// its edges with the axes, each pushed out by its support distance.
 pub fn expand_cell(cell: &ConvexCell, h: V3, lo: V3, hi: V3) -> Option<ConvexCell> {
+    expand_cell_shifted(cell, h, V3::new(0.0, 0.0, 0.0), lo, hi)
+}
+
+/// [`expand_cell`] for a box centred `c` off the origin: the origins where the box
+/// `[o + c - h, o + c + h]` meets the cell.
+pub fn expand_cell_shifted(cell: &ConvexCell, h: V3, c: V3, lo: V3, hi: V3) -> Option<ConvexCell> {
     let mut normals: Vec<V3> = Vec::new();
     let mut add = |n: V3| {
         if n.length() < 1e-9 {
@@ -466,7 +472,7 @@ pub fn expand_cell(cell: &ConvexCell, h: V3, lo: V3, hi: V3) -> Option<ConvexCel
             let support = verts.iter().map(|&v| n.dot(v)).fold(f64::MIN, f64::max);
             Plane {
                 normal: n,
-                dist: support + n.abs().dot(h),
+                dist: support + n.abs().dot(h) - n.dot(c),
             }
         })
         .collect();
@@ -482,8 +488,19 @@ pub fn build_world_clip_hull(
     hull: usize,
     planes: &mut PlaneSet,
 ) -> Tree {
+    build_world_clip_hull_shaped(world, hull0, HullSet::GoldSrc.shape(hull), planes)
+}
+
+/// [`build_world_clip_hull`] for a hull of any box (Quake's are off-centre).
+pub fn build_world_clip_hull_shaped(
+    world: &World,
+    hull0: &Tree,
+    shape: HullShape,
+    planes: &mut PlaneSet,
+) -> Tree {
     let (lo, hi) = root_box(world);
-    let h = V3::from(HULL_HALF_EXTENTS[hull]);
+    let h = V3::from(shape.half);
+    let centre = V3::from(shape.center);
     let big = V3::new(1.0, 1.0, 1.0) * (2.0 * ROOT_MARGIN);
     let f = world.free_bounds();
     let cells: Vec<(ConvexCell, (V3, V3))> = hull0
@@ -495,7 +512,7 @@ pub fn build_world_clip_hull(
             let (clo, chi) = leaf.cell.bounds();
             (0..3).all(|i| clo.get(i) <= f.max[i] + h.get(i) && chi.get(i) >= f.min[i] - h.get(i))
         })
-        .filter_map(|leaf| expand_cell(&leaf.cell, h, lo - big, hi + big))
+        .filter_map(|leaf| expand_cell_shifted(&leaf.cell, h, centre, lo - big, hi + big))
         .map(|c| {
             let b = c.bounds();
             (c, b)
@@ -514,7 +531,7 @@ pub fn build_world_clip_hull(
     }
     let frags = fragments_in_box(surfaces, lo, hi, planes);
     build(lo, hi, frags, planes, &|p| {
-        world.hull_contents(hull, p.into())
+        world.shaped_contents(shape, p.into())
     })
 }
 
@@ -585,8 +602,14 @@ pub fn wall_polygons(world: &World) -> Vec<WallPolygon> {
 /// with the box faces as candidates, or a clip hull with the box grown by the
 /// hull's half extents.
 pub fn build_box_model(lo: V3, hi: V3, hull: usize, planes: &mut PlaneSet) -> Tree {
-    let h = V3::from(HULL_HALF_EXTENTS[hull]);
-    let (blo, bhi) = (lo - h, hi + h);
+    build_box_model_shaped(lo, hi, HullSet::GoldSrc.shape(hull), planes)
+}
+
+/// [`build_box_model`] for a hull of any box.
+pub fn build_box_model_shaped(lo: V3, hi: V3, shape: HullShape, planes: &mut PlaneSet) -> Tree {
+    let h = V3::from(shape.half);
+    let c = V3::from(shape.center);
+    let (blo, bhi) = (lo - h - c, hi + h - c);
     let m = V3::new(1.0, 1.0, 1.0) * 16.0;
     let (rlo, rhi) = (blo - m, bhi + m);
     let cell = ConvexCell::from_box(blo, bhi);

@@ -58,6 +58,44 @@ pub const HULL_HALF_EXTENTS: [[f64; 3]; 4] = [
     [16.0, 16.0, 18.0],
 ];
 
+/// Whose player boxes a map's clip hulls are built for: GoldSrc's (symmetric, the
+/// standing player ±36 high) or Quake's (the player 24 below and 32 above its
+/// origin, hull 2 24 below and 64 above). Half-Life's oldest maps are BSP29 files
+/// with GoldSrc hulls, which is how a reader tells them from Quake's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HullSet {
+    GoldSrc,
+    Quake,
+}
+
+/// A hull's box around its origin: the centre offset and the half extents.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HullShape {
+    pub center: [f64; 3],
+    pub half: [f64; 3],
+}
+
+impl HullSet {
+    /// The box of hull `hull` (0..=3). Quake has no crouching hull; its hull 3 is
+    /// written as its hull 1.
+    pub fn shape(self, hull: usize) -> HullShape {
+        match (self, hull) {
+            (HullSet::GoldSrc, h) | (HullSet::Quake, h @ 0) => HullShape {
+                center: [0.0; 3],
+                half: HULL_HALF_EXTENTS[h],
+            },
+            (HullSet::Quake, 2) => HullShape {
+                center: [0.0, 0.0, 20.0],
+                half: [32.0, 32.0, 44.0],
+            },
+            (HullSet::Quake, _) => HullShape {
+                center: [0.0, 0.0, 4.0],
+                half: [16.0, 16.0, 28.0],
+            },
+        }
+    }
+}
+
 /// An axis-aligned box `[min, max]`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Aabb {
@@ -420,7 +458,13 @@ impl World {
     /// assert_eq!(w.hull_contents(1, [100.0, 100.0, 35.0]), Contents::Solid);
     /// ```
     pub fn hull_contents(&self, hull: usize, p: [f64; 3]) -> Contents {
-        let q = Aabb::new(p, p).expanded(HULL_HALF_EXTENTS[hull]);
+        self.shaped_contents(HullSet::GoldSrc.shape(hull), p)
+    }
+
+    /// Contents of a hull of box `shape` at `p` (see [`World::hull_contents`]).
+    pub fn shaped_contents(&self, shape: HullShape, p: [f64; 3]) -> Contents {
+        let c = [0, 1, 2].map(|i| p[i] + shape.center[i]);
+        let q = Aabb::new(c, c).expanded(shape.half);
         let hits_solid = self.solids.iter().any(|s| q.overlaps_open(s))
             || self.ramps.iter().any(|r| {
                 if !q.overlaps_open(&r.bounds) {

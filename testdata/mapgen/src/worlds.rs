@@ -53,6 +53,25 @@ pub fn box_room() -> World {
     w
 }
 
+/// A map that leaks: a closed room with a 64-wide hole in its east wall opening into
+/// a large hall around it that stands for the void outside a leaking level. Returned
+/// with the world bounds its compiler would write (the room and the hole's
+/// corridor): the hall's free space lies outside them, as a leaking map's empty
+/// outside does (write it with [`crate::bsp::write_with_world_bounds`]).
+pub fn leaking_room() -> (World, Aabb) {
+    let mut w = World::new(
+        "leaking_room",
+        "a 512 x 384 x 256 room whose east wall has a hole to the void around it",
+    );
+    w.free.push(b([0.0, 0.0, 0.0], [512.0, 384.0, 256.0]));
+    w.free.push(b([496.0, 160.0, 0.0], [640.0, 224.0, 96.0]));
+    // The void: a hall east of the room, beyond the bounds.
+    w.free
+        .push(b([640.0, -512.0, -256.0], [1664.0, 896.0, 512.0]));
+    w.spawns = vec![[128.0, 192.0, 37.0]];
+    (w, b([0.0, 0.0, 0.0], [640.0, 384.0, 256.0]))
+}
+
 /// Two rooms joined by a corridor; the corridor box overlaps both rooms, so
 /// its cross-section (128 wide, 112 high) is the door opening in each wall.
 pub fn two_rooms() -> World {

@@ -1,0 +1,148 @@
+//! Each map's time and memory budget, so one hostile map cannot cost a batch the
+//! others' results.
+//!
+//! A map's work grows with its size, so its budget does: a base plus a share per
+//! megabyte of the BSP file, times the user's `--budget` scale. Time is checked where
+//! the stages report progress and between stages: over it, the running stage is
+//! abandoned (its work is dropped as the stack unwinds, with no panic message) and the
+//! map fails with the stage named. Memory is checked before the stages whose working
+//! set is a known multiple of their input (the Delaunay stage of its samples, the
+//! reduction of its graph): a map that would need more than its budget fails before
+//! allocating it. A batch compiles each map with its own budget and goes on.
+
+use super::CompileError;
+use crate::progress::Progress;
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+/// Seconds every map may take, before the share for its size.
+const BASE_SECONDS: f64 = 600.0;
+/// Seconds per megabyte of map file.
+const SECONDS_PER_MB: f64 = 300.0;
+/// Bytes every map may use, before the share for its size.
+const BASE_BYTES: f64 = 4.0 * (1u64 << 30) as f64;
+/// Bytes per megabyte of map file.
+const BYTES_PER_MB: f64 = 1.0 * (1u64 << 30) as f64;
+
+/// A map's budget: when it must be done, and how much memory a stage may plan for.
+#[derive(Debug, Clone, Copy)]
+pub struct Budget {
+    pub seconds: f64,
+    pub bytes: f64,
+    deadline: Instant,
+}
+
+/// The payload a stage unwinds with when the map's time is up.
+#[derive(Debug)]
+pub(crate) struct OutOfTime {
+    pub stage: String,
+    pub seconds: f64,
+}
+
+impl Budget {
+    /// The budget of a map of `file_size` bytes at scale `scale` (`--budget`), starting
+    /// now; `None` at scale 0 (no budget).
+    pub fn for_map(file_size: u64, scale: f64) -> Option<Budget> {
+        if !(scale > 0.0) || !scale.is_finite() {
+            return None;
+        }
+        let mb = file_size as f64 / (1u64 << 20) as f64;
+        let seconds = scale * (BASE_SECONDS + SECONDS_PER_MB * mb);
+        Some(Budget {
+            seconds,
+            bytes: scale * (BASE_BYTES + BYTES_PER_MB * mb),
+            deadline: Instant::now() + Duration::from_secs_f64(seconds.min(1e9)),
+        })
+    }
+
+    /// Abandons the running stage (unwinding to [`super::compile`]) when the time is up.
+    pub(crate) fn check_time(&self, stage: &str) {
+        if Instant::now() > self.deadline {
+            std::panic::resume_unwind(Box::new(OutOfTime {
+                stage: stage.to_string(),
+                seconds: self.seconds,
+            }));
+        }
+    }
+
+    /// Fails when a stage would need `bytes` (its planned working set) over the budget.
+    pub fn check_memory(
+        &self,
+        stage: &'static str,
+        bytes: f64,
+        what: &str,
+    ) -> Result<(), CompileError> {
+        if bytes > self.bytes {
+            return Err(CompileError::OverBudget {
+                stage,
+                what: format!(
+                    "{what} would need about {:.1} GB, the budget is {:.1} GB",
+                    bytes / 1e9,
+                    self.bytes / 1e9
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The progress display, with the time budget checked at every report.
+pub(crate) struct Budgeted<'a> {
+    pub inner: &'a dyn Progress,
+    pub budget: Option<Budget>,
+    pub label: Mutex<String>,
+}
+
+impl Progress for Budgeted<'_> {
+    fn start(&self, label: &str, total: u64) {
+        if let Ok(mut l) = self.label.lock() {
+            *l = label.to_string();
+        }
+        self.inner.start(label, total);
+    }
+    fn advance(&self, n: u64) {
+        self.inner.advance(n);
+        if let Some(b) = &self.budget {
+            let label = self.label.lock().map(|l| l.clone()).unwrap_or_default();
+            b.check_time(&label.to_lowercase());
+        }
+    }
+    fn finish(&self) {
+        self.inner.finish();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_budget_grows_with_the_map_and_the_scale() {
+        let small = Budget::for_map(100_000, 1.0).unwrap();
+        let big = Budget::for_map(10 << 20, 1.0).unwrap();
+        assert!(big.seconds > small.seconds && big.bytes > small.bytes);
+        let double = Budget::for_map(100_000, 2.0).unwrap();
+        assert!((double.seconds - 2.0 * small.seconds).abs() < 1e-9);
+        assert!(Budget::for_map(100_000, 0.0).is_none());
+        assert!(Budget::for_map(100_000, f64::NAN).is_none());
+        assert!(
+            small
+                .check_memory("delaunay", small.bytes * 2.0, "x")
+                .is_err()
+        );
+        assert!(
+            small
+                .check_memory("delaunay", small.bytes * 0.5, "x")
+                .is_ok()
+        );
+    }
+
+    #[test]
+    fn a_stage_past_its_time_unwinds_with_its_name() {
+        let mut b = Budget::for_map(0, 1.0).unwrap();
+        b.deadline = Instant::now() - Duration::from_secs(1);
+        let caught = std::panic::catch_unwind(|| b.check_time("reduce")).unwrap_err();
+        let out = caught.downcast::<OutOfTime>().unwrap();
+        assert_eq!(out.stage, "reduce");
+    }
+}
