@@ -718,7 +718,7 @@ mod tests {
 
     fn parsed(args: &[&str]) -> Result<Cli, i32> {
         let v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        parse(&v)
+        parse(&v).map(|(cli, _)| cli)
     }
 
     #[test]
