@@ -114,11 +114,8 @@ pub fn parse_entities(bytes: &[u8]) -> Result<Vec<Entity>, BspError> {
             return Err(err(at, "expected '{' to open an entity"));
         }
         let mut entity = Entity::default();
-        loop {
-            // The end of the text ends an entity left open.
-            let Some((at, key)) = next_token(text, &mut pos) else {
-                break;
-            };
+        // The end of the text ends an entity left open.
+        while let Some((at, key)) = next_token(text, &mut pos) {
             let key = match key {
                 Token::Close => break,
                 Token::Open => return Err(err(at, "'{' inside an entity")),

@@ -6,7 +6,7 @@
 
 mod cli;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result};
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::options::{self, CompileOptions, SamplesFormat, Stage, defaults};
 use bsp2vdg::pipeline;
@@ -14,6 +14,7 @@ use bsp2vdg::progress::{NoProgress, PercentLines, Progress};
 use bsp2vdg::reduce::ReductionCost;
 use bsp2vdg::sample::SampleOptions;
 use clap::{CommandFactory, Parser, ValueEnum};
+use cli::args::usage;
 use cli::priority::{self, Priority};
 use cli::report::{self, Outcome, TerminalBar};
 use rayon::prelude::*;
@@ -24,7 +25,7 @@ use std::path::{Path, PathBuf};
 #[derive(Parser, Debug)]
 #[command(
     name = "bsp2vdg",
-    version,
+    version = concat!(env!("CARGO_PKG_VERSION"), " (build ", env!("BSP2VDG_BUILD"), ")"),
     about = "Compile a BSP map into a Voronoi Distance Graph (.vdg)",
     allow_negative_numbers = true,
     after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -rc relative -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
@@ -207,29 +208,53 @@ const EXIT_USAGE: i32 = 2;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let cli = match parse(&args) {
-        Ok(cli) => cli,
+    let (mut cli, ignored) = match parse(&args) {
+        Ok(parsed) => parsed,
         Err(code) => std::process::exit(code),
     };
-    match run(&cli) {
+    if !ignored.is_empty() {
+        note(
+            &cli,
+            &format!(
+                "warning: ignoring {} (options of the map compile tools that do not apply to bsp2vdg)",
+                ignored.join(" ")
+            ),
+        );
+    }
+    let verdict = cli::outputs::resolve_maps(&cli.maps).and_then(|maps| {
+        cli.maps = maps;
+        run(&cli)
+    });
+    // With --json stdout is the report: losing it (a full disk) fails the run; a
+    // reader closing the pipe does not, and never stops the compile.
+    if cli.json
+        && let Some(lost) = toolbox::console::stdout_lost()
+    {
+        toolbox::errln!("bsp2vdg: error: {lost}");
+        std::process::exit(1);
+    }
+    match verdict {
         Ok(true) => {}
         Ok(false) => std::process::exit(1),
         Err(e) => {
-            eprintln!("bsp2vdg: error: {e:#}");
-            std::process::exit(1);
+            toolbox::errln!("bsp2vdg: error: {e:#}");
+            let usage = e.downcast_ref::<cli::args::UsageError>().is_some();
+            std::process::exit(if usage { EXIT_USAGE } else { 1 });
         }
     }
 }
 
 /// Parses the command line; a usage error is printed as one line and gives the exit
-/// status (help and version are printed in full and give 0).
-fn parse(args: &[String]) -> Result<Cli, i32> {
+/// status (help and version are printed in full and give 0). Also returns the map
+/// compile tools' options it ignored.
+fn parse(args: &[String]) -> Result<(Cli, Vec<String>), i32> {
     let longs = cli::args::long_options(&Cli::command());
     let normal = cli::args::normalise(args, &longs).map_err(|e| {
-        eprintln!("bsp2vdg: error: {}", e.0);
+        toolbox::errln!("bsp2vdg: error: {}", e.0);
         EXIT_USAGE
     })?;
-    Cli::try_parse_from(normal).map_err(|e| {
+    let ignored = normal.ignored;
+    let cli = Cli::try_parse_from(normal.args).map_err(|e| {
         use clap::error::ErrorKind;
         if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) {
             let _ = e.print();
@@ -247,50 +272,52 @@ fn parse(args: &[String]) -> Result<Cli, i32> {
             .collect();
         let message = message.join(" ");
         let message = message.strip_prefix("error: ").unwrap_or(&message);
-        eprintln!("bsp2vdg: error: {message}; bsp2vdg --help lists the options");
+        toolbox::errln!("bsp2vdg: error: {message}; bsp2vdg --help lists the options");
         EXIT_USAGE
-    })
+    })?;
+    Ok((cli, ignored))
 }
 
+/// Impossible values, refused as command-line errors (exit 2).
 fn check_options(cli: &Cli) -> Result<()> {
     if !(cli.sample_spacing.is_finite() && cli.sample_spacing > 0.0) {
-        bail!(
+        usage!(
             "-sd must be a positive number of units, got {}",
             cli.sample_spacing
         );
     }
     if cli.max_samples < 4 {
-        bail!("-ms must allow at least 4 samples, got {}", cli.max_samples);
+        usage!("-ms must allow at least 4 samples, got {}", cli.max_samples);
     }
     if !(0.0..=1.0).contains(&cli.reduction_limit) {
-        bail!(
+        usage!(
             "-rl must lie between 0.0 and 1.0, got {}",
             cli.reduction_limit
         );
     }
     if !(cli.min_clearance.is_finite() && cli.min_clearance >= 0.0) {
-        bail!("-md must be zero or positive, got {}", cli.min_clearance);
+        usage!("-md must be zero or positive, got {}", cli.min_clearance);
     }
     if !(cli.tree_leaf_size.is_finite() && cli.tree_leaf_size > 0.0) {
-        bail!(
+        usage!(
             "-bb must be a positive number of units, got {}",
             cli.tree_leaf_size
         );
     }
     if !(cli.budget.is_finite() && cli.budget >= 0.0) {
-        bail!(
+        usage!(
             "--budget must be zero or a positive scale, got {}",
             cli.budget
         );
     }
     if cli.threads > 4096 {
-        bail!(
+        usage!(
             "-threads {} is more than this tool supports (4096)",
             cli.threads
         );
     }
     if cli.maps.len() > 1 && cli.source_name.as_deref().is_some_and(|n| !n.is_empty()) {
-        bail!(
+        usage!(
             "--source-name=NAME names one map; give --source-name without a value to record each map's own name"
         );
     }
@@ -301,9 +328,9 @@ fn check_options(cli: &Cli) -> Result<()> {
 fn note(cli: &Cli, line: &str) {
     if cli.quiet {
     } else if cli.json {
-        eprintln!("bsp2vdg: {line}");
+        toolbox::errln!("bsp2vdg: {line}");
     } else {
-        println!("bsp2vdg: {line}");
+        toolbox::outln!("bsp2vdg: {line}");
     }
 }
 
@@ -325,37 +352,6 @@ fn set_priority(cli: &Cli) {
     }
 }
 
-/// Maps that can be compiled: files, not folders or missing paths.
-fn check_maps(maps: &[PathBuf]) -> Result<()> {
-    for map in maps {
-        if map.is_dir() {
-            bail!(
-                "{} is a folder, not a map file (give the maps inside it, e.g. {}/*.bsp)",
-                map.display(),
-                map.display()
-            );
-        }
-        if !map.is_file() {
-            bail!("{}: no such map file", map.display());
-        }
-    }
-    Ok(())
-}
-
-/// Fails at once, not after the compile, when the output cannot be written: creates and
-/// removes a temporary file where the output will go.
-fn check_writable(output: &Path) -> Result<()> {
-    let tmp =
-        toolbox::temp_path(output).with_context(|| format!("cannot write {}", output.display()))?;
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&tmp)
-        .with_context(|| format!("cannot write {}", output.display()))?;
-    let _ = std::fs::remove_file(&tmp);
-    Ok(())
-}
-
 /// Returns whether every map compiled (or was up to date).
 fn run(cli: &Cli) -> Result<bool> {
     check_options(cli)?;
@@ -371,15 +367,15 @@ fn run(cli: &Cli) -> Result<bool> {
         && let Some(o) = &cli.output
         && !o.is_dir()
     {
-        bail!(
+        usage!(
             "-o must name an existing directory when compiling several maps ({} is not one)",
             o.display()
         );
     }
-    check_maps(&cli.maps)?;
     if let Some(dir) = cli.update_baseline.as_ref().or(cli.baseline.as_ref()) {
         return run_baseline(cli, dir);
     }
+    check_outputs(cli)?;
     let verbosity = if cli.quiet {
         Verbosity::Quiet
     } else if cli.verbose || cli.dev.is_some_and(|n| n > 0) {
@@ -390,14 +386,15 @@ fn run(cli: &Cli) -> Result<bool> {
     let console = |line: &str| {
         if verbosity == Verbosity::Quiet {
         } else if cli.json {
-            eprintln!("{line}")
+            toolbox::errln!("{line}")
         } else {
-            println!("{line}")
+            toolbox::outln!("{line}")
         }
     };
     console(&format!(
-        "bsp2vdg {} ({} threads)",
+        "bsp2vdg {} (build {}, {} threads)",
         env!("CARGO_PKG_VERSION"),
+        options::BUILD,
         rayon::current_num_threads()
     ));
     if let Some(n) = cli.dev.filter(|&n| n > 0) {
@@ -406,8 +403,6 @@ fn run(cli: &Cli) -> Result<bool> {
             &format!("note: -dev {n}: developer messages are the -verbose lines"),
         );
     }
-    let first_output = compile_options(cli, &cli.maps[0]).output;
-    check_writable(&first_output)?;
 
     let results: Vec<(PathBuf, Outcome)> = if batch {
         cli.maps
@@ -423,8 +418,14 @@ fn run(cli: &Cli) -> Result<bool> {
 
     let ok = results.iter().all(|(_, r)| r.ok());
     if batch {
+        // The summary table is the batch's result: -quiet keeps it (with --json,
+        // which carries the same figures on stdout, it goes to stderr unless quiet).
         for line in report::summary_lines(&results) {
-            console(&line);
+            if !cli.json {
+                toolbox::outln!("{line}");
+            } else if !cli.quiet {
+                toolbox::errln!("{line}");
+            }
         }
     }
     for (map, r) in &results {
@@ -434,9 +435,9 @@ fn run(cli: &Cli) -> Result<bool> {
         {
             let msg = e.to_string();
             if batch && !msg.starts_with(&map.display().to_string()) {
-                eprintln!("bsp2vdg: error: {}: {msg}", map.display());
+                toolbox::errln!("bsp2vdg: error: {}: {msg}", map.display());
             } else {
-                eprintln!("bsp2vdg: error: {e}");
+                toolbox::errln!("bsp2vdg: error: {e}");
             }
         }
     }
@@ -451,7 +452,7 @@ fn run(cli: &Cli) -> Result<bool> {
         } else {
             objects[0].clone()
         };
-        println!("{out}");
+        toolbox::outln!("{out}");
     }
     Ok(ok)
 }
@@ -459,10 +460,10 @@ fn run(cli: &Cli) -> Result<bool> {
 /// `--update-baseline DIR` / `--baseline DIR` (see [`cli::baseline`]).
 fn run_baseline(cli: &Cli, dir: &Path) -> Result<bool> {
     if cli.stop_after != StageArg::Reduce {
-        bail!("--stop-after writes no graph to compare; a baseline needs the whole pipeline");
+        usage!("--stop-after writes no graph to compare; a baseline needs the whole pipeline");
     }
     if cli.check_samples == 0 {
-        bail!("--check-samples must be at least 1");
+        usage!("--check-samples must be at least 1");
     }
     let options = |map: &Path, output: PathBuf| CompileOptions {
         output,
@@ -502,6 +503,7 @@ fn build_one(cli: &Cli, map: &Path, verbosity: Verbosity) -> Outcome {
         log = log.with_prefix(&name);
     }
     let options = compile_options(cli, map);
+    open_log_file(cli, &options.output, &mut log, &name);
     for path in [
         options.output.clone(),
         options::samples_path(&options.output),
@@ -520,9 +522,9 @@ fn build_one(cli: &Cli, map: &Path, verbosity: Verbosity) -> Outcome {
         match bsp2vdg::uptodate::check(hash, &options) {
             Ok(()) => {
                 log.info(format!(
-                    "{} is up to date (same map bytes, options and bsp2vdg {}); skipped, -force rebuilds",
+                    "{} is up to date (same map bytes, options and bsp2vdg build {}); skipped, -force rebuilds",
                     options.output.display(),
-                    env!("CARGO_PKG_VERSION")
+                    options::BUILD
                 ));
                 Some(Outcome::Current {
                     output: options.output.clone(),
@@ -537,9 +539,6 @@ fn build_one(cli: &Cli, map: &Path, verbosity: Verbosity) -> Outcome {
         None
     };
     let outcome = outcome.unwrap_or_else(|| compile_logged(cli, map, &options, &log, batch));
-    if !cli.nolog {
-        save_log(cli, &options.output, &log);
-    }
     write_err_file(&options.output, &outcome);
     outcome
 }
@@ -555,7 +554,9 @@ fn compile_logged(
     let progress: Box<dyn Progress> = if batch || cli.quiet {
         Box::new(NoProgress)
     } else if std::io::stderr().is_terminal() {
-        Box::new(TerminalBar::new(cli.estimate))
+        let bar = TerminalBar::new(cli.estimate);
+        log.set_console(bar.printer(cli.json));
+        Box::new(bar)
     } else if cli.estimate {
         Box::new(PercentLines::with_estimate())
     } else {
@@ -603,19 +604,39 @@ fn write_err_file(output: &Path, outcome: &Outcome) {
 
 fn command_line() -> String {
     format!(
-        "bsp2vdg {} {}",
+        "bsp2vdg {} (build {}) {}",
         env!("CARGO_PKG_VERSION"),
+        options::BUILD,
         std::env::args().skip(1).collect::<Vec<_>>().join(" ")
     )
 }
 
+/// Every output place of every map, checked before the first compile starts.
+fn check_outputs(cli: &Cli) -> Result<()> {
+    let planned: Vec<cli::outputs::Planned<'_>> = cli
+        .maps
+        .iter()
+        .map(|map| {
+            let output = compile_options(cli, map).output;
+            let mut companions = vec![output.with_extension("err")];
+            if !cli.nolog {
+                companions.push(log_path(cli, &output));
+            }
+            if cli.save_samples {
+                companions.push(options::samples_path(&output));
+            }
+            cli::outputs::Planned {
+                map,
+                output,
+                companions,
+            }
+        })
+        .collect();
+    cli::outputs::check(&planned)
+}
+
 fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
-    let default_output = map.with_extension("vdg");
-    let output = match &cli.output {
-        Some(o) if cli.maps.len() > 1 => o.join(default_output.file_name().unwrap_or_default()),
-        Some(o) => o.clone(),
-        None => default_output,
-    };
+    let output = cli::outputs::output_for(map, cli.output.as_deref());
     CompileOptions {
         sampling: SampleOptions {
             spacing: cli.sample_spacing,
@@ -661,16 +682,29 @@ fn compile_options(cli: &Cli, map: &Path) -> CompileOptions {
     }
 }
 
-/// Appends the log beside the output (`MAP.log` for the default output `MAP.vdg`,
-/// as map compile tools do), or to `-logfile FILE`. With `-o` elsewhere the map's
-/// folder stays untouched: shared or read-only map folders are common in build farms.
-/// A log that cannot be written never fails the compile.
-fn save_log(cli: &Cli, output: &Path, log: &Log) {
-    let path = cli
-        .logfile
+/// The log beside the output (`MAP.log` for the default output `MAP.vdg`, as map
+/// compile tools do), or `-logfile FILE`. With `-o` elsewhere the map's folder stays
+/// untouched: shared or read-only map folders are common in build farms.
+fn log_path(cli: &Cli, output: &Path) -> PathBuf {
+    cli.logfile
         .clone()
-        .unwrap_or_else(|| output.with_extension("log"));
-    if let Err(e) = log.append_to(&path, &command_line()) {
+        .unwrap_or_else(|| output.with_extension("log"))
+}
+
+/// Appends the log to its file as it goes (see [`log_path`]), so a killed compile
+/// leaves what it logged. A log that cannot be written never fails the compile.
+fn open_log_file(cli: &Cli, output: &Path, log: &mut Log, name: &str) {
+    if cli.nolog {
+        return;
+    }
+    let path = log_path(cli, output);
+    // One -logfile for a whole batch: each line says which map it is about.
+    let prefix = if cli.logfile.is_some() && cli.maps.len() > 1 {
+        format!("[{name}] ")
+    } else {
+        String::new()
+    };
+    if let Err(e) = log.attach_file(&path, &command_line(), &prefix) {
         log.warn(format!(
             "could not write the log file {}: {e}",
             path.display()
@@ -684,7 +718,7 @@ mod tests {
 
     fn parsed(args: &[&str]) -> Result<Cli, i32> {
         let v: Vec<String> = args.iter().map(|s| s.to_string()).collect();
-        parse(&v)
+        parse(&v).map(|(cli, _)| cli)
     }
 
     #[test]

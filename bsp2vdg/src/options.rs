@@ -137,6 +137,11 @@ impl CompileOptions {
     }
 }
 
+/// The build identity: a hash of the source that shapes a graph (see `build.rs`),
+/// recorded in every `.vdg` as `tool.build` and shown by `--version`, so the
+/// up-to-date skip and the bake caches rebuild after the compiler changed.
+pub const BUILD: &str = env!("BSP2VDG_BUILD");
+
 /// The metadata entries written into the `.vdg` besides the source hash: the tool, the
 /// options that shape the graph and, when asked, the source name. Both the writer and
 /// the up-to-date check use this one list, so they cannot disagree.
@@ -152,6 +157,7 @@ pub fn recorded_options(options: &CompileOptions) -> Vec<(String, String)> {
     let mut v: Vec<(String, String)> = [
         ("tool.name", "bsp2vdg".to_string()),
         ("tool.version", env!("CARGO_PKG_VERSION").to_string()),
+        ("tool.build", BUILD.to_string()),
         ("sd", options.sampling.spacing.to_string()),
         ("ms", options.sampling.max_samples.to_string()),
         ("rl", options.reduction_limit.to_string()),

@@ -81,14 +81,14 @@ impl Progress for PercentLines {
         {
             if self.estimate && tenth < 10 {
                 let left = elapsed * (s.1 as f64 / done.max(1) as f64 - 1.0);
-                eprintln!(
+                toolbox::errln!(
                     "{}: {}% (about {:.0} s left)",
                     s.0,
                     tenth * 10,
                     left.max(0.0)
                 );
             } else {
-                eprintln!("{}: {}%", s.0, tenth * 10);
+                toolbox::errln!("{}: {}%", s.0, tenth * 10);
             }
         }
     }

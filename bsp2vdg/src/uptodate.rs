@@ -1,7 +1,8 @@
 //! Hermetic outputs and up-to-date skips for build pipelines.
 //!
 //! A `.vdg` records what it was built from: the XXH64 of the map's bytes, the tool's
-//! name and version, and every option that changes the graph ([`crate::options::recorded_options`]).
+//! name, version and build identity (a hash of the compiler's source, so a rebuilt
+//! compiler does not reuse old graphs), and every option that changes the graph ([`crate::options::recorded_options`]).
 //! An output whose record matches the map and the options of this run is current
 //! ([`check`]), so batch builds skip it. Paths are never recorded (the source name only
 //! when asked with `--source-name`), so the same map compiled from another folder or
@@ -35,10 +36,12 @@ pub fn check(map_hash: u64, options: &CompileOptions) -> Result<(), String> {
         let have = g.metadata_value(&key);
         if have != Some(want.as_str()) {
             return Err(match key.as_str() {
-                "tool.name" | "tool.version" => format!(
-                    "it was built by {} {}",
+                "tool.name" | "tool.version" | "tool.build" => format!(
+                    "it was built by {} {} (build {}), this is build {}",
                     g.metadata_value("tool.name").unwrap_or("another tool"),
-                    g.metadata_value("tool.version").unwrap_or("")
+                    g.metadata_value("tool.version").unwrap_or(""),
+                    g.metadata_value("tool.build").unwrap_or("unrecorded"),
+                    crate::options::BUILD
                 ),
                 _ => format!(
                     "option {key} was {} and is now {want}",

@@ -138,7 +138,7 @@ fn corrupt_maps_and_bad_options_give_one_line_errors() {
 
     let missing = dir.join("missing.bsp");
     let o = bsp2vdg(&[missing.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("no such map file"));
 
     let Some(map) = some_map() else { return };
@@ -149,7 +149,7 @@ fn corrupt_maps_and_bad_options_give_one_line_errors() {
         ("-ms", "1", "-ms"),
     ] {
         let o = bsp2vdg(&[opt, val, map.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(1), "{opt} {val}");
+        assert_eq!(o.status.code(), Some(2), "{opt} {val}");
         let err = stderr(&o);
         assert!(
             err.starts_with("bsp2vdg: error: ") && err.contains(what),
@@ -171,7 +171,7 @@ fn unwritable_output_leaves_nothing_behind() {
         out.to_str().unwrap(),
         map.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("cannot write"), "{}", stderr(&o));
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
 }
@@ -368,7 +368,7 @@ fn hurting_cases_give_one_line_and_the_right_exit_code() {
 
     // A folder as input.
     let o = bsp2vdg(&[dir.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(
         stderr(&o).contains("is a folder, not a map file"),
         "{}",
@@ -377,23 +377,34 @@ fn hurting_cases_give_one_line_and_the_right_exit_code() {
 
     // An unwritable output is reported before compiling (no log of a compile).
     let o = bsp2vdg(&["-o", "/nonexistent-dir/x.vdg", map.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("cannot write /nonexistent-dir/x.vdg"));
     assert!(!String::from_utf8_lossy(&o.stdout).contains("Sampling"));
 
-    // A Quake 2 map names its format.
+    // A corrupt Quake 2 map gets the reader's error (the lump and the problem), not
+    // "a format bsp2vdg does not read"; a format it does not read is named as such.
     let q2 = dir.join("q2.bsp");
     let mut bytes = b"IBSP".to_vec();
     bytes.extend_from_slice(&38i32.to_le_bytes());
+    bytes.extend_from_slice(&100_000i32.to_le_bytes()); // entities past the end
+    bytes.extend_from_slice(&50i32.to_le_bytes());
     bytes.resize(200, 0);
     std::fs::write(&q2, &bytes).unwrap();
     let o = bsp2vdg(&[q2.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
     assert!(
-        stderr(&o).contains("a Quake 2 map (IBSP version 38)"),
-        "{}",
-        stderr(&o)
+        err.contains("lump") && !err.contains("does not read"),
+        "{err}"
     );
+    let vbsp = dir.join("source.bsp");
+    let mut bytes = b"VBSP".to_vec();
+    bytes.extend_from_slice(&20i32.to_le_bytes());
+    bytes.resize(2000, 0);
+    std::fs::write(&vbsp, &bytes).unwrap();
+    let o = bsp2vdg(&[vbsp.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("Source"), "{}", stderr(&o));
 
     // An empty graph is a failure, with nothing written.
     let out = dir.join("empty.vdg");
@@ -423,8 +434,14 @@ fn hurting_cases_give_one_line_and_the_right_exit_code() {
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
     assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains("q2.bsp") && err.contains("Quake 2"), "{err}");
-    assert!(o.stdout.is_empty());
+    assert!(err.contains("q2.bsp") && err.contains("lump"), "{err}");
+    // -quiet keeps the summary table only.
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        out.contains("2 maps: 1 compiled, 0 up to date, 1 failed"),
+        "{out}"
+    );
+    assert!(!out.contains("Loading"), "{out}");
     let stem = map.file_stem().unwrap().to_str().unwrap();
     assert!(outdir.join(format!("{stem}.vdg")).is_file());
 }
@@ -575,6 +592,11 @@ fn baseline_catches_a_change_of_sd_and_passes_a_rebuild() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(out.contains("REGRESSION"), "{out}");
+    // The table says the options differ, not only the JSON.
+    assert!(
+        out.contains("options differ from the baseline's: sd: 24 -> 40"),
+        "{out}"
+    );
 
     let o = run(&["--baseline", b, "-sd", "40", "--json"]);
     assert_eq!(o.status.code(), Some(1));
@@ -604,8 +626,18 @@ fn baseline_catches_a_change_of_sd_and_passes_a_rebuild() {
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stdout));
 
-    // No baseline for a map: exit 1 with the reason.
+    // No baseline folder, or a typo in the tolerances: configuration errors, exit 2.
     let o = run(&["--baseline", dir.join("none").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("does not exist"), "{}", stderr(&o));
+    std::fs::write(&tol, "cuonts = 10.0\n").unwrap();
+    let o = run(&["--baseline", b, "--tolerances", tol.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("cuonts"), "{}", stderr(&o));
+    // A folder without this map's baseline: exit 1 with the reason.
+    let empty = dir.join("empty");
+    std::fs::create_dir(&empty).unwrap();
+    let o = run(&["--baseline", empty.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stdout).contains("run --update-baseline first"));
 }

@@ -28,7 +28,7 @@ fn main() {
         if broken_pipe(&e) {
             std::process::exit(0);
         }
-        eprintln!("flowtile-bake: error: {e:#}");
+        toolbox::errln!("flowtile-bake: error: {e:#}");
         std::process::exit(1);
     }
 }

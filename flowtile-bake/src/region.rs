@@ -856,7 +856,7 @@ mod tests {
             .join("../../shared/testmaps/goldsrc/nonfree");
         let nav = dir.join("bspview-cstrike-de_dust2.nav");
         if !nav.is_file() {
-            eprintln!("skipped: {} absent", nav.display());
+            toolbox::errln!("skipped: {} absent", nav.display());
             return;
         }
         let bsp = Bsp::open(nav.with_extension("bsp")).unwrap();
@@ -879,7 +879,7 @@ mod tests {
             .filter(|(x, y)| **x || **y)
             .count();
         let iou = both as f64 / any as f64;
-        eprintln!(
+        toolbox::errln!(
             "de_dust2: hulls {} slots, nav {} slots, IoU {iou:.3}",
             a.open_slots(),
             b.open_slots()
@@ -901,7 +901,7 @@ mod tests {
         let map = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../shared/testmaps/quake2/lq_e0m1-quake2.bsp");
         if !map.is_file() {
-            eprintln!("skipped: {} absent", map.display());
+            toolbox::errln!("skipped: {} absent", map.display());
             return;
         }
         let bsp = Bsp::open(&map).unwrap();
@@ -948,7 +948,9 @@ mod tests {
                 found += 1;
             }
         }
-        eprintln!("lq_e0m1-quake2: {found} columns stand, {only_point} only for the point hull");
+        toolbox::errln!(
+            "lq_e0m1-quake2: {found} columns stand, {only_point} only for the point hull"
+        );
         assert!(found > 1000 && only_point > 50, "{found} {only_point}");
     }
 

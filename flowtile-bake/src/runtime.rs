@@ -793,7 +793,7 @@ mod tests {
             }
         }
         assert!(tested > 3000, "{tested}");
-        eprintln!("random boxes: {tested} tested, max |net| / boundary flux = {worst:e}");
+        toolbox::errln!("random boxes: {tested} tested, max |net| / boundary flux = {worst:e}");
         assert!(worst <= 1e-9, "max |net| / boundary flux = {worst:e}");
     }
 

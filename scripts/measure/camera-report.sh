@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
-# The camera measured on every GoldSrc map in ../shared/testmaps: compiles each
-# map's graph, replays the spawn routes (and the nav-mesh routes where a .nav sits beside
-# the map) at each frame time with every camera, and writes
+# The camera measured on every GoldSrc map in ../shared/testmaps (goldsrc/, goldsrc/nonfree/
+# and the Counter-Strike maps of goldsrc/nonfree/cs/): compiles each map's graph, replays the
+# spawn routes, the nav-mesh routes where a .nav sits beside the map, and the playtests of
+# testmaps/demos/ recorded on the map (GoldSrc .dem), at each frame time with every camera,
+# and writes
 #   OUT/report.md              Markdown table: one row per map, route source, dt and camera
 #   OUT/summary.md             Markdown table: all maps together per dt and camera (frames weighted)
+#   OUT/targets.md             the VDG camera per map against the targets (seen >= 97 %, 0 solid,
+#                              0 near-plane, 0 jumps, <= 1 cut/min), with the figures that say
+#                              why a map misses (target outside, false occlusions, longest occlusion)
 #   OUT/outside.md             where the target stood outside Volume(VDG), per map
 #   OUT/json/MAP-SRC-dtN.json  the replay --json reports
 #   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
@@ -18,6 +23,8 @@
 #   SHARED=/path/to/shared                            (default ../shared)
 #   BSP2VDG=/path/to/bsp2vdg                          (compile with another build, e.g. to
 #                                                      compare two commits' graphs)
+#   VDGVIEW=/path/to/vdgview                          (replay with another build)
+#   NOBUILD=1                                         (use the binaries as they are)
 set -euo pipefail
 cd "$(dirname "$(readlink -f "$0")")/../.."
 dts="1/60 1/30"
@@ -39,15 +46,24 @@ while [ $# -gt 0 ]; do
 done
 shared=${SHARED:-../shared}
 compiler=${BSP2VDG:-./target/release/bsp2vdg}
-echo "camera-report: building (release) ..." >&2
-cargo build --release -q -p bsp2vdg -p vdgview
+viewer=${VDGVIEW:-./target/release/vdgview}
+if [ -z "${NOBUILD:-}" ]; then
+  echo "camera-report: building (release) ..." >&2
+  cargo build --release -q -p bsp2vdg -p vdgview
+fi
 shopt -s nullglob
 if [ -n "${MAPS:-}" ]; then
   # shellcheck disable=SC2206
   maps=($MAPS)
 else
-  maps=("$shared"/testmaps/goldsrc/*.bsp "$shared"/testmaps/goldsrc/nonfree/*.bsp)
+  maps=("$shared"/testmaps/goldsrc/*.bsp "$shared"/testmaps/goldsrc/nonfree/*.bsp "$shared"/testmaps/goldsrc/nonfree/cs/*.bsp)
 fi
+# Demos and the map each was recorded on (matched to a map file by its name's end).
+declare -A demo_map=()
+for d in "$shared"/testmaps/demos/*.dem; do
+  mapname=$("$viewer" demo --json "$d" 2>/dev/null | python3 -c 'import json,sys; print(json.load(sys.stdin)["map"])' 2>/dev/null) || continue
+  [ -n "$mapname" ] && demo_map[$d]=$mapname
+done
 if [ ${#maps[@]} -eq 0 ]; then
   echo "camera-report: no GoldSrc maps under $shared/testmaps/goldsrc (set SHARED or MAPS)" >&2
   exit 1
@@ -77,13 +93,17 @@ for m in "${maps[@]}"; do
   sources=(spawns)
   nav="${m%.bsp}.nav"
   [ -f "$nav" ] && sources+=("nav:$nav")
+  for d in "${!demo_map[@]}"; do
+    mn=${demo_map[$d]}
+    case "$name" in "$mn" | *[-_.]"$mn") sources+=("demo:$d") ;; esac
+  done
   for src in "${sources[@]}"; do
     tag=${src%%:*}
     for dt in $dts; do
       dtn=${dt#1/}
       key="$name-$tag-dt$dtn"
       printf '[%d/%d] %s: %s routes, dt %s ...\n' "$i" "${#maps[@]}" "$name" "$tag" "$dt" >&2
-      if ! nice -n 10 ./target/release/vdgview replay "$m" "$vdg" --routes "$src" --dt "$dt" \
+      if ! nice -n 10 "$viewer" replay "$m" "$vdg" --routes "$src" --dt "$dt" \
           --max-routes "$max_routes" "${camera_opt[@]}" --json --plots "$out/plots/$key" \
           > "$out/json/$key.json.part" 2> "$out/logs/$key.err"; then
         printf '[%d/%d] %s: replay failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$key.err")" >&2
@@ -97,7 +117,7 @@ done
 for dt in $dts; do
   dtn=${dt#1/}
   reports=("$out"/json/*-dt"$dtn".json)
-  [ ${#reports[@]} -gt 0 ] && ./target/release/vdgview replay-summary -o "$out/summary-dt$dtn.png" \
+  [ ${#reports[@]} -gt 0 ] && "$viewer" replay-summary -o "$out/summary-dt$dtn.png" \
     --title "camera measures per map and route source, dt $dt s" "${reports[@]}"
 done
 python3 - "$out" <<'PY'
@@ -145,6 +165,29 @@ with open(os.path.join(out, "summary.md"), "w") as f:
         n = max(a["frames"], 1)
         ref = lambda other: f"{100 * jerk(a) / jerk(agg[(dt, other)]):.1f} %" if (dt, other) in agg and jerk(agg[(dt, other)]) > 0 else "-"
         f.write(f"| {dt} | {cam} | {a['frames']} | {a['solid']} | {a['near']} | {pct(a['vis'] / n)} | {pct(a['vis_in'] / max(a['inside'], 1))} | {pct(a['hull'] / n)} | {a['longest']:.2f} | {a['jumps']} | {a['stalls']} | {jerk(a):.0f} | {ref('chase')} | {ref('springarm')} | {a['dist'] / n:.1f} | {a['cuts'] / max(a['seconds'] / 60, 1e-9):.2f} | {a['median_us'] / max(a['reports'], 1):.1f} | {pct(1 - a['inside'] / n)} | {pct(a['false_occl'] / max(a['seen'], 1))} |\n")
+# The VDG camera per map and route set against the targets: seen >= 97 %, 0 solid, 0 near-plane,
+# 0 jumps, <= 1 cut a minute, RMS jerk <= 10 % of the chase cam's; with the figures that say why a
+# map misses (target outside the volume, false occlusions, longest occlusion).
+chase = {(m, s, dt): c for m, s, dt, cam, n, c in rows if cam == "chase"}
+with open(os.path.join(out, "targets.md"), "w") as f:
+    f.write("| map | routes | dt | frames | seen % | solid | near-plane | jumps | cuts/min | jerk / chase | longest occlusion s | target outside % | false occlusion % | misses |\n")
+    f.write("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|\n")
+    missed = 0
+    for m, s, dt, cam, n, c in rows:
+        if cam != "vdg":
+            continue
+        ch = chase.get((m, s, dt))
+        jr = c["rms_jerk"] / ch["rms_jerk"] if ch and ch["rms_jerk"] > 0 else float("nan")
+        miss = []
+        if c["visible_fraction"] < 0.97: miss.append("seen")
+        if c["solid_frames"]: miss.append("solid")
+        if c["nearplane_frames"]: miss.append("near-plane")
+        if c["jumps"]: miss.append("jumps")
+        if c["cuts_per_min"] > 1.0: miss.append("cuts")
+        if jr == jr and jr > 0.10: miss.append("jerk")
+        missed += bool(miss)
+        f.write(f"| {m} | {s} ({n}) | {dt} | {c['frames']} | {pct(c['visible_fraction'])} | {c['solid_frames']} | {c['nearplane_frames']} | {c['jumps']} | {c['cuts_per_min']:.2f} | {100 * jr:.1f} % | {c['longest_occlusion_s']:.2f} | {pct(c['target_outside_fraction'])} | {pct(c.get('graph_false_occlusion', 0.0))} | {', '.join(miss) or '-'} |\n")
+    f.write(f"\n{missed} route sets miss a target.\n")
 with open(os.path.join(out, "outside.md"), "w") as f:
     f.write("# Target positions outside Volume(VDG)\n\n")
     for m, s, dt, frac, runs, routes in outside:
@@ -155,6 +198,6 @@ with open(os.path.join(out, "outside.md"), "w") as f:
             x, y, z = o["origin"]
             f.write(f"- {o['route']} t {o['t0']:.2f}-{o['t1']:.2f} s at ({x:.0f}, {y:.0f}, {z:.0f})\n")
         f.write("\n")
-print(f"camera-report: wrote {out}/summary.md, {out}/report.md, {out}/outside.md and the plots", file=sys.stderr)
+print(f"camera-report: wrote {out}/summary.md, {out}/report.md, {out}/targets.md, {out}/outside.md and the plots", file=sys.stderr)
 PY
 cat "$out/summary.md"

@@ -5,9 +5,11 @@
 //! benchmarks and samplers draw from. It knows nothing of maps or graphs, so the
 //! runtime crate `vdgformat` can use it as well as the compiler and the viewers.
 //! Tests and examples take their scratch folders from [`ScratchDir`], which removes
-//! them when they are done.
+//! them when they are done. The [`console`] macros print without ever panicking on a
+//! closed pipe or a full disk.
 
 mod atomic;
+pub mod console;
 mod rng;
 mod scratch;
 

@@ -130,6 +130,34 @@ fn stays_inside_the_volume_with_its_margin_and_sees_round_the_corner() {
     }
 }
 
+/// A target standing where the graph has less room than the near-plane margin (4
+/// units below the top of the slab |z - 64| < 48: a player on a ladder, against a
+/// wall): the cut that places the camera, and every frame after it, keep the margin.
+#[test]
+fn a_cut_from_a_target_against_a_wall_keeps_the_near_plane_margin() {
+    let file = open(&grid(12, 12, 32.0, |_, _| 64.0, |_, _| 48.0, |_, _| true));
+    let g = file.graph();
+    let target = |t: f64| {
+        let y = 64.0 + 100.0 * t;
+        Target::new([128.0, y as f32, 108.0], [0.0, 1.0, 0.0], [0.0, 100.0, 0.0])
+    };
+    let c = g.clearance([128.0, 64.0, 108.0]);
+    assert!(c > 0.0 && c < 6.4, "the target has {c} units of room");
+    for dt in [1.0 / 60.0, 1.0 / 30.0] {
+        let mut cam = Camera::new(CameraParams::default()).unwrap();
+        let first = cam.reset(&g, &target(0.0));
+        assert!(first.cut);
+        let mut poses = vec![first];
+        poses.extend(
+            (1..(2.0 / dt) as usize).map(|i| cam.update(&g, &target(i as f64 * dt as f64), dt)),
+        );
+        for (i, p) in poses.iter().enumerate() {
+            let c = g.clearance(p.eye);
+            assert!(c >= 6.4, "dt {dt} frame {i}: eye {:?} clearance {c}", p.eye);
+        }
+    }
+}
+
 #[test]
 fn the_thesis_variant_also_stays_inside_the_volume() {
     let file = l_corridor();

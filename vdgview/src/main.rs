@@ -70,6 +70,14 @@ enum Command {
     /// Measure cameras (VDG camera, chase cam, spring arm) on routes made from the map,
     /// against the map's BSP: solid, near plane, visibility, jumps, jerk, cuts, time.
     Replay(ReplayArgs),
+    /// The header of a GoldSrc demo (.dem): map, game, protocol, duration, frames.
+    Demo {
+        #[arg(value_name = "FILE.dem")]
+        demo: PathBuf,
+        /// Print one JSON object instead of the table.
+        #[arg(long)]
+        json: bool,
+    },
     /// Chart of `replay --json` reports across maps (one panel per measure).
     ReplaySummary {
         /// Output PNG.
@@ -91,9 +99,14 @@ struct ReplayArgs {
     #[arg(value_name = "MAP.vdg")]
     vdg: PathBuf,
     /// Target routes: spawns (pairs of player spawns walked on the floor), nav:FILE.nav
-    /// (a Counter-Strike bot nav mesh) or FILE.jsonl (recorded frames: t, origin, angles).
+    /// (a Counter-Strike bot nav mesh), demo:FILE.dem (a GoldSrc demo: the recorded
+    /// player) or FILE.jsonl (recorded frames: t, origin, angles).
     #[arg(long, default_value = "spawns")]
     routes: String,
+    /// Replay a graph, nav mesh or demo made for another map than MAP.bsp (refused
+    /// otherwise: the figures would mean nothing).
+    #[arg(long)]
+    force: bool,
     /// Cameras to compare, comma-separated.
     #[arg(long, default_value = vdgview::replay::DEFAULT_CAMERAS)]
     camera: String,
@@ -189,16 +202,27 @@ struct ViewArgs {
     /// Camera for --follow: vdg, vdg-thesis, chase or springarm.
     #[arg(long, default_value = "vdg")]
     follow_camera: String,
+    /// Write the view as a PNG and exit, without a window or a display (after
+    /// --exec; with --follow, the pose of frame --frames, default the first).
+    #[arg(long, value_name = "OUT.png")]
+    screenshot: Option<PathBuf>,
 }
 
 fn main() {
     let cli = Cli::parse();
-    match run(cli) {
+    let verdict = run(cli);
+    // A reader closing the pipe (`vdgview info G | head -1`) is no failure; a report
+    // lost on a full disk is.
+    if let Some(lost) = toolbox::console::stdout_lost() {
+        toolbox::errln!("vdgview: error: {lost}");
+        std::process::exit(1);
+    }
+    match verdict {
         Ok(true) => {}
         // A negative verdict (e.g. a failed check) after its report was printed.
         Ok(false) => std::process::exit(1),
         Err(e) => {
-            eprintln!("vdgview: error: {e:#}");
+            toolbox::errln!("vdgview: error: {e:#}");
             std::process::exit(1);
         }
     }
@@ -222,10 +246,10 @@ fn run(cli: Cli) -> Result<bool> {
                 .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
                 .is_ok_and(|n| bsp::BspVersion::identify(&head[..n]).is_some());
             if is_map {
-                print!("{}", info::map_summary(&scene::open_map(&graph)?));
+                toolbox::out!("{}", info::map_summary(&scene::open_map(&graph)?));
             } else {
                 let file = scene::open_graph(&graph)?;
-                print!("{}", info::summary(&file.graph()));
+                toolbox::out!("{}", info::summary(&file.graph()));
             }
             Ok(true)
         }
@@ -236,12 +260,22 @@ fn run(cli: Cli) -> Result<bool> {
         } => {
             let q = query::Query::parse(&kind, &coords)?;
             let file = scene::open_graph(&graph)?;
-            print!("{}", q.run(&file.graph()));
+            toolbox::out!("{}", q.run(&file.graph()));
             Ok(true)
         }
         Command::Render(args) => run_render(args).map(|()| true),
         Command::View(args) => run_view(args).map(|()| true),
         Command::Replay(args) => run_replay(args).map(|()| true),
+        Command::Demo { demo, json } => {
+            use vdgview::replay::demo as dem;
+            let d = dem::open(&demo).map_err(anyhow::Error::msg)?;
+            if json {
+                toolbox::outln!("{}", dem::summary_json(&d));
+            } else {
+                toolbox::out!("{}", dem::summary(&d, &demo));
+            }
+            Ok(true)
+        }
         Command::ReplaySummary {
             output,
             title,
@@ -277,27 +311,29 @@ fn run_check(
     };
     let r = check(&bsp, &file.graph(), bytes, &options);
     if json {
-        println!("{}", r.to_json());
+        toolbox::outln!("{}", r.to_json());
     } else {
-        println!("check {} against {}", vdg.display(), map.display());
-        println!(
+        toolbox::outln!("check {} against {}", vdg.display(), map.display());
+        toolbox::outln!(
             "  graph      {} vertices, {} faces, {} bytes",
-            r.vertices, r.faces, r.bytes
+            r.vertices,
+            r.faces,
+            r.bytes
         );
-        println!(
+        toolbox::outln!(
             "  leak       {:.6}  ({} of {} volume points in walls)",
             r.leak(),
             r.leaked,
             r.leak_points
         );
-        println!(
+        toolbox::outln!(
             "  coverage   {:.4}  ({} of {} free points with clearance >= {} inside)",
             r.coverage(),
             r.covered,
             r.coverage_points,
             options.coverage_clearance
         );
-        println!(
+        toolbox::outln!(
             "  visible    fp {:.6} ({} of {} blocked), fn {:.4} ({} of {} free; {:.4} with both ends inside, {:.4} staying inside)",
             r.visible_fp(),
             r.false_positives,
@@ -309,7 +345,7 @@ fn run_check(
             r.visible_fn_query()
         );
         let share = |x: Option<f64>| x.map_or("n/a".to_string(), |x| format!("{x:.4}"));
-        println!(
+        toolbox::outln!(
             "  walkable   {}  ({} of {} standing player origins inside), head {} ({} of {})",
             share(r.walkable_coverage()),
             r.walkable_covered,
@@ -318,13 +354,13 @@ fn run_check(
             r.walkable_head_covered,
             r.walkable_head_points
         );
-        println!(
+        toolbox::outln!(
             "  crouching  {}  ({} of {} eyes of places where a player only fits crouching inside)",
             share(r.crouch_coverage()),
             r.crouch_covered,
             r.crouch_points
         );
-        println!(
+        toolbox::outln!(
             "  camera     fn {} ({} of {} free sight lines from a camera's distance to a standing origin, both ends inside), fp {} of {}",
             share(r.visible_fn_camera()),
             r.camera_false_negatives,
@@ -332,7 +368,7 @@ fn run_check(
             r.camera_false_positives,
             r.camera_lines
         );
-        println!(
+        toolbox::outln!(
             "  {} in {:.1} s (leak {:.1} s, coverage {:.1} s, visible {:.1} s, walkable {:.1} s)",
             if r.passed() { "PASSED" } else { "FAILED" },
             r.seconds,
@@ -363,7 +399,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     if mode == Mode::ReductionCost && file.is_some() {
         anyhow::bail!(render::NO_REDUCTION_COST);
@@ -391,7 +427,7 @@ fn run_render(args: RenderArgs) -> Result<()> {
     let pixels = render::render(&scene, &req)?;
     let png = render::encode_png(&pixels, width, height)?;
     render::write_atomic(&args.output, &png)?;
-    eprintln!(
+    toolbox::errln!(
         "vdgview: wrote {} ({width}x{height}, {} wall triangles, {} graph faces, rendered in {:.0} ms)",
         args.output.display(),
         scene.walls.len(),
@@ -409,7 +445,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
         && let Err(e) = scene::same_map(&args.map, path, &f.graph())
     {
         // A picture of a graph in another map can still be wanted (a moved map): warn.
-        eprintln!("vdgview: warning: {e}");
+        toolbox::errln!("vdgview: warning: {e}");
     }
     let samples = args
         .samples
@@ -428,7 +464,7 @@ fn run_view(args: ViewArgs) -> Result<()> {
         .find_map(|e| e.origin())
         .map(glam::Vec3::from);
     let follow = match &args.follow {
-        Some(route) => follow_poses(&bsp, file.as_ref(), route, &args.follow_camera)?,
+        Some(route) => follow_poses(&bsp, &args.map, file.as_ref(), route, &args.follow_camera)?,
         None => Vec::new(),
     };
     let viewer = vdgview::viewer::Viewer::new(scene, file, spawn);
@@ -442,18 +478,29 @@ fn run_view(args: ViewArgs) -> Result<()> {
                 .collect()
         })
         .unwrap_or_default();
-    vdgview::view::run(
-        viewer,
-        &vdgview::view::ViewOptions {
-            width,
-            height,
-            exec,
-            frames: args.frames,
-            seconds: args.seconds,
-            follow,
-            follow_dt: FOLLOW_DT,
-        },
-    )
+    let options = options_of(&args, width, height, exec, follow);
+    match &args.screenshot {
+        Some(path) => vdgview::view::screenshot(viewer, &options, path),
+        None => vdgview::view::run(viewer, &options),
+    }
+}
+
+fn options_of(
+    args: &ViewArgs,
+    width: usize,
+    height: usize,
+    exec: Vec<String>,
+    follow: Vec<vdgview::view::FollowPose>,
+) -> vdgview::view::ViewOptions {
+    vdgview::view::ViewOptions {
+        width,
+        height,
+        exec,
+        frames: args.frames,
+        seconds: args.seconds,
+        follow,
+        follow_dt: FOLLOW_DT,
+    }
 }
 
 fn run_replay(args: ReplayArgs) -> Result<()> {
@@ -479,6 +526,13 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     let bsp = scene::open_map(&args.map)?;
     let file = scene::open_graph(&args.vdg)?;
     let graph = file.graph();
+    // Figures of a graph against another map mean nothing: refuse unless asked.
+    if let Err(e) = scene::same_map(&args.map, &args.vdg, &graph) {
+        if !args.force {
+            bail!("{e} (or --force)");
+        }
+        toolbox::errln!("vdgview: warning: {e}");
+    }
     let options = bsp::oracle::OracleOptions {
         liquids_are_solid: args.liquids_solid,
         ..Default::default()
@@ -492,9 +546,20 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
     }
     let walls = bsp::walls::Walls::of_map(&bsp, &options);
     let mut cameras = replay::make_cameras(&names, &oracle, &walls, graph, params.as_deref())?;
-    eprintln!("replay: making routes ({}) ...", source.label());
-    let routes = replay::load_routes(&bsp, &oracle, &source, args.seed, args.max_routes)?;
-    eprintln!(
+    toolbox::errln!("replay: making routes ({}) ...", source.label());
+    let map_check = replay::MapCheck {
+        path: &args.map,
+        force: args.force,
+    };
+    let routes = replay::load_routes(
+        &bsp,
+        &oracle,
+        &source,
+        map_check,
+        args.seed,
+        args.max_routes,
+    )?;
+    toolbox::errln!(
         "replay: {} routes, {:.1} s of play ({} pairs unreachable); {} cameras at dt {:.4} s",
         routes.routes.len(),
         routes.routes.iter().map(|r| r.duration()).sum::<f64>(),
@@ -506,9 +571,9 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         vdgview::render::write_atomic(p, replay::jsonl::write(&routes.routes).as_bytes())?;
     }
     let mut progress = |cam: &str, k: usize, n: usize| {
-        eprint!("\rreplay: {cam:<12} route {k}/{n}   ");
+        toolbox::err!("\rreplay: {cam:<12} route {k}/{n}   ");
         if k == n {
-            eprintln!();
+            toolbox::errln!();
         }
     };
     let report = replay::replay(
@@ -535,11 +600,11 @@ fn run_replay(args: ReplayArgs) -> Result<()> {
         replay::frames::contact_sheet(&report, &scene, dir, 6)?;
     }
     if args.json {
-        println!("{}", report.to_json(&args.map, &args.vdg));
+        toolbox::outln!("{}", report.to_json(&args.map, &args.vdg));
     } else {
-        print!("{}", report.table());
+        toolbox::out!("{}", report.table());
     }
-    eprintln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
+    toolbox::errln!("replay: done in {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -549,6 +614,7 @@ const FOLLOW_DT: f64 = 1.0 / 60.0;
 /// The poses of one camera along the first route of `route` (eye, look-at, target).
 fn follow_poses(
     bsp: &bsp::Bsp,
+    map: &std::path::Path,
     file: Option<&vdgformat::VdgFile>,
     route: &str,
     camera: &str,
@@ -563,7 +629,12 @@ fn follow_poses(
     let oracle = ::bsp::oracle::Oracle::new(bsp, &options);
     let walls = ::bsp::walls::Walls::of_map(bsp, &options);
     let graph = file.graph();
-    let routes = replay::load_routes(bsp, &oracle, &source, 1, 1)?;
+    // A fly-through along another map's routes can still be wanted: warn only.
+    let check = replay::MapCheck {
+        path: map,
+        force: true,
+    };
+    let routes = replay::load_routes(bsp, &oracle, &source, check, 1, 1)?;
     let mut cams = replay::make_cameras(&[camera.to_string()], &oracle, &walls, graph, None)?;
     let states = routes.routes[0].resample(FOLLOW_DT);
     let cam = &mut cams[0];

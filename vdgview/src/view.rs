@@ -52,6 +52,35 @@ impl minifb::InputCallback for Typed {
     }
 }
 
+/// What to do without a display, for the error of a window that cannot open.
+const NO_WINDOW_HINT: &str = "Without a display (no DISPLAY, ssh, CI), run it under a virtual one: \
+xvfb-run -a vdgview view ...; or write a picture with no window: vdgview view ... --screenshot OUT.png";
+
+/// `view --screenshot`: the first frame (after `exec`; with `follow`, the pose of
+/// frame `frames`) drawn by the same code as the window's, written as a PNG, with no
+/// window and no display.
+pub fn screenshot(mut viewer: Viewer, opts: &ViewOptions, path: &std::path::Path) -> Result<()> {
+    let mut fb = Framebuffer::new(opts.width, opts.height, &viewer.camera, [0, 0, 0]);
+    for cmd in &opts.exec {
+        viewer.execute(cmd);
+    }
+    if !opts.follow.is_empty() {
+        let k = opts.frames.unwrap_or(0) as usize % opts.follow.len();
+        let (eye, look, target) = opts.follow[k];
+        let projection = viewer.camera.projection;
+        viewer.camera = Camera {
+            projection,
+            ..Camera::look_at(eye.into(), look.into(), 74.0)
+        };
+        viewer.mark = Some(target.into());
+    }
+    viewer.draw(&mut fb, None);
+    let png = render::encode_png(&fb.color, fb.width, fb.height)?;
+    render::write_atomic(path, &png).with_context(|| format!("cannot write {}", path.display()))?;
+    toolbox::outln!("wrote {} ({}x{})", path.display(), fb.width, fb.height);
+    Ok(())
+}
+
 /// Opens the window and runs until it is closed, Esc, `quit`, or `frames`.
 pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
     let mut window = Window::new(
@@ -63,7 +92,7 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             ..WindowOptions::default()
         },
     )
-    .context("cannot open a window (is DISPLAY set? try xvfb-run)")?;
+    .map_err(|e| anyhow::anyhow!("cannot open a window: {e}. {}", NO_WINDOW_HINT))?;
     window.set_target_fps(60);
     let typed = Rc::new(RefCell::new(Vec::new()));
     window.set_input_callback(Box::new(Typed(typed.clone())));
@@ -157,7 +186,7 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             }
             _ => String::new(),
         };
-        println!(
+        toolbox::outln!(
             "vdgview: {frames} frames in {wall:.1} s ({}x{}): median draw {:.1} ms{cpu}",
             opts.width,
             opts.height,

@@ -99,7 +99,7 @@ impl Viewer {
     /// Adds a line to the on-screen messages and prints it.
     pub fn say(&mut self, line: impl Into<String>) {
         let line = line.into();
-        println!("{line}");
+        toolbox::outln!("{line}");
         self.messages.push(line);
         if self.messages.len() > MESSAGE_LINES {
             self.messages.remove(0);

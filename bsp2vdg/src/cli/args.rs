@@ -42,14 +42,64 @@ pub fn long_options(cmd: &Command) -> Vec<LongOption> {
     v
 }
 
-/// A command line clap cannot take as it is.
+/// A command line that cannot be run (an unknown option, an impossible value, a
+/// missing map, an output that would destroy an input): exit status 2, before any
+/// compile starts, no `.err` file.
 #[derive(Debug, PartialEq)]
 pub struct UsageError(pub String);
 
+impl std::fmt::Display for UsageError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for UsageError {}
+
+/// `bail!` for command-line errors: returns a [`UsageError`] as an `anyhow::Error`.
+macro_rules! usage {
+    ($($arg:tt)*) => {
+        return Err(anyhow::Error::new($crate::cli::args::UsageError(format!($($arg)*))))
+    };
+}
+pub(crate) use usage;
+
+/// Options of the map compile tools (VHLT/ZHLT, ericw-tools) that mean nothing to
+/// bsp2vdg but sit in the shared flag set of a compile chain (`$common` in a J.A.C.K.
+/// or Hammer profile): accepted and ignored with one warning, so one flag set serves
+/// every tool. The flag says whether the option takes a value.
+pub const COMPILE_TOOL_FLAGS: &[(&str, bool)] = &[
+    ("texdata", true),
+    ("lightdata", true),
+    ("console", true),
+    ("chop", true),
+    ("texchop", true),
+    ("maxnodesize", true),
+    ("wadinclude", true),
+    ("cliptype", true),
+    ("noinfo", false),
+    ("wadautodetect", false),
+    ("nowadtextures", false),
+    ("nocolor", false),
+    ("notjunc", false),
+    ("extra", false),
+    ("extra4", false),
+];
+
+/// A command line in clap's spelling, and the compile-tool options it ignores.
+#[derive(Debug, PartialEq)]
+pub struct Normalised {
+    pub args: Vec<String>,
+    /// The ignored options as given (with their values), for the warning line.
+    pub ignored: Vec<String>,
+}
+
 /// Rewrites `-name` to `--name` for every long option and checks that every option is
 /// known. Values of options that take one, numbers (`-5`) and everything after `--`
-/// are left alone; `-o`, `-h` and `-V` stay short options.
-pub fn normalise(args: &[String], longs: &[LongOption]) -> Result<Vec<String>, UsageError> {
+/// are left alone; `-o`, `-h` and `-V` stay short options; the compile tools' options
+/// of [`COMPILE_TOOL_FLAGS`] are taken out.
+pub fn normalise(args: &[String], longs: &[LongOption]) -> Result<Normalised, UsageError> {
+    let mut ignored = Vec::new();
     let mut out = Vec::with_capacity(args.len());
     let mut words = args.iter();
     if let Some(program) = words.next() {
@@ -90,6 +140,18 @@ pub fn normalise(args: &[String], longs: &[LongOption]) -> Result<Vec<String>, U
             }
             continue;
         }
+        let tool_flag = COMPILE_TOOL_FLAGS.iter().find(|(n, _)| *n == name);
+        if let (None, Some(&(_, takes_value))) = (find(name), tool_flag) {
+            let mut given = a.clone();
+            if takes_value
+                && !attached
+                && let Some(v) = words.next()
+            {
+                given = format!("{given} {v}");
+            }
+            ignored.push(given);
+            continue;
+        }
         let Some(option) = find(name) else {
             return Err(unknown(a, double, name, longs));
         };
@@ -101,7 +163,7 @@ pub fn normalise(args: &[String], longs: &[LongOption]) -> Result<Vec<String>, U
             out.push(v.clone());
         }
     }
-    Ok(out)
+    Ok(Normalised { args: out, ignored })
 }
 
 fn unknown(word: &str, double: bool, name: &str, longs: &[LongOption]) -> UsageError {
@@ -144,7 +206,42 @@ mod tests {
 
     fn norm(a: &[&str]) -> Result<Vec<String>, UsageError> {
         let v: Vec<String> = a.iter().map(|s| s.to_string()).collect();
-        normalise(&v, &longs())
+        normalise(&v, &longs()).map(|n| n.args)
+    }
+
+    #[test]
+    fn compile_tool_flags_are_taken_out_with_their_values() {
+        let v: Vec<String> = [
+            "b",
+            "-texdata",
+            "8192",
+            "-noinfo",
+            "-sd",
+            "16",
+            "-console",
+            "0",
+            "-chop",
+            "64",
+            "-wadautodetect",
+            "m.bsp",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let n = normalise(&v, &longs()).unwrap();
+        assert_eq!(n.args, ["b", "--sd", "16", "m.bsp"]);
+        assert_eq!(
+            n.ignored,
+            [
+                "-texdata 8192",
+                "-noinfo",
+                "-console 0",
+                "-chop 64",
+                "-wadautodetect"
+            ]
+        );
+        // Not a compile-tool flag: still an error.
+        assert!(norm(&["b", "-texdat", "1", "m.bsp"]).is_err());
     }
 
     #[test]

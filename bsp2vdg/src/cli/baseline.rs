@@ -9,7 +9,8 @@
 //! later are compared too: names with `coverage` must not fall, `leak` and names ending
 //! in `_fp`, `_fn`, `_fn_inside` or `_fn_query` must not rise, by more than their tolerance.
 
-use anyhow::{Context, Result, bail};
+use super::args::usage;
+use anyhow::{Context, Result};
 use bsp2vdg::log::{Log, Verbosity};
 use bsp2vdg::options::CompileOptions;
 use bsp2vdg::pipeline;
@@ -66,10 +67,16 @@ impl Tolerances {
         let Some(path) = path else {
             return Ok(Tolerances::default());
         };
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read the tolerances {}", path.display()))?;
-        let mut t: Tolerances = toml::from_str(&text)
-            .map_err(|e| anyhow::anyhow!("{}: {}", path.display(), e.message()))?;
+        // A tolerances file that cannot be read is a configuration error (exit 2), not
+        // a regression: CI must tell a typo from a worse graph.
+        let text = match std::fs::read_to_string(path) {
+            Ok(t) => t,
+            Err(e) => usage!("cannot read the tolerances {}: {e}", path.display()),
+        };
+        let mut t: Tolerances = match toml::from_str(&text) {
+            Ok(t) => t,
+            Err(e) => usage!("{}: {}", path.display(), e.message().trim()),
+        };
         // A figure not named in the file keeps its default.
         for (k, v) in Tolerances::default().figures {
             t.figures.entry(k).or_insert(v);
@@ -85,7 +92,7 @@ impl Tolerances {
         .chain(t.figures.iter().map(|(k, v)| (k.as_str(), *v)))
         {
             if !(v.is_finite() && v >= 0.0) {
-                bail!(
+                usage!(
                     "{}: tolerance {k} must be zero or positive, got {v}",
                     path.display()
                 );
@@ -96,24 +103,31 @@ impl Tolerances {
 }
 
 /// Which way a quality figure should go, by its name; `None` for figures that are not
-/// rates of quality (point counts, seconds).
+/// figures of quality (the sizes of the measurement: point, line and segment counts,
+/// seconds). Every rate of error (`*_fp`, `*_fn*`, `leak`) and every count of errors
+/// (`*false_positives`, `*false_negatives`, `leaked`) must not rise, whatever the
+/// check it comes from (the camera's sight lines too); coverages must not fall.
 fn better(name: &str) -> Option<Better> {
-    let rate =
-        !name.starts_with("seconds") && !name.ends_with("points") && !name.ends_with("covered");
-    if !rate {
+    let error = name == "leak"
+        || name == "leaked"
+        || name.ends_with("_fp")
+        || name.contains("_fn")
+        || name.contains("false_positives")
+        || name.contains("false_negatives");
+    if name.starts_with("seconds") {
         None
+    } else if error {
+        Some(Better::Lower)
     } else if name.contains("coverage") {
         Some(Better::Higher)
-    } else if name == "leak"
-        || name.ends_with("_fp")
-        || name.ends_with("_fn")
-        || name.ends_with("_fn_inside")
-        || name.ends_with("_fn_query")
-    {
-        Some(Better::Lower)
     } else {
         None
     }
+}
+
+/// A count of errors (not a rate): compared relatively.
+fn is_error_count(name: &str) -> bool {
+    name == "leaked" || name.contains("false_positives") || name.contains("false_negatives")
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -206,7 +220,7 @@ fn check_names(maps: &[PathBuf]) -> Result<()> {
     let mut seen = std::collections::HashSet::new();
     for m in maps {
         if !seen.insert(stem(m)) {
-            bail!(
+            usage!(
                 "two maps are named {} (a baseline stores each map by name)",
                 stem(m)
             );
@@ -242,19 +256,24 @@ pub fn update(run: &Run) -> Result<bool> {
         }
     }
     if run.json {
-        println!(
+        toolbox::outln!(
             "{}",
             json!({ "baseline": run.dir.display().to_string(), "maps": rows })
         );
     } else {
-        println!(
+        toolbox::outln!(
             "{:<28} {:>9} {:>9} {:>10} {:>8} {:>9}  baseline",
-            "map", "vertices", "faces", "bytes", "seconds", "coverage"
+            "map",
+            "vertices",
+            "faces",
+            "bytes",
+            "seconds",
+            "coverage"
         );
         for r in &rows {
             let s = &r["stats"];
             if r["ok"] == true {
-                println!(
+                toolbox::outln!(
                     "{:<28} {:>9} {:>9} {:>10} {:>8.2} {:>9.4}  stored",
                     r["map"].as_str().unwrap_or(""),
                     s["vertices"],
@@ -264,7 +283,7 @@ pub fn update(run: &Run) -> Result<bool> {
                     s["check"]["coverage"].as_f64().unwrap_or(f64::NAN),
                 );
             } else {
-                println!(
+                toolbox::outln!(
                     "{:<28} FAILED: {}",
                     r["map"].as_str().unwrap_or(""),
                     r["error"].as_str().unwrap_or("")
@@ -314,8 +333,17 @@ fn compare(base: &Value, cur: &Value, t: &Tolerances) -> Vec<Figure> {
             t.counts,
         ),
         relative("faces", num(base, "faces"), num(cur, "faces"), t.counts),
-        relative("bytes", num(base, "bytes"), num(cur, "bytes"), t.bytes),
     ];
+    // A smaller file is no regression: only growth beyond the tolerance is.
+    let (bb, cb) = (num(base, "bytes"), num(cur, "bytes"));
+    figs.push(Figure {
+        name: "bytes".into(),
+        baseline: bb,
+        current: cb,
+        tolerance: t.bytes,
+        kind: "larger",
+        ok: cb <= bb * (1.0 + t.bytes) + 1e-9,
+    });
     let (bs, cs) = (num(base, "seconds"), num(cur, "seconds"));
     figs.push(Figure {
         name: "seconds".into(),
@@ -326,11 +354,36 @@ fn compare(base: &Value, cur: &Value, t: &Tolerances) -> Vec<Figure> {
         ok: bs < t.min_seconds || cs <= bs * (1.0 + t.seconds),
     });
     if let (Some(bq), Some(cq)) = (base["check"].as_object(), cur["check"].as_object()) {
+        if let (Some(b), Some(c)) = (bq.get("passed").and_then(Value::as_bool), cq.get("passed")) {
+            let c = c.as_bool().unwrap_or(false);
+            figs.push(Figure {
+                name: "passed".into(),
+                baseline: f64::from(u8::from(b)),
+                current: f64::from(u8::from(c)),
+                tolerance: 0.0,
+                kind: "must stay passed",
+                ok: c || !b,
+            });
+        }
         for (name, bv) in bq {
             let (Some(dir), Some(b)) = (better(name), bv.as_f64()) else {
                 continue;
             };
             let c = cq.get(name).and_then(Value::as_f64).unwrap_or(f64::NAN);
+            if is_error_count(name) {
+                // A count scales with the measurement: it must not grow by more than
+                // the counts' relative tolerance (from none, not at all).
+                let tol = t.figures.get(name).copied().unwrap_or(t.counts);
+                figs.push(Figure {
+                    name: name.clone(),
+                    baseline: b,
+                    current: c,
+                    tolerance: tol,
+                    kind: "larger",
+                    ok: c <= b * (1.0 + tol) + 1e-9,
+                });
+                continue;
+            }
             let tol = t.figures.get(name).copied().unwrap_or(t.quality);
             let worse = match dir {
                 Better::Higher => b - c,
@@ -355,6 +408,13 @@ fn compare(base: &Value, cur: &Value, t: &Tolerances) -> Vec<Figure> {
 /// `--baseline DIR`: rebuilds and compares. Returns whether nothing regressed.
 pub fn compare_all(run: &Run) -> Result<bool> {
     check_names(run.maps)?;
+    if !run.dir.is_dir() {
+        usage!(
+            "the baseline folder {} does not exist (make it with --update-baseline {})",
+            run.dir.display(),
+            run.dir.display()
+        );
+    }
     let scratch = std::env::temp_dir().join(format!("bsp2vdg-baseline-{}", std::process::id()));
     std::fs::create_dir_all(&scratch)
         .with_context(|| format!("cannot create {}", scratch.display()))?;
@@ -422,7 +482,8 @@ fn compare_in(run: &Run, scratch: &Path) -> Result<bool> {
             "map": name,
             "ok": ok,
             "identical": false,
-            "options_changed": base["options"] != cur["options"],
+            "options_changed": !option_changes(&base, &cur).is_empty(),
+            "option_changes": option_changes(&base, &cur),
             "figures": figs.iter().map(|f| json!({
                 "name": f.name, "baseline": f.baseline, "current": f.current,
                 "tolerance": f.tolerance, "tolerance_kind": f.kind, "ok": f.ok,
@@ -430,7 +491,7 @@ fn compare_in(run: &Run, scratch: &Path) -> Result<bool> {
         }));
     }
     if run.json {
-        println!(
+        toolbox::outln!(
             "{}",
             json!({ "baseline": run.dir.display().to_string(), "regressed": !all_ok, "maps": reports })
         );
@@ -440,32 +501,79 @@ fn compare_in(run: &Run, scratch: &Path) -> Result<bool> {
     Ok(all_ok)
 }
 
+/// The graph-shaping options that differ between the baseline and this run, as
+/// `key: baseline -> current` (the tool's own identity is not an option).
+fn option_changes(base: &Value, cur: &Value) -> Vec<String> {
+    let (Some(b), Some(c)) = (base["options"].as_object(), cur["options"].as_object()) else {
+        return Vec::new();
+    };
+    let mut keys: Vec<&String> = b.keys().chain(c.keys()).collect();
+    keys.sort();
+    keys.dedup();
+    let show = |v: Option<&Value>| v.and_then(Value::as_str).unwrap_or("unset").to_string();
+    keys.into_iter()
+        .filter(|k| !k.starts_with("tool."))
+        .filter(|k| b.get(*k) != c.get(*k))
+        .map(|k| format!("{k}: {} -> {}", show(b.get(k)), show(c.get(k))))
+        .collect()
+}
+
 fn print_table(reports: &[Value]) {
-    println!(
-        "{:<24} {:<24} {:>14} {:>14} {:>9} {:>8}  verdict",
-        "map", "figure", "baseline", "current", "change", "tol"
+    // Columns as wide as their longest entry, so long map names keep them aligned.
+    let map_w = reports
+        .iter()
+        .map(|r| r["map"].as_str().unwrap_or("").chars().count())
+        .chain([3])
+        .max()
+        .unwrap_or(3);
+    let fig_w = reports
+        .iter()
+        .flat_map(|r| r["figures"].as_array().into_iter().flatten())
+        .map(|f| f["name"].as_str().unwrap_or("").chars().count())
+        .chain([9])
+        .max()
+        .unwrap_or(9);
+    toolbox::outln!(
+        "{:<map_w$} {:<fig_w$} {:>14} {:>14} {:>9} {:>8}  verdict",
+        "map",
+        "figure",
+        "baseline",
+        "current",
+        "change",
+        "tol"
     );
     let mut regressions = 0;
     for r in reports {
         let map = r["map"].as_str().unwrap_or("");
         if let Some(e) = r["error"].as_str() {
             regressions += 1;
-            println!("{map:<24} FAILED: {e}");
+            toolbox::outln!("{map:<map_w$} FAILED: {e}");
             continue;
         }
         if r["identical"] == true {
-            println!(
-                "{map:<24} {:<24} {:>14} {:>14} {:>9} {:>8}  ok",
-                "(graph)", "identical", "identical", "", ""
+            toolbox::outln!(
+                "{map:<map_w$} {:<fig_w$} {:>14} {:>14} {:>9} {:>8}  ok",
+                "(graph)",
+                "identical",
+                "identical",
+                "",
+                ""
             );
             continue;
+        }
+        for change in r["option_changes"].as_array().into_iter().flatten() {
+            toolbox::outln!(
+                "{map:<map_w$} options differ from the baseline's: {}",
+                change.as_str().unwrap_or("")
+            );
         }
         for f in r["figures"].as_array().into_iter().flatten() {
             let (b, c) = (
                 f["baseline"].as_f64().unwrap_or(f64::NAN),
                 f["current"].as_f64().unwrap_or(f64::NAN),
             );
-            let change = if f["tolerance_kind"] == "relative" || f["tolerance_kind"] == "slower" {
+            let relative = ["relative", "slower", "larger"];
+            let change = if relative.iter().any(|k| f["tolerance_kind"] == *k) {
                 if b != 0.0 {
                     format!("{:+.1}%", 100.0 * (c - b) / b)
                 } else {
@@ -480,8 +588,8 @@ fn print_table(reports: &[Value]) {
                 regressions += 1;
                 "REGRESSION"
             };
-            println!(
-                "{map:<24} {:<24} {:>14} {:>14} {change:>9} {:>8}  {verdict}",
+            toolbox::outln!(
+                "{map:<map_w$} {:<fig_w$} {:>14} {:>14} {change:>9} {:>8}  {verdict}",
                 f["name"].as_str().unwrap_or(""),
                 short(b),
                 short(c),
@@ -489,7 +597,7 @@ fn print_table(reports: &[Value]) {
             );
         }
     }
-    println!("{} maps, {} regressions", reports.len(), regressions);
+    toolbox::outln!("{} maps, {} regressions", reports.len(), regressions);
 }
 
 fn short(x: f64) -> String {
@@ -528,6 +636,30 @@ mod tests {
     }
 
     #[test]
+    fn camera_figures_are_compared_and_a_smaller_file_is_no_regression() {
+        let base = json!({"vertices": 100, "faces": 200, "bytes": 1000, "seconds": 2.0,
+            "options": {"sd": "24", "tool.build": "a"},
+            "check": {"visible_fn_camera": 0.01, "camera_false_positives": 0, "camera_lines": 50,
+                "passed": true}});
+        let cur = json!({"vertices": 100, "faces": 200, "bytes": 600, "seconds": 2.0,
+            "options": {"sd": "16", "tool.build": "b"},
+            "check": {"visible_fn_camera": 0.05, "camera_false_positives": 3, "camera_lines": 50,
+                "passed": false}});
+        let f = compare(&base, &cur, &Tolerances::default());
+        let bad: Vec<&str> = f
+            .iter()
+            .filter(|f| !f.ok)
+            .map(|f| f.name.as_str())
+            .collect();
+        assert_eq!(
+            bad,
+            ["passed", "camera_false_positives", "visible_fn_camera"]
+        );
+        assert!(f.iter().any(|f| f.name == "bytes" && f.ok));
+        assert_eq!(option_changes(&base, &cur), ["sd: 24 -> 16"]);
+    }
+
+    #[test]
     fn tolerances_from_toml() {
         let dir = std::env::temp_dir().join(format!("bsp2vdg-tol-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
@@ -539,7 +671,11 @@ mod tests {
         assert_eq!(t.figures["coverage"], 0.2);
         assert_eq!(t.figures["leak"], 0.0);
         std::fs::write(&p, "cuonts = 0.1\n").unwrap();
-        assert!(Tolerances::load(Some(&p)).is_err());
+        let typo = Tolerances::load(Some(&p)).unwrap_err();
+        assert!(
+            typo.downcast_ref::<super::super::args::UsageError>()
+                .is_some()
+        );
         std::fs::write(&p, "counts = -1\n").unwrap();
         assert!(
             Tolerances::load(Some(&p))

@@ -3,5 +3,6 @@
 
 pub mod args;
 pub mod baseline;
+pub mod outputs;
 pub mod priority;
 pub mod report;

@@ -186,10 +186,12 @@ pub fn chart_lines(s: &Stats) -> Vec<String> {
     lines
 }
 
-/// An indicatif bar on stderr, for interactive runs.
+/// An indicatif bar on stderr, for interactive runs: one self-updating line per stage,
+/// as wide as the terminal (`-estimate` fits 80 columns). Log lines printed meanwhile go
+/// through [`TerminalBar::printer`], above the bar.
 #[derive(Default)]
 pub struct TerminalBar {
-    bar: std::sync::Mutex<Option<indicatif::ProgressBar>>,
+    bar: std::sync::Arc<std::sync::Mutex<Option<indicatif::ProgressBar>>>,
     /// Show the estimated time left (`-estimate`).
     estimate: bool,
 }
@@ -201,15 +203,34 @@ impl TerminalBar {
             ..TerminalBar::default()
         }
     }
+
+    /// Prints a console line with the bar hidden meanwhile, so it never breaks the bar.
+    pub fn printer(&self, to_stderr: bool) -> Box<dyn Fn(&str) + Send + Sync> {
+        let bar = self.bar.clone();
+        Box::new(move |line: &str| {
+            let print = || {
+                if to_stderr {
+                    toolbox::errln!("{line}");
+                } else {
+                    toolbox::outln!("{line}");
+                }
+            };
+            let active = bar.lock().ok().and_then(|b| b.clone());
+            match active {
+                Some(b) => b.suspend(print),
+                None => print(),
+            }
+        })
+    }
 }
 
 impl Progress for TerminalBar {
     fn start(&self, label: &str, total: u64) {
         let bar = indicatif::ProgressBar::new(total);
         let template = if self.estimate {
-            "{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} (about {eta} left)"
+            "{msg:>10} [{wide_bar}] {percent:>3}% {elapsed} (~{eta} left)"
         } else {
-            "{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise}"
+            "{msg:>10} [{wide_bar}] {percent:>3}% {elapsed}"
         };
         if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
             bar.set_style(style.progress_chars("=> "));

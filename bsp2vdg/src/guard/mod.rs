@@ -149,7 +149,18 @@ fn face_excess(
     let mut min_distance = c[0].min(c[1]).min(c[2]);
     // The grid's nodes but the corners (exact clearance: excess 0 there), with
     // their radii; only walls closer than r matter, farther ones bound d from below.
-    let (mut points, mut radii) = (Vec::new(), Vec::new());
+    // The buffers are the worker's (a face's grid is a few dozen nodes, and growing
+    // fresh vectors for each face was a tenth of the guard's work).
+    let mut scratch = std::mem::take(&mut recent.scratch);
+    let Scratch {
+        points,
+        radii,
+        reach,
+        found,
+    } = &mut scratch;
+    points.clear();
+    radii.clear();
+    reach.clear();
     for i in 0..=n {
         for j in 0..=(n - i) {
             let k = n - i - j;
@@ -165,15 +176,15 @@ fn face_excess(
             radii.push(b[0] * c[0] + b[1] * c[1] + b[2] * c[2]);
         }
     }
-    let reach: Vec<f64> = radii.iter().map(|r| r + 1.0).collect();
-    let mut found = Vec::with_capacity(points.len());
-    recent.wall_distances_within(space, &points, &reach, &mut found);
-    for ((&r, &far), d) in radii.iter().zip(&reach).zip(found) {
+    reach.extend(radii.iter().map(|r| r + 1.0));
+    recent.wall_distances_within(space, points, reach, found);
+    for ((&r, &far), &d) in radii.iter().zip(reach.iter()).zip(found.iter()) {
         let d = d.unwrap_or(far);
         min_distance = min_distance.min(d);
         max_excess = max_excess.max(r - d);
         seen = seen.max(r - d);
     }
+    recent.scratch = scratch;
     // Curvature margin inside one grid cell (`curvature_margin`): the wall distance
     // there is at least the smallest grid value less the cell size.
     let d_low = (min_distance - h).max(1.0);
@@ -227,6 +238,23 @@ pub fn check_corners(graph: &Graph, radii: &mut [[f64; 3]], space: &dyn FreeSpac
 /// answer, so the guard's result does not depend on what the cache holds.
 struct Recent {
     slots: Vec<Option<([u64; 4], Option<f64>)>>,
+    /// The worker's buffers for [`face_excess`] and for the queries the slots
+    /// do not answer, reused from face to face.
+    scratch: Scratch,
+    ask: Vec<usize>,
+    ask_points: Vec<[f64; 3]>,
+    ask_radii: Vec<f64>,
+    answers: Vec<Option<f64>>,
+}
+
+/// A face grid's nodes, their radii, how far their wall distances are looked
+/// for, and the answers.
+#[derive(Default)]
+struct Scratch {
+    points: Vec<[f64; 3]>,
+    radii: Vec<f64>,
+    reach: Vec<f64>,
+    found: Vec<Option<f64>>,
 }
 
 /// Slots of [`Recent`] (a power of two).
@@ -236,6 +264,11 @@ impl Recent {
     fn new() -> Recent {
         Recent {
             slots: vec![None; RECENT],
+            scratch: Scratch::default(),
+            ask: Vec::new(),
+            ask_points: Vec::new(),
+            ask_radii: Vec::new(),
+            answers: Vec::new(),
         }
     }
 
@@ -263,7 +296,11 @@ impl Recent {
         out: &mut Vec<Option<f64>>,
     ) {
         out.clear();
-        let (mut ask, mut ask_points, mut ask_radii) = (Vec::new(), Vec::new(), Vec::new());
+        let (ask, ask_points, ask_radii) =
+            (&mut self.ask, &mut self.ask_points, &mut self.ask_radii);
+        ask.clear();
+        ask_points.clear();
+        ask_radii.clear();
         for (i, (&q, &radius)) in points.iter().zip(radii).enumerate() {
             let key = Self::key(q, radius);
             match self.slots[Self::slot(&key)] {
@@ -279,12 +316,13 @@ impl Recent {
         if ask.is_empty() {
             return;
         }
-        let mut answers = Vec::with_capacity(ask.len());
-        space.wall_distances_within(&ask_points, &ask_radii, &mut answers);
-        for ((i, (q, radius)), d) in ask
-            .into_iter()
-            .zip(ask_points.into_iter().zip(ask_radii))
-            .zip(answers)
+        let answers = &mut self.answers;
+        answers.clear();
+        space.wall_distances_within(ask_points, ask_radii, answers);
+        for ((&i, (&q, &radius)), &d) in ask
+            .iter()
+            .zip(ask_points.iter().zip(ask_radii.iter()))
+            .zip(answers.iter())
         {
             let key = Self::key(q, radius);
             self.slots[Self::slot(&key)] = Some((key, d));

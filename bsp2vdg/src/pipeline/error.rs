@@ -65,7 +65,7 @@ impl fmt::Display for CompileError {
             }
             CompileError::OtherFormat { path, format } => write!(
                 f,
-                "{}: {format}, which bsp2vdg does not read (it reads GoldSrc BSP v30 and Quake BSP29, BSP2 and 2PSB maps)",
+                "{}: {format}, which bsp2vdg does not read (it reads GoldSrc BSP v30, Quake BSP29, BSP2 and 2PSB, Quake 2 IBSP/QBSP 38 and Quake 3 IBSP 46 maps)",
                 path.display()
             ),
             CompileError::EmptyGraph { min_clearance } => write!(

@@ -18,9 +18,11 @@ use bsp::boundary::{self, BoundaryPolygon};
 use bsp::oracle::{Oracle, OracleOptions};
 use std::path::Path;
 
-/// Opens the map; a file of another engine is named as such.
+/// Opens the map; a file of another engine is named as such. A map of an engine we
+/// read that the reader refuses (truncated, corrupt) keeps the reader's own error,
+/// which names the lump and the problem.
 pub fn load_map(cx: &mut Context, map: &Path) -> Result<Bsp, CompileError> {
-    let mut bsp = Bsp::open(map).map_err(|error| match super::other_format(map) {
+    let mut bsp = Bsp::open(map).map_err(|error| match other_engine(&error, map) {
         Some(format) => CompileError::OtherFormat {
             path: map.to_path_buf(),
             format,
@@ -61,6 +63,16 @@ pub fn load_map(cx: &mut Context, map: &Path) -> Result<Bsp, CompileError> {
         world.mins[0], world.mins[1], world.mins[2], world.maxs[0], world.maxs[1], world.maxs[2]
     ));
     Ok(bsp)
+}
+
+/// The engine of a file the reader refused because of its format, not its content.
+fn other_engine(error: &bsp::BspError, map: &Path) -> Option<String> {
+    match error {
+        bsp::BspError::Unsupported { .. } | bsp::BspError::UnknownVersion { .. } => {
+            super::other_format(map)
+        }
+        _ => None,
+    }
 }
 
 /// Faces the engine could not draw are not sampled (the tree still gives their

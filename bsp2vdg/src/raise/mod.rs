@@ -321,7 +321,8 @@ fn slack_grid(
     let mut excess = Vec::with_capacity(row[n + 1]);
     let mut distance = Vec::with_capacity(row[n + 1]);
     // The nodes but the corners ask for their wall distance, all at once.
-    let (mut points, mut radii) = (Vec::new(), Vec::new());
+    let asking = row[n + 1].saturating_sub(3);
+    let (mut points, mut radii) = (Vec::with_capacity(asking), Vec::with_capacity(asking));
     for i in 0..=n {
         for j in 0..=(n - i) {
             let k = n - i - j;

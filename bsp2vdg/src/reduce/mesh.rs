@@ -397,6 +397,16 @@ impl<'m> Edit<'m> {
         }
     }
 
+    /// The shape of face `f` ([`Shape`]), cached for the mesh's faces.
+    #[inline]
+    pub fn shape(&self, f: u32) -> Shape {
+        if (f as usize) < self.base.faces.len() {
+            self.base.shape[f as usize]
+        } else {
+            face_shape(self.face(f).map(|v| self.pos(v)))
+        }
+    }
+
     /// Exact clearance of `p` for face `f` (its volume contains `p` iff > 0).
     pub fn clearance_at(&self, f: u32, p: P3) -> f64 {
         vdgformat::triangle_clearance(self.balls(f), p)

@@ -176,12 +176,12 @@ pub fn reduce_keeping(
     if stats.stop == StopReason::NothingRemovable {
         stats.refusals = histogram(&mesh);
         if std::env::var_os("BSP2VDG_REDUCE_REFUSALS").is_some() {
-            eprintln!(
+            toolbox::errln!(
                 "reduce: refusals of the {} vertices left:",
                 mesh.live_vertices()
             );
             for (name, n) in &stats.refusals {
-                eprintln!("  {name:<30} {n}");
+                toolbox::errln!("  {name:<30} {n}");
             }
             let mut classes = std::collections::BTreeMap::<String, usize>::new();
             for v in 0..mesh.pos.len() as u32 {
@@ -199,7 +199,7 @@ pub fn reduce_keeping(
             let mut classes: Vec<_> = classes.into_iter().collect();
             classes.sort_by_key(|c| std::cmp::Reverse(c.1));
             for (name, n) in classes.iter().take(40) {
-                eprintln!("  {name:<50} {n}");
+                toolbox::errln!("  {name:<50} {n}");
             }
         }
     }

@@ -656,7 +656,7 @@ mod tests {
             kept_lowered += (clearance(&lowered, p) > 0.0) as usize;
             kept_raised += (clearance(&raised, p) > 0.0) as usize;
         }
-        println!("deep points kept: lowered {kept_lowered}, raised {kept_raised} of {deep}");
+        toolbox::outln!("deep points kept: lowered {kept_lowered}, raised {kept_raised} of {deep}");
         assert!(
             kept_raised >= kept_lowered + deep / 40,
             "lowered {kept_lowered}, raised {kept_raised} of {deep}"

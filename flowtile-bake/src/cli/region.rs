@@ -118,7 +118,7 @@ fn open_nav(p: &Path, map: &Path) -> Result<navmesh::NavMesh> {
     let mesh = navmesh::NavMesh::open(p).map_err(anyhow::Error::msg)?;
     let size = std::fs::metadata(map).map(|m| m.len()).unwrap_or(0);
     if mesh.bsp_size != 0 && u64::from(mesh.bsp_size) != size {
-        eprintln!(
+        toolbox::errln!(
             "warning: {} was made for a map of {} bytes, {} has {size} (an older build of the map?)",
             p.display(),
             mesh.bsp_size,

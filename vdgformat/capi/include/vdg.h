@@ -37,173 +37,276 @@
 #include <stddef.h>
 #include <stdint.h>
 
-// Success.
+/*
+ Success.
+ */
 #define VDG_OK 0
 
-// Failure; [`vdg_last_error`] says why.
+/*
+ Failure; [`vdg_last_error`] says why.
+ */
 #define VDG_ERROR -1
 
-// [`vdg_pose::status`]: normal tracking.
+/*
+ [`vdg_pose::status`]: normal tracking.
+ */
 #define VDG_STATUS_FOLLOWING 0
 
-// [`vdg_pose::status`]: the target stands outside the graph's free volume;
-// the camera follows the nearest part of the volume towards it.
+/*
+ [`vdg_pose::status`]: the target stands outside the graph's free volume;
+ the camera follows the nearest part of the volume towards it.
+ */
 #define VDG_STATUS_TARGET_OUTSIDE 1
 
-// [`vdg_pose::status`]: the graph has no faces; the eye is on the target.
+/*
+ [`vdg_pose::status`]: the graph has no faces; the eye is on the target.
+ */
 #define VDG_STATUS_NO_GRAPH 2
 
-// [`vdg_event::kind`]: the active camera changed (`from` → `camera`).
+/*
+ [`vdg_event::kind`]: the active camera changed (`from` → `camera`).
+ */
 #define VDG_EVENT_SWITCHED 1
 
-// [`vdg_event::kind`]: `camera` cut (jumped) this frame.
+/*
+ [`vdg_event::kind`]: `camera` cut (jumped) this frame.
+ */
 #define VDG_EVENT_CUT 2
 
-// [`vdg_event::kind`]: the graph differs from the last update's (a new map):
-// every camera started anew.
+/*
+ [`vdg_event::kind`]: the graph differs from the last update's (a new map):
+ every camera started anew.
+ */
 #define VDG_EVENT_GRAPH_CHANGED 3
 
-// An automatic camera following one target. Owns its scratch memory; use
-// it from one thread at a time (it may move between threads).
+/*
+ The version of the C interface this header describes. It grows when a
+ function or struct changes incompatibly; the shared library's SONAME
+ (`libvdg.so.N`) carries the same number. Compare with [`vdg_abi_version`]
+ to check at run time that the library loaded is the one compiled against.
+ */
+#define VDG_ABI_VERSION 1
+
+/*
+ An automatic camera following one target. Owns its scratch memory; use
+ it from one thread at a time (it may move between threads).
+ */
 typedef struct vdg_camera vdg_camera;
 
-// Several cameras with their own targets, one of them shown. Use it from
-// one thread at a time (it may move between threads).
+/*
+ Several cameras with their own targets, one of them shown. Use it from
+ one thread at a time (it may move between threads).
+ */
 typedef struct vdg_director vdg_director;
 
-// An opened `.vdg` graph. Immutable: any number of threads may query one
-// graph at the same time. Made by [`vdg_open`] or [`vdg_open_memory`],
-// released by [`vdg_close`].
+/*
+ An opened `.vdg` graph. Immutable: any number of threads may query one
+ graph at the same time. Made by [`vdg_open`] or [`vdg_open_memory`],
+ released by [`vdg_close`].
+ */
 typedef struct vdg_graph vdg_graph;
 
-// A graph's sizes and bounds.
+/*
+ A graph's sizes and bounds.
+ */
 typedef struct vdg_info {
   uint32_t vertex_count;
   uint32_t face_count;
-  // Bounds of the free volume the graph describes.
+  /*
+   Bounds of the free volume the graph describes.
+   */
   float volume_min[3];
   float volume_max[3];
-  // The largest clearance of a vertex.
+  /*
+   The largest clearance of a vertex.
+   */
   float max_clearance;
-  // XXH64 (seed 0) of the `.bsp` the graph was compiled from, 0 if
-  // unknown; compare with [`vdg_xxh64`] of the map's bytes to detect a
-  // stale `.vdg`.
+  /*
+   XXH64 (seed 0) of the `.bsp` the graph was compiled from, 0 if
+   unknown; compare with [`vdg_xxh64`] of the map's bytes to detect a
+   stale `.vdg`.
+   */
   uint64_t source_hash;
 } vdg_info;
 
-// What a camera follows, in Quake units (z up).
+/*
+ What a camera follows, in Quake units (z up).
+ */
 typedef struct vdg_target {
-  // The point to keep in view: best the player's eye (origin + view
-  // offset, in Half-Life 28 standing and 12 crouched); given the origin,
-  // the parameter `target_height` adds a constant height.
+  /*
+   The point to keep in view: best the player's eye (origin + view
+   offset, in Half-Life 28 standing and 12 crouched); given the origin,
+   the parameter `target_height` adds a constant height.
+   */
   float origin[3];
-  // Where the target looks, Quake `viewangles` `[pitch, yaw, roll]` in
-  // degrees (pitch positive looking down; roll is ignored).
+  /*
+   Where the target looks, Quake `viewangles` `[pitch, yaw, roll]` in
+   degrees (pitch positive looking down; roll is ignored).
+   */
   float angles[3];
-  // The target's velocity in units per second.
+  /*
+   The target's velocity in units per second.
+   */
   float velocity[3];
 } vdg_target;
 
-// A camera's pose for one frame, in Quake units and degrees: copy `origin`
-// to `V_CalcRefdef`'s `vieworg` and `angles` to its `viewangles`.
+/*
+ A camera's pose for one frame, in Quake units and degrees: copy `origin`
+ to `V_CalcRefdef`'s `vieworg` and `angles` to its `viewangles`.
+ */
 typedef struct vdg_pose {
-  // The eye position.
+  /*
+   The eye position.
+   */
   float origin[3];
-  // `[pitch, yaw, roll]` in degrees: pitch positive looking down, yaw in
-  // (−180, 180] counter-clockwise from +x, roll 0.
+  /*
+   `[pitch, yaw, roll]` in degrees: pitch positive looking down, yaw in
+   (−180, 180] counter-clockwise from +x, roll 0.
+   */
   float angles[3];
-  // 1 when the camera cut (jumped) this frame: a reset, a new graph, a
-  // teleported target or one hidden for too long. Skip interpolation and
-  // motion blur across a cut.
+  /*
+   1 when the camera cut (jumped) this frame: a reset, a new graph, a
+   teleported target or one hidden for too long. Skip interpolation and
+   motion blur across a cut.
+   */
   int cut;
-  // 1 when the graph proves a clear line from the eye to the target.
+  /*
+   1 when the graph proves a clear line from the eye to the target.
+   */
   int target_visible;
-  // The point the camera looks at.
+  /*
+   The point the camera looks at.
+   */
   float look_at[3];
-  // `VDG_STATUS_*`.
+  /*
+   `VDG_STATUS_*`.
+   */
   int status;
-  // The graph face whose volume holds the eye, −1 if none.
+  /*
+   The graph face whose volume holds the eye, −1 if none.
+   */
   int32_t face;
 } vdg_pose;
 
-// Something a director's last update did (see `VDG_EVENT_*`).
+/*
+ Something a director's last update did (see `VDG_EVENT_*`).
+ */
 typedef struct vdg_event {
-  // `VDG_EVENT_*`.
+  /*
+   `VDG_EVENT_*`.
+   */
   int kind;
-  // The camera concerned (the new active one for a switch), −1 if none.
+  /*
+   The camera concerned (the new active one for a switch), −1 if none.
+   */
   int camera;
-  // For a switch, the previously active camera, −1 if none.
+  /*
+   For a switch, the previously active camera, −1 if none.
+   */
   int from;
 } vdg_event;
 
 #ifdef __cplusplus
 extern "C" {
-#endif // __cplusplus
+#endif /* __cplusplus */
 
-// The message of the last failed call on this thread: one line naming the
-// problem, the same text as the Rust API's errors (for files prefixed with
-// the path). An empty string when no call failed yet. Successful calls do
-// not clear it. The pointer stays valid until the next failing call on this
-// thread; copy the text to keep it. Thread-safe (one message per thread).
+/*
+ The message of the last failed call on this thread: one line naming the
+ problem, the same text as the Rust API's errors (for files prefixed with
+ the path), at most 1023 bytes. An empty string when no call failed yet.
+ Successful calls do not clear it. The pointer is the thread's one message
+ buffer: it stays readable for the life of the thread (never freed by a
+ later call), and a later failing call on this thread overwrites the text
+ in it; copy the text to keep that message. Thread-safe (one buffer per
+ thread).
+ */
 const char *vdg_last_error(void);
 
-// Opens a `.vdg` file by memory-mapping it and validating it once (checksum
-// and structure); NULL on failure. `path` is a NUL-terminated path (UTF-8 on
-// Windows). The file must not be modified in place while open; `bsp2vdg`
-// replaces files by renaming, which is safe on Linux and macOS. On Windows a
-// mapped file cannot be replaced or deleted while open: use
-// [`vdg_open_memory`] if the game must keep running while maps are
-// recompiled. Thread-safe.
+/*
+ The [`VDG_ABI_VERSION`] the library was built with.
+ */
+int vdg_abi_version(void);
+
+/*
+ The library's version, e.g. "0.1.0": a static string, never freed.
+ */
+const char *vdg_version(void);
+
+/*
+ Opens a `.vdg` file by memory-mapping it and validating it once (checksum
+ and structure); NULL on failure. `path` is a NUL-terminated path (UTF-8 on
+ Windows). The file must not be modified in place while open; `bsp2vdg`
+ replaces files by renaming, which is safe on Linux and macOS. On Windows a
+ mapped file cannot be replaced or deleted while open: use
+ [`vdg_open_memory`] if the game must keep running while maps are
+ recompiled. Thread-safe.
+ */
 struct vdg_graph *vdg_open(const char *path);
 
-// Opens a `.vdg` file image held in memory (e.g. read from a pak/pk3/wad
-// virtual filesystem): the `len` bytes at `data` are copied into aligned
-// storage and validated, so the caller may free or reuse its buffer as soon
-// as the call returns. NULL on failure (NULL `data`, a truncated or corrupt
-// image). Thread-safe.
+/*
+ Opens a `.vdg` file image held in memory (e.g. read from a pak/pk3/wad
+ virtual filesystem): the `len` bytes at `data` are copied into aligned
+ storage and validated, so the caller may free or reuse its buffer as soon
+ as the call returns. NULL on failure (NULL `data`, a truncated or corrupt
+ image). Thread-safe.
+ */
 struct vdg_graph *vdg_open_memory(const void *data, size_t len);
 
-// Releases a graph (NULL is ignored). No other thread may be using it, and
-// no camera or director may be updated with it afterwards.
+/*
+ Releases a graph (NULL is ignored). No other thread may be using it, and
+ no camera or director may be updated with it afterwards.
+ */
 void vdg_close(struct vdg_graph *graph);
 
-// Fills `*out` with the graph's sizes and bounds. `VDG_OK` or `VDG_ERROR`.
-// Thread-safe.
+/*
+ Fills `*out` with the graph's sizes and bounds. `VDG_OK` or `VDG_ERROR`.
+ Thread-safe.
+ */
 int vdg_get_info(const struct vdg_graph *graph, struct vdg_info *out);
 
-// XXH64 (seed 0) of `len` bytes, the hash `bsp2vdg` stores of the source
-// map ([`vdg_info::source_hash`]). 0 with an error for NULL `data` and
-// `len` > 0. Thread-safe.
+/*
+ XXH64 (seed 0) of `len` bytes, the hash `bsp2vdg` stores of the source
+ map ([`vdg_info::source_hash`]). 0 with an error for NULL `data` and
+ `len` > 0. Thread-safe.
+ */
 uint64_t vdg_xxh64(const void *data, size_t len);
 
-// Clearance at `p` (3 floats): how far `p` is inside the graph's free
-// volume (thesis 3.7; the radius of free space around it), negative
-// outside the volume, −INFINITY for a graph without faces. NaN on error
-// (NULL or non-finite arguments). Thread-safe.
+/*
+ Clearance at `p` (3 floats): how far `p` is inside the graph's free
+ volume (thesis 3.7; the radius of free space around it), negative
+ outside the volume, −INFINITY for a graph without faces. NaN on error
+ (NULL or non-finite arguments). Thread-safe.
+ */
 float vdg_clearance(const struct vdg_graph *graph, const float *p);
 
-// Line of sight (thesis 3.9): 1 when the graph proves the segment from
-// `a` to `b` (3 floats each) runs inside its free volume, 0 when it does
-// not (or cannot tell), −1 on error. Thread-safe.
+/*
+ Line of sight (thesis 3.9): 1 when the graph proves the segment from
+ `a` to `b` (3 floats each) runs inside its free volume, 0 when it does
+ not (or cannot tell), −1 on error. Thread-safe.
+ */
 int vdg_visible(const struct vdg_graph *graph, const float *a, const float *b);
 
-// Voronoi distance `VDistance(p, q)` (thesis 5.1): the length of the
-// shortest way from `p` to `q` through the graph (entering at a vertex of
-// `p`'s face, along edges, leaving at a vertex of `q`'s face); the straight
-// distance when both share a face. INFINITY when no way connects them, NaN
-// on error. Thread-safe.
+/*
+ Voronoi distance `VDistance(p, q)` (thesis 5.1): the length of the
+ shortest way from `p` to `q` through the graph (entering at a vertex of
+ `p`'s face, along edges, leaving at a vertex of `q`'s face); the straight
+ distance when both share a face. INFINITY when no way connects them, NaN
+ on error. Thread-safe.
+ */
 float vdg_vdistance(const struct vdg_graph *graph, const float *p, const float *q);
 
-// A path from `from` to `to` (3 floats each) for an agent of radius
-// `radius` (≥ 0): it uses only graph vertices with at least that
-// clearance, so the agent keeps `radius` from the walls along the way.
-//
-// The path is `from`, the vertices' positions, then `to`: `n` ≥ 2 points of
-// 3 floats. Returns `n`; the points are written to `points` only when
-// `n <= capacity` (so call with `capacity` 0 and `points` NULL to learn the
-// size). Returns 0 when no path exists (e.g. a door narrower than the
-// agent) and −1 on error. `*length` (if `length` is not NULL) receives the
-// path's length whenever one exists. Thread-safe.
+/*
+ A path from `from` to `to` (3 floats each) for an agent of radius
+ `radius` (≥ 0): it uses only graph vertices with at least that
+ clearance, so the agent keeps `radius` from the walls along the way.
+
+ The path is `from`, the vertices' positions, then `to`: `n` ≥ 2 points of
+ 3 floats. Returns `n`; the points are written to `points` only when
+ `n <= capacity` (so call with `capacity` 0 and `points` NULL to learn the
+ size). Returns 0 when no path exists (e.g. a door narrower than the
+ agent) and −1 on error. `*length` (if `length` is not NULL) receives the
+ path's length whenever one exists. Thread-safe.
+ */
 ptrdiff_t vdg_path(const struct vdg_graph *graph,
                    const float *from,
                    const float *to,
@@ -212,102 +315,132 @@ ptrdiff_t vdg_path(const struct vdg_graph *graph,
                    size_t capacity,
                    float *length);
 
-// A new automatic camera; NULL on failure. `params_toml` is NULL for the
-// default parameters, or TOML text setting any fields of vdgformat's
-// `CameraParams` (`vdgformat/src/camera/params.rs`; e.g.
-// `"distance_mu = 96.0\n"`); unknown keys and out-of-range values are
-// errors. `graph` is the graph the camera will
-// follow, or NULL: it is not retained, since every update names its graph.
-// Thread-safe.
+/*
+ A new automatic camera; NULL on failure. `params_toml` is NULL for the
+ default parameters, or TOML text setting any fields of vdgformat's
+ `CameraParams` (`vdgformat/src/camera/params.rs`; e.g.
+ `"distance_mu = 96.0\n"`); unknown keys and out-of-range values are
+ errors. `graph` is the graph the camera will
+ follow, or NULL: it is not retained, since every update names its graph.
+ Thread-safe.
+ */
 struct vdg_camera *vdg_camera_new(const struct vdg_graph *graph, const char *params_toml);
 
-// Replaces a camera's parameters (TOML as in [`vdg_camera_new`]; NULL for
-// the defaults); it keeps its place. `VDG_OK` or `VDG_ERROR` (then the old
-// parameters stay).
+/*
+ Replaces a camera's parameters (TOML as in [`vdg_camera_new`]; NULL for
+ the defaults); it keeps its place. `VDG_OK` or `VDG_ERROR` (then the old
+ parameters stay).
+ */
 int vdg_camera_set_params(struct vdg_camera *camera, const char *params_toml);
 
-// Advances the camera by `dt` seconds (≥ 0; long frames move as if they
-// were the parameter `max_dt`) towards the best view of `target` on
-// `graph`, and writes the pose to `*out`. The first update places the
-// camera (a cut). The graph must stay open while the camera uses it; a
-// different graph than the last update's (a map change) resets the camera
-// (a cut). `VDG_OK`, or `VDG_ERROR` for NULL pointers or a non-finite
-// target or `dt`; `*out` is then left unchanged. One thread at a time per
-// camera.
+/*
+ Advances the camera by `dt` seconds (≥ 0; long frames move as if they
+ were the parameter `max_dt`) towards the best view of `target` on
+ `graph`, and writes the pose to `*out`. The first update places the
+ camera (a cut). The graph must stay open while the camera uses it; a
+ different graph than the last update's (a map change) resets the camera
+ (a cut). `VDG_OK`, or `VDG_ERROR` for NULL pointers or a non-finite
+ target or `dt`; `*out` is then left unchanged. One thread at a time per
+ camera.
+ */
 int vdg_camera_update(struct vdg_camera *camera,
                       const struct vdg_graph *graph,
                       const struct vdg_target *target,
                       float dt,
                       struct vdg_pose *out);
 
-// Starts a new scene (e.g. the spectator switched players): places the
-// camera for `target` at once (a cut) and writes that pose to `*out`.
-// `VDG_OK` or `VDG_ERROR` as [`vdg_camera_update`].
+/*
+ Starts a new scene (e.g. the spectator switched players): places the
+ camera for `target` at once (a cut) and writes that pose to `*out`.
+ `VDG_OK` or `VDG_ERROR` as [`vdg_camera_update`].
+ */
 int vdg_camera_reset(struct vdg_camera *camera,
                      const struct vdg_graph *graph,
                      const struct vdg_target *target,
                      struct vdg_pose *out);
 
-// Releases a camera (NULL is ignored).
+/*
+ Releases a camera (NULL is ignored).
+ */
 void vdg_camera_free(struct vdg_camera *camera);
 
-// A director without cameras (thesis 6.2): several cameras with their own
-// targets and parameters on one graph, one of them shown. NULL only if out
-// of memory. Thread-safe.
+/*
+ A director without cameras (thesis 6.2): several cameras with their own
+ targets and parameters on one graph, one of them shown. NULL only if out
+ of memory. Thread-safe.
+ */
 struct vdg_director *vdg_director_new(void);
 
-// Releases a director and its cameras (NULL is ignored).
+/*
+ Releases a director and its cameras (NULL is ignored).
+ */
 void vdg_director_free(struct vdg_director *director);
 
-// Adds a camera with parameters as in [`vdg_camera_new`] (NULL: defaults)
-// and returns its id (≥ 0); the first camera added becomes active. −1 on
-// error.
+/*
+ Adds a camera with parameters as in [`vdg_camera_new`] (NULL: defaults)
+ and returns its id (≥ 0); the first camera added becomes active. −1 on
+ error.
+ */
 int vdg_director_add_camera(struct vdg_director *director, const char *params_toml);
 
-// Removes a camera (if it was active, none is). `VDG_OK`, or `VDG_ERROR`
-// for an unknown id.
+/*
+ Removes a camera (if it was active, none is). `VDG_OK`, or `VDG_ERROR`
+ for an unknown id.
+ */
 int vdg_director_remove_camera(struct vdg_director *director, int camera);
 
-// Sets what a camera follows from the next update on (call every frame
-// with the target's current state). `VDG_OK`, or `VDG_ERROR` for an
-// unknown id, NULL or a non-finite target.
+/*
+ Sets what a camera follows from the next update on (call every frame
+ with the target's current state). `VDG_OK`, or `VDG_ERROR` for an
+ unknown id, NULL or a non-finite target.
+ */
 int vdg_director_set_target(struct vdg_director *director,
                             int camera,
                             const struct vdg_target *target);
 
-// Makes a camera the one shown from the next update on. `VDG_OK`, or
-// `VDG_ERROR` for an unknown id.
+/*
+ Makes a camera the one shown from the next update on. `VDG_OK`, or
+ `VDG_ERROR` for an unknown id.
+ */
 int vdg_director_activate(struct vdg_director *director, int camera);
 
-// The active camera's id, −1 if none is active (or `director` is NULL,
-// which also sets the error).
+/*
+ The active camera's id, −1 if none is active (or `director` is NULL,
+ which also sets the error).
+ */
 int vdg_director_active(const struct vdg_director *director);
 
-// Once per frame: updates every camera that has a target by `dt` seconds
-// on `graph` and writes the active camera's pose to `*out`. Returns 1 when
-// a pose was written, 0 when no camera is active or it has no target yet
-// (`*out` unchanged), −1 on error (NULL pointers, non-finite `dt`). A
-// different graph than last time (a map change) restarts every camera
-// (`VDG_EVENT_GRAPH_CHANGED`). The graph must stay open while the director
-// uses it. One thread at a time per director.
+/*
+ Once per frame: updates every camera that has a target by `dt` seconds
+ on `graph` and writes the active camera's pose to `*out`. Returns 1 when
+ a pose was written, 0 when no camera is active or it has no target yet
+ (`*out` unchanged), −1 on error (NULL pointers, non-finite `dt`). A
+ different graph than last time (a map change) restarts every camera
+ (`VDG_EVENT_GRAPH_CHANGED`). The graph must stay open while the director
+ uses it. One thread at a time per director.
+ */
 int vdg_director_update(struct vdg_director *director,
                         const struct vdg_graph *graph,
                         float dt,
                         struct vdg_pose *out);
 
-// A camera's pose of the last update: 1 when written to `*out`, 0 when the
-// camera has not been updated yet, −1 on error (unknown id, NULL).
+/*
+ A camera's pose of the last update: 1 when written to `*out`, 0 when the
+ camera has not been updated yet, −1 on error (unknown id, NULL).
+ */
 int vdg_director_pose(const struct vdg_director *director, int camera, struct vdg_pose *out);
 
-// What the last [`vdg_director_update`] did: returns the number of events
-// and writes the first `min(count, capacity)` of them to `events` (NULL
-// allowed with `capacity` 0). −1 on error.
+/*
+ What the last [`vdg_director_update`] did: returns the number of events
+ and writes the first `min(count, capacity)` of them to `events` (NULL
+ allowed with `capacity` 0). −1 on error.
+ */
 ptrdiff_t vdg_director_events(const struct vdg_director *director,
                               struct vdg_event *events,
                               size_t capacity);
 
 #ifdef __cplusplus
-}  // extern "C"
-#endif  // __cplusplus
+}  /* extern "C" */
+#endif  /* __cplusplus */
 
 #endif  /* VDG_H */

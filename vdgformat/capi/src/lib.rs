@@ -34,8 +34,8 @@
 // the header rather than on each.
 #![allow(clippy::missing_safety_doc)]
 
-use std::cell::RefCell;
-use std::ffi::{CStr, CString, c_char, c_int, c_void};
+use std::cell::UnsafeCell;
+use std::ffi::{CStr, c_char, c_int, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
@@ -154,13 +154,35 @@ pub struct vdg_info {
 
 // ---------------------------------------------------------------- errors
 
+/// Bytes of a thread's error buffer, the terminating NUL included: longer
+/// messages are cut at a character boundary.
+const ERROR_CAPACITY: usize = 1024;
+
 thread_local! {
-    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+    /// The thread's message: one buffer for the thread's life, overwritten by
+    /// each failing call and never freed or moved, so a pointer that
+    /// [`vdg_last_error`] returned stays readable (it then shows the latest
+    /// message) even when another call fails in between, as in
+    /// `printf("%f %s", vdg_clearance(g, NULL), vdg_last_error())`.
+    static LAST_ERROR: UnsafeCell<[c_char; ERROR_CAPACITY]> =
+        const { UnsafeCell::new([0; ERROR_CAPACITY]) };
 }
 
 fn set_error(message: String) {
-    let message = CString::new(message.replace('\0', " ")).unwrap_or_default();
-    let _ = LAST_ERROR.try_with(|e| *e.borrow_mut() = message);
+    let message = message.replace('\0', " ");
+    let mut end = message.len().min(ERROR_CAPACITY - 1);
+    while !message.is_char_boundary(end) {
+        end -= 1;
+    }
+    let _ = LAST_ERROR.try_with(|buffer| {
+        // SAFETY: the buffer is this thread's; no reference to it is held (C
+        // holds only a raw pointer, and reads it between our calls).
+        let b = unsafe { &mut *buffer.get() };
+        for (dst, &src) in b.iter_mut().zip(&message.as_bytes()[..end]) {
+            *dst = src as c_char;
+        }
+        b[end] = 0;
+    });
 }
 
 /// Runs a call's body: a returned error or a panic sets the thread's
@@ -186,14 +208,40 @@ fn guard<T>(fail: T, body: impl FnOnce() -> Result<T, String>) -> T {
 
 /// The message of the last failed call on this thread: one line naming the
 /// problem, the same text as the Rust API's errors (for files prefixed with
-/// the path). An empty string when no call failed yet. Successful calls do
-/// not clear it. The pointer stays valid until the next failing call on this
-/// thread; copy the text to keep it. Thread-safe (one message per thread).
+/// the path), at most 1023 bytes. An empty string when no call failed yet.
+/// Successful calls do not clear it. The pointer is the thread's one message
+/// buffer: it stays readable for the life of the thread (never freed by a
+/// later call), and a later failing call on this thread overwrites the text
+/// in it; copy the text to keep that message. Thread-safe (one buffer per
+/// thread).
 #[unsafe(no_mangle)]
 pub extern "C" fn vdg_last_error() -> *const c_char {
     LAST_ERROR
-        .try_with(|e| e.borrow().as_ptr())
+        .try_with(|e| e.get() as *const c_char)
         .unwrap_or(c"".as_ptr())
+}
+
+/// The version of the C interface this header describes. It grows when a
+/// function or struct changes incompatibly; the shared library's SONAME
+/// (`libvdg.so.N`) carries the same number. Compare with [`vdg_abi_version`]
+/// to check at run time that the library loaded is the one compiled against.
+pub const VDG_ABI_VERSION: c_int = 1;
+
+/// The [`VDG_ABI_VERSION`] the library was built with.
+#[unsafe(no_mangle)]
+pub extern "C" fn vdg_abi_version() -> c_int {
+    VDG_ABI_VERSION
+}
+
+/// The library's version, e.g. "0.1.0": a static string, never freed.
+#[unsafe(no_mangle)]
+pub extern "C" fn vdg_version() -> *const c_char {
+    const VERSION: &CStr =
+        match CStr::from_bytes_with_nul(concat!(env!("CARGO_PKG_VERSION"), "\0").as_bytes()) {
+            Ok(v) => v,
+            Err(_) => c"unknown",
+        };
+    VERSION.as_ptr()
 }
 
 // ------------------------------------------------------- argument checks

@@ -477,3 +477,42 @@ fn the_c_program_gets_bit_identical_answers() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// The header compiles as C89 under `-pedantic -Wall -Wextra -Werror`, and a
+/// pointer from `vdg_last_error()` stays readable across later failing calls.
+#[test]
+fn the_header_is_c89_and_the_error_string_outlives_later_failures() {
+    let Some(cc) = c_compiler() else {
+        eprintln!("skipped: no C compiler (set CC or install cc) to build tests/c/c89.c");
+        return;
+    };
+    let dir = scratch_dir();
+    let capi = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let exe = dir.join(if cfg!(windows) { "c89.exe" } else { "c89" });
+    let out = Command::new(&cc)
+        .args([
+            "-std=c89",
+            "-pedantic",
+            "-Wall",
+            "-Wextra",
+            "-Werror",
+            "-O1",
+        ])
+        .arg("-I")
+        .arg(capi.join("include"))
+        .arg(capi.join("tests/c/c89.c"))
+        .arg(static_lib())
+        .args(native_libs())
+        .arg("-o")
+        .arg(&exe)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{cc} -std=c89 -pedantic failed on c89.c:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let run = Command::new(&exe).output().unwrap();
+    let text = String::from_utf8_lossy(&run.stdout);
+    assert!(run.status.success() && text.ends_with("ok\n"), "{text}");
+}

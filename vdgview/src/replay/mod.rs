@@ -16,10 +16,11 @@
 //! let t = TargetState { t: 0.0, origin: [0.0, 0.0, 36.0], angles: [0.0, 90.0, 0.0], velocity: [0.0; 3], crouch: false, game: bsp::Game::GoldSrc };
 //! cam.reset(&t);
 //! let frame = cam.update(&t, 1.0 / 60.0);
-//! println!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
+//! toolbox::outln!("camera at {:?} looking at {:?}", frame.eye, frame.look_at);
 //! ```
 
 pub mod cameras;
+pub mod demo;
 pub mod frames;
 pub mod jsonl;
 pub mod metrics;
@@ -51,19 +52,25 @@ pub enum RouteSource {
     Nav(PathBuf),
     /// Recorded frames (`t`, `origin`, `angles` per line).
     Jsonl(PathBuf),
+    /// A GoldSrc demo (`.dem`, the game's `record`): the recorded player.
+    Demo(PathBuf),
 }
 
 impl RouteSource {
-    /// Parses `spawns`, `nav:FILE.nav` or `FILE.jsonl`.
+    /// Parses `spawns`, `nav:FILE.nav`, `demo:FILE.dem` or `FILE.jsonl`.
     pub fn parse(s: &str) -> Result<RouteSource> {
         if s == "spawns" {
             Ok(RouteSource::Spawns)
         } else if let Some(p) = s.strip_prefix("nav:") {
             Ok(RouteSource::Nav(PathBuf::from(p)))
+        } else if let Some(p) = s.strip_prefix("demo:") {
+            Ok(RouteSource::Demo(PathBuf::from(p)))
+        } else if s.ends_with(".dem") {
+            Ok(RouteSource::Demo(PathBuf::from(s)))
         } else if s.ends_with(".jsonl") || s.ends_with(".json") {
             Ok(RouteSource::Jsonl(PathBuf::from(s)))
         } else {
-            bail!("--routes {s:?}: expected spawns, nav:FILE.nav or FILE.jsonl")
+            bail!("--routes {s:?}: expected spawns, nav:FILE.nav, demo:FILE.dem or FILE.jsonl")
         }
     }
 
@@ -72,6 +79,7 @@ impl RouteSource {
             RouteSource::Spawns => "spawns".into(),
             RouteSource::Nav(p) => format!("nav:{}", p.display()),
             RouteSource::Jsonl(p) => p.display().to_string(),
+            RouteSource::Demo(p) => format!("demo:{}", p.display()),
         }
     }
 }
@@ -123,11 +131,33 @@ pub struct RouteSet {
     pub stuck_steps: usize,
 }
 
+/// The map a replay runs on, for the checks that a nav mesh or a demo was made on it.
+#[derive(Debug, Clone, Copy)]
+pub struct MapCheck<'a> {
+    /// The BSP file.
+    pub path: &'a Path,
+    /// Accept a nav mesh or demo of another map (the routes then mean little).
+    pub force: bool,
+}
+
+/// Refuses (or, with `force`, warns about) a route source made for another map.
+fn check_source(result: std::result::Result<(), String>, force: bool) -> Result<()> {
+    match result {
+        Ok(()) => Ok(()),
+        Err(e) if force => {
+            toolbox::errln!("vdgview: warning: {e}");
+            Ok(())
+        }
+        Err(e) => bail!("{e}"),
+    }
+}
+
 /// Makes the routes of a map.
 pub fn load_routes(
     bsp: &Bsp,
     oracle: &Oracle,
     source: &RouteSource,
+    map: MapCheck<'_>,
     seed: u64,
     max_routes: usize,
 ) -> Result<RouteSet> {
@@ -135,7 +165,35 @@ pub fn load_routes(
         RouteSource::Spawns => spawns::routes(bsp, oracle, seed, max_routes),
         RouteSource::Nav(p) => {
             let mesh = nav::NavMesh::open(p).map_err(anyhow::Error::msg)?;
+            match nav::same_map(&mesh, p, map.path, oracle) {
+                Ok(Some(warning)) => toolbox::errln!("vdgview: warning: {warning}"),
+                Ok(None) => {}
+                Err(e) => check_source(Err(e), map.force)?,
+            }
             nav::routes(&mesh, oracle, seed, max_routes)
+        }
+        RouteSource::Demo(p) => {
+            let d = demo::open(p).map_err(anyhow::Error::msg)?;
+            check_source(demo::same_map(&d, p, map.path), map.force)?;
+            if oracle.game() != bsp::Game::GoldSrc {
+                bail!(
+                    "{}: a GoldSrc demo cannot be replayed on a {:?} map ({})",
+                    p.display(),
+                    oracle.game(),
+                    map.path.display()
+                );
+            }
+            let stem = p
+                .file_stem()
+                .map_or("demo".into(), |s| s.to_string_lossy().into_owned());
+            let routes = demo::routes(&d, &stem, oracle.game());
+            if routes.is_empty() {
+                bail!(
+                    "{}: no playback segment with at least two player frames",
+                    p.display()
+                );
+            }
+            (routes, Vec::new(), 0)
         }
         RouteSource::Jsonl(p) => {
             let text =

@@ -5,9 +5,77 @@
 use super::route::Route;
 use super::walk::{WalkStats, Waypoint, walk};
 use bsp::oracle::Oracle;
-use bsp::player::settle;
+use bsp::player::{above_floor, settle};
 pub use navmesh::{NAV_CROUCH, NAV_MAGIC, NavArea, NavMesh};
 use toolbox::SplitMix64;
+
+/// Share of a nav mesh's areas a player can stand in on the map for the mesh to count
+/// as made for it: de_cbble's own mesh (a slightly different build) scores 82 % on the
+/// shared BSP (area centres on ledges, stairs and ladders do not settle within the
+/// tolerance), a mesh of another map about 0 %.
+pub const FIT_AREAS: f64 = 0.5;
+
+/// Whether a nav mesh was made for the map at `map`. The bot writes the size of the BSP
+/// it analysed into the mesh (versions 4 and 5); when the sizes agree (or the mesh
+/// records none) it was. When they differ the mesh may still be of this map (another
+/// build of it: de_cbble's mesh records 816 bytes less than the shared BSP) or of
+/// another one: the areas decide. Where a player settles on the map's floor at (up to
+/// 200 of) their centres, at least [`FIT_AREAS`] of them, the mesh is taken with a
+/// warning (`Ok(Some)`); else `Err` names both files.
+pub fn same_map(
+    mesh: &NavMesh,
+    nav: &std::path::Path,
+    map: &std::path::Path,
+    oracle: &Oracle,
+) -> Result<Option<String>, String> {
+    if mesh.bsp_size == 0 {
+        return Ok(None);
+    }
+    let size = std::fs::metadata(map)
+        .map_err(|e| format!("cannot read map {}: {e}", map.display()))?
+        .len();
+    if size == u64::from(mesh.bsp_size) {
+        return Ok(None);
+    }
+    let fit = fitting_areas(mesh, oracle);
+    let what = format!(
+        "{} records a {}-byte BSP, {} has {} bytes, and a player stands in {:.0} % of its areas",
+        nav.display(),
+        mesh.bsp_size,
+        map.display(),
+        size,
+        100.0 * fit
+    );
+    if fit >= FIT_AREAS {
+        Ok(Some(format!("{what}: another build of the same map?")))
+    } else {
+        Err(format!(
+            "{what}: it was made for another map (give its own map, or --force)"
+        ))
+    }
+}
+
+/// The share of (up to 200, evenly chosen) areas at whose centre a player settles on
+/// the map's floor within 24 units of the area's height.
+fn fitting_areas(mesh: &NavMesh, oracle: &Oracle) -> f64 {
+    let n = mesh.areas.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let picks = n.min(200);
+    let fits = (0..picks)
+        .filter(|&k| {
+            let a = &mesh.areas[k * n / picks];
+            let c = a.center();
+            let crouch = a.flags & NAV_CROUCH != 0;
+            settle(oracle, c[0] as f64, c[1] as f64, c[2] as f64, crouch).is_some_and(|(o, cr)| {
+                let floor = o[2] - above_floor(oracle, cr);
+                (floor - c[2] as f64).abs() <= 24.0
+            })
+        })
+        .count();
+    fits as f64 / picks as f64
+}
 
 /// The floor path through a chain of areas: each centre and the portal to the next.
 pub fn waypoints(mesh: &NavMesh, chain: &[usize]) -> Vec<Waypoint> {

@@ -3,7 +3,8 @@
 //! on the fonts of the machine).
 //!
 //! - `speed.png`: camera speed per frame on one route, every camera on one axis (log
-//!   scale), with a one-second running mean and the player's 96–265 units/s band:
+//!   scale), with a one-second running mean, the player's own speed per frame and its
+//!   96–265 units/s band:
 //!   the thesis' figs. 7.2 and 7.3 side by side;
 //! - `occlusion.png`: per camera, when the target's eye was hidden, when the camera
 //!   was in a wall or clipping it with the near plane, over all routes;
@@ -108,7 +109,7 @@ fn speed(report: &Report, map_name: &str, path: &Path) -> Result<()> {
         .fold(1.0, f64::max);
     png(path, W, H, |root| {
         let title = format!(
-            "{map_name}: camera speed per frame ({}, dt {:.4} s)",
+            "{map_name}: camera and player speed per frame ({}, dt {:.4} s)",
             report.routes.routes[k].name, dt
         );
         let mut chart = ChartBuilder::on(root)
@@ -136,6 +137,25 @@ fn speed(report: &Report, map_name: &str, path: &Path) -> Result<()> {
                 .map_err(err)?
                 .label(format!("player {label} units/s"))
                 .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.mix(0.5)));
+        }
+        // The player's own speed per frame (from its positions): what the cameras
+        // follow, so their speeds read against it.
+        if let Some(c) = report.cameras.first() {
+            let ms = &c.routes[k];
+            let player = ms.windows(2).map(|w| {
+                let d = (0..3)
+                    .map(|i| (w[1].target[i] as f64 - w[0].target[i] as f64).powi(2))
+                    .sum::<f64>()
+                    .sqrt();
+                (w[1].t, (d / dt).max(1.0))
+            });
+            chart
+                .draw_series(LineSeries::new(player, BLACK.stroke_width(2)))
+                .map_err(err)?
+                .label("player (the target) per frame")
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2))
+                });
         }
         let window = (1.0 / dt).round().max(1.0) as usize;
         for (ci, c) in report.cameras.iter().enumerate() {
