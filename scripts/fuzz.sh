@@ -17,7 +17,8 @@
 #   nav             navmesh/fuzz nav_reader: Counter-Strike bot nav meshes
 #   tiling          flowtile-bake/fuzz baked_tiling: baked flow tile files
 #   problem         flowtile-bake/fuzz problem_toml: flow tile problem specs
-#   dem             the GoldSrc demo reader's target, when its fuzz crate exists
+#   dem             demo/fuzz demo_reader: GoldSrc demos (.dem), when that crate exists
+#                   (seed it with SEEDS=../shared/testmaps/demos)
 #
 # Needs cargo-fuzz (`cargo install cargo-fuzz`). On a stable toolchain the
 # nightly flags cargo-fuzz passes are allowed with RUSTC_BOOTSTRAP=1 (set here).
@@ -57,13 +58,11 @@ add nav      navmesh        nav_reader   4096  "navmesh/fuzz/seeds/nav_reader/*.
 add tiling   flowtile-bake  baked_tiling 8192  "flowtile-bake/fuzz/seeds/baked_tiling/*.ftb"
 add problem  flowtile-bake  problem_toml 4096  "testdata/flowtiles/*.toml"
 ALL="bsp compile vdg camera nav tiling problem"
-# The demo reader's target, if its crate is there.
-for d in */fuzz; do
-    if [ -f "$d/fuzz_targets/dem_reader.rs" ]; then
-        add dem "${d%/fuzz}" dem_reader 65536 "testdata/demos/*.dem"
-        ALL="$ALL dem"
-    fi
-done
+# The GoldSrc demo reader's target, if its crate is there.
+if [ -f demo/fuzz/fuzz_targets/demo_reader.rs ]; then
+    add dem demo demo_reader 65536 "demo/fuzz/seeds/demo_reader/*.dem demo/tests/data/*.dem testdata/demos/*.dem"
+    ALL="$ALL dem"
+fi
 [ $# -gt 0 ] && ALL="$*"
 
 status=0

@@ -43,7 +43,7 @@ impl Budget {
     /// The budget of a map of `file_size` bytes at scale `scale` (`--budget`), starting
     /// now; `None` at scale 0 (no budget).
     pub fn for_map(file_size: u64, scale: f64) -> Option<Budget> {
-        if !(scale.is_finite() && scale > 0.0) {
+        if !scale.is_finite() || scale <= 0.0 {
             return None;
         }
         let mb = file_size as f64 / (1u64 << 20) as f64;

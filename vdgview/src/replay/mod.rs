@@ -166,7 +166,7 @@ pub fn load_routes(
         RouteSource::Nav(p) => {
             let mesh = nav::NavMesh::open(p).map_err(anyhow::Error::msg)?;
             match nav::same_map(&mesh, p, map.path, oracle) {
-                Ok(Some(warning)) => eprintln!("vdgview: warning: {warning}"),
+                Ok(Some(warning)) => toolbox::errln!("vdgview: warning: {warning}"),
                 Ok(None) => {}
                 Err(e) => check_source(Err(e), map.force)?,
             }
