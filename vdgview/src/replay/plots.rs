@@ -14,6 +14,7 @@ use super::Report;
 use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 use std::sync::Once;
 
@@ -341,7 +342,11 @@ pub fn summary_chart(
     let width = (W as usize).max(3 * (100 + rows.len() * 95)) as u32;
     png(path, width, 900, |root| {
         let root = root.titled(title, ("sans-serif", 22)).map_err(err)?;
-        let areas = root.split_evenly((2, 3));
+        // One legend for all six panels, in a strip of its own above them: inside a
+        // panel it would cover the bars that reach the top (seen near 100 %).
+        let (strip, panels) = root.split_vertically(LEGEND_STRIP);
+        legend_strip(&strip, &cams)?;
+        let areas = panels.split_evenly((2, 3));
         for (area, (key, label, log)) in areas.iter().zip(PANELS) {
             let vals: Vec<Vec<f64>> = rows
                 .iter()
@@ -401,7 +406,6 @@ pub fn summary_chart(
                     .draw()
                     .map_err(err)?;
                 chart.draw_series(rects(0.1)).map_err(err)?;
-                legend(&mut chart, &cams)?;
             } else {
                 let top = if key == "visible_fraction" {
                     100.0
@@ -421,7 +425,6 @@ pub fn summary_chart(
                     .draw()
                     .map_err(err)?;
                 chart.draw_series(rects(0.0)).map_err(err)?;
-                legend(&mut chart, &cams)?;
             }
         }
         Ok(())
@@ -438,28 +441,87 @@ fn label_style(n: usize) -> TextStyle<'static> {
     }
 }
 
-fn legend<'a, X, Y>(
-    chart: &mut ChartContext<'a, BitMapBackend<'a>, Cartesian2d<X, Y>>,
-    cams: &[String],
-) -> Result<()>
-where
-    X: plotters::coord::ranged1d::Ranged<ValueType = f64>,
-    Y: plotters::coord::ranged1d::Ranged<ValueType = f64>,
-{
-    for (ci, c) in cams.iter().enumerate() {
+/// Height in pixels of the summary chart's legend strip.
+const LEGEND_STRIP: u32 = 30;
+
+/// The summary chart's legend: a swatch and the name of each camera in one row,
+/// centred in `area` (a strip above the panels, so no bar is ever hidden by it).
+fn legend_strip(area: &DrawingArea<BitMapBackend<'_>, Shift>, cams: &[String]) -> Result<()> {
+    let font: TextStyle = ("sans-serif", 14).into_font().into();
+    let widths: Vec<i32> = cams
+        .iter()
+        .map(|c| {
+            area.estimate_text_size(c, &font)
+                .map_or(8 * c.len() as i32, |(w, _)| w as i32)
+        })
+        .collect();
+    // Swatch 14 px, 6 px to its name, 24 px to the next camera.
+    let total: i32 = widths.iter().map(|w| 14 + 6 + w + 24).sum::<i32>() - 24;
+    let (w, h) = area.dim_in_pixel();
+    let mut x = ((w as i32 - total) / 2).max(4);
+    let y = h as i32 / 2;
+    for (ci, (c, tw)) in cams.iter().zip(&widths).enumerate() {
         let col = PALETTE[ci % PALETTE.len()];
-        chart
-            .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())
-            .map_err(err)?
-            .label(c.as_str())
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 14, y + 5)], col.filled()));
+        area.draw(&Rectangle::new([(x, y - 6), (x + 14, y + 6)], col.filled()))
+            .map_err(err)?;
+        area.draw(&Text::new(
+            c.as_str(),
+            (x + 20, y),
+            font.pos(Pos::new(HPos::Left, VPos::Center)),
+        ))
+        .map_err(err)?;
+        x += 14 + 6 + tw + 24;
     }
-    chart
-        .configure_series_labels()
-        .label_font(("sans-serif", 12))
-        .background_style(WHITE.mix(0.6))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()
-        .map_err(err)
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The legend covers no bar: a bar at 100 % keeps its own colour across its whole
+    /// width right up to the top of its panel (a legend inside the panel, at its upper
+    /// right, used to paint over the top of the bars there).
+    #[test]
+    fn the_summary_legend_covers_no_bar() {
+        let dir = toolbox::ScratchDir::new("plots-legend").unwrap();
+        let path = dir.path().join("summary.png");
+        let cam = serde_json::json!({"visible_fraction": 1.0, "frames": 100.0, "seconds": 60.0});
+        let rows = vec![("map".to_string(), vec![("vdg".to_string(), cam)])];
+        summary_chart(&rows, "legend test", &path).unwrap();
+        let decoder =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let (w, h, px) = (
+            info.width as usize,
+            info.height as usize,
+            info.line_size / info.width as usize,
+        );
+        let blue = PALETTE[0];
+        let is_bar = |x: usize, y: usize| {
+            let p = &buf[(y * w + x) * px..];
+            (p[0], p[1], p[2]) == (blue.0, blue.1, blue.2)
+        };
+        // The first panel (upper left third): its bar's columns, found on a row half
+        // way down, must be bar-coloured on every row from the bar's top down.
+        let (pw, y_mid) = (w / 3, h / 4);
+        let columns: Vec<usize> = (0..pw).filter(|&x| is_bar(x, y_mid)).collect();
+        assert!(
+            columns.len() > pw / 3,
+            "no bar found: {} columns",
+            columns.len()
+        );
+        let top = (0..y_mid)
+            .find(|&y| columns.iter().any(|&x| is_bar(x, y)))
+            .unwrap();
+        for y in top..y_mid {
+            let covered = columns.iter().filter(|&&x| !is_bar(x, y)).count();
+            assert_eq!(
+                covered, 0,
+                "row {y}: {covered} of the bar's columns painted over"
+            );
+        }
+    }
 }
