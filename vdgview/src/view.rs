@@ -56,6 +56,17 @@ impl minifb::InputCallback for Typed {
 const NO_WINDOW_HINT: &str = "Without a display (no DISPLAY, ssh, CI), run it under a virtual one: \
 xvfb-run -a vdgview view ...; or write a picture with no window: vdgview view ... --screenshot OUT.png";
 
+/// Puts the view at one pose of a followed route (the recorded camera, looking at its
+/// target, the target marked), keeping the viewer's projection.
+fn show_follow_pose(viewer: &mut Viewer, (eye, look, target): FollowPose) {
+    let projection = viewer.camera.projection;
+    viewer.camera = Camera {
+        projection,
+        ..Camera::look_at(eye.into(), look.into(), 74.0)
+    };
+    viewer.mark = Some(target.into());
+}
+
 /// `view --screenshot`: the first frame (after `exec`; with `follow`, the pose of
 /// frame `frames`) drawn by the same code as the window's, written as a PNG, with no
 /// window and no display.
@@ -66,13 +77,7 @@ pub fn screenshot(mut viewer: Viewer, opts: &ViewOptions, path: &std::path::Path
     }
     if !opts.follow.is_empty() {
         let k = opts.frames.unwrap_or(0) as usize % opts.follow.len();
-        let (eye, look, target) = opts.follow[k];
-        let projection = viewer.camera.projection;
-        viewer.camera = Camera {
-            projection,
-            ..Camera::look_at(eye.into(), look.into(), 74.0)
-        };
-        viewer.mark = Some(target.into());
+        show_follow_pose(&mut viewer, opts.follow[k]);
     }
     viewer.draw(&mut fb, None);
     let png = render::encode_png(&fb.color, fb.width, fb.height)?;
@@ -144,13 +149,7 @@ pub fn run(mut viewer: Viewer, opts: &ViewOptions) -> Result<()> {
             // Play the route in real time, looping.
             let k =
                 (wall_start.elapsed().as_secs_f64() / opts.follow_dt) as usize % opts.follow.len();
-            let (eye, look, target) = opts.follow[k];
-            let projection = viewer.camera.projection;
-            viewer.camera = Camera {
-                projection,
-                ..Camera::look_at(eye.into(), look.into(), 74.0)
-            };
-            viewer.mark = Some(target.into());
+            show_follow_pose(&mut viewer, opts.follow[k]);
         }
         let t = Instant::now();
         viewer.draw(&mut fb, console.as_deref());
