@@ -23,7 +23,7 @@
 # Needs cargo-fuzz (`cargo install cargo-fuzz`). On a stable toolchain the
 # nightly flags cargo-fuzz passes are allowed with RUSTC_BOOTSTRAP=1 (set here).
 # Each target keeps its corpus in <crate>/fuzz/corpus/<target> (created and
-# seeded on the first run from the repository's test data and <crate>/fuzz/seeds;
+# seeded from the repository's test data and <crate>/fuzz/seeds on every run;
 # SEEDS=DIR adds the small files of DIR with the seeds' extension, e.g.
 # SEEDS=../shared/testmaps; the corpora are not kept in git, the seeds are). Crashes land in <crate>/fuzz/artifacts/<target>.
 # NICE (default 10) and JOBS (default 1) keep it polite on a shared machine;
@@ -50,8 +50,8 @@ mkdir -p "$LOGS"
 # (the input cap keeps each execution cheap: the seeds are small maps and files)
 declare -A CRATE TARGET SEED MAXLEN
 add() { CRATE[$1]=$2; TARGET[$1]=$3; MAXLEN[$1]=$4; SEED[$1]=$5; }
-add bsp      bsp            bsp_reader   65536 "testdata/maps/*.bsp"
-add compile  bsp2vdg        bsp_reader   65536 "testdata/maps/*.bsp"
+add bsp      bsp            bsp_reader   65536 "testdata/maps/*.bsp bsp/fuzz/seeds/bsp_reader/*.bsp"
+add compile  bsp2vdg        bsp_reader   65536 "testdata/maps/*.bsp bsp/fuzz/seeds/bsp_reader/*.bsp"
 add vdg      vdgformat      reader       16384 "vdgformat/fuzz/seeds/reader/*.vdg"
 add camera   vdgformat      camera_toml  4096  "vdgformat/fuzz/seeds/camera_toml/*.toml"
 add nav      navmesh        nav_reader   4096  "navmesh/fuzz/seeds/nav_reader/*.nav"
@@ -73,10 +73,9 @@ for name in $ALL; do
     target=${TARGET[$name]}
     corpus="$crate/fuzz/corpus/$target"
     mkdir -p "$corpus" "$crate/fuzz/artifacts/$target"
-    if [ -z "$(ls -A "$corpus")" ]; then
-        # shellcheck disable=SC2086
-        for f in ${SEED[$name]}; do [ -f "$f" ] && cp "$f" "$corpus/"; done
-    fi
+    # The seeds join the corpus on every run (a seed added later is not missed).
+    # shellcheck disable=SC2086
+    for f in ${SEED[$name]}; do [ -f "$f" ] && cp -n "$f" "$corpus/"; done
     extra=()
     if [ -n "${SEEDS:-}" ]; then
         seeds="$LOGS/seeds-$name"

@@ -17,7 +17,6 @@ use clap::{CommandFactory, Parser, ValueEnum};
 use cli::args::usage;
 use cli::priority::{self, Priority};
 use cli::report::{self, Outcome, TerminalBar};
-use rayon::prelude::*;
 use serde_json::json;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -405,10 +404,10 @@ fn run(cli: &Cli) -> Result<bool> {
     }
 
     let results: Vec<(PathBuf, Outcome)> = if batch {
-        cli.maps
-            .par_iter()
-            .map(|m| (m.clone(), build_one(cli, m, verbosity)))
-            .collect()
+        // One map per thread at a time: a batch holds only the maps it is compiling.
+        cli::batch::in_slots(&cli.maps, rayon::current_num_threads(), |m| {
+            (m.clone(), build_one(cli, m, verbosity))
+        })
     } else {
         cli.maps
             .iter()

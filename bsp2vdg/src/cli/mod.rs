@@ -3,6 +3,7 @@
 
 pub mod args;
 pub mod baseline;
+pub mod batch;
 pub mod outputs;
 pub mod priority;
 pub mod report;
