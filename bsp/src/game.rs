@@ -164,8 +164,12 @@ pub fn hull_evidence(bsp: &Bsp) -> HullEvidence {
         return HullEvidence::default();
     };
     let hull1 = tree_heights(bsp, root1, true);
-    let explained =
-        |h: i64, offsets: [f32; 2]| offsets.iter().any(|&o| hull0.contains(&(h - key(o))));
+    let explained = |h: i64, offsets: [f32; 2]| {
+        // A hostile plane's height saturates `key`: no floor is that far below it.
+        offsets
+            .iter()
+            .any(|&o| h.checked_sub(key(o)).is_some_and(|f| hull0.contains(&f)))
+    };
     let mut e = HullEvidence {
         heights: hull1.len(),
         ..Default::default()

@@ -113,3 +113,12 @@ fn with_lump(bytes: &[u8], i: usize, data: &[u8]) -> Vec<u8> {
     out[8 + 8 * i..12 + 8 * i].copy_from_slice(&(data.len() as i32).to_le_bytes());
     out
 }
+
+/// Found by the fuzzer (scripts/fuzz.sh bsp, from the generated box_room): a BSP29 map
+/// whose hull-1 plane lies at a height near f32's limit made the game decision subtract
+/// past i64's range. It must read or fail with an error, never panic.
+#[test]
+fn a_hull_plane_at_a_hostile_height_does_not_panic_the_game_decision() {
+    let bytes = include_bytes!("data/fuzz-hull-height-overflow.bsp");
+    let _ = Bsp::parse(bytes);
+}
