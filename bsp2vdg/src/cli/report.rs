@@ -3,9 +3,10 @@
 
 use bsp2vdg::log::secs;
 use bsp2vdg::pipeline::{CompileError, Stats};
-use bsp2vdg::progress::Progress;
+use bsp2vdg::progress::{CompileClock, Progress, format_left};
 use serde_json::json;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
 /// What became of one map.
 #[derive(Debug)]
@@ -51,6 +52,8 @@ pub fn json_report(map: &Path, outcome: &Outcome, stop_after: &str) -> serde_jso
                 "unusable_examples": s.unusable_examples,
                 "leak": s.leak,
                 "pointfile": s.pointfile.as_ref().map(|p| p.display().to_string()),
+                "missed_places": s.missed_places,
+                "missed_pointfile": s.missed_pointfile.as_ref().map(|p| p.display().to_string()),
                 "file_size": s.file_size,
                 "bounds": [s.bounds.0, s.bounds.1],
                 "faces": s.faces,
@@ -187,14 +190,26 @@ pub fn chart_lines(s: &Stats) -> Vec<String> {
 }
 
 /// An indicatif bar on stderr, for interactive runs: one self-updating line per stage,
-/// as wide as the terminal (`-estimate` fits 80 columns). Log lines printed meanwhile go
-/// through [`TerminalBar::printer`], above the bar.
+/// as wide as the terminal (`-estimate` fits 80 columns). Every stage of the pipeline
+/// shows its line, whether or not it reports progress of its own, with the seconds it has
+/// run (a steady tick keeps them moving). With `-estimate` the line ends with the time
+/// left of the whole compile ([`CompileClock`]: the work done weighed by the stages'
+/// measured shares, smoothed). Log lines printed meanwhile go through
+/// [`TerminalBar::printer`], which hides the bar while the line is printed above it.
 #[derive(Default)]
 pub struct TerminalBar {
-    bar: std::sync::Arc<std::sync::Mutex<Option<indicatif::ProgressBar>>>,
+    bar: Arc<Mutex<Option<indicatif::ProgressBar>>>,
+    clock: Arc<Mutex<CompileClock>>,
+    /// When the running stage began: its bars show the stage's seconds, also after the
+    /// stage's own bar replaced its spinner.
+    stage_began: Mutex<Option<std::time::Instant>>,
     /// Show the estimated time left (`-estimate`).
     estimate: bool,
 }
+
+/// How often the bar is redrawn when no work is reported (the elapsed seconds and the
+/// estimate move on).
+const TICK: std::time::Duration = std::time::Duration::from_millis(250);
 
 impl TerminalBar {
     pub fn new(estimate: bool) -> TerminalBar {
@@ -222,26 +237,104 @@ impl TerminalBar {
             }
         })
     }
+
+    /// The bar's style: the stage, the bar and its percentage (a spinner for a stage that
+    /// reports no progress), the stage's seconds and, with `-estimate`, the compile's
+    /// time left.
+    fn style(&self, counted: bool) -> Option<indicatif::ProgressStyle> {
+        let work = if counted {
+            "[{wide_bar}] {percent:>3}%"
+        } else {
+            "{spinner}"
+        };
+        let template = if self.estimate {
+            format!("{{prefix:>10}} {work} {{elapsed:>4}} {{left}}")
+        } else {
+            format!("{{prefix:>10}} {work} {{elapsed:>4}}")
+        };
+        let clock = self.clock.clone();
+        let left = move |_: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+            let left = clock.lock().ok().and_then(|mut c| c.seconds_left());
+            let _ = w.write_str(&left_text(left));
+        };
+        indicatif::ProgressStyle::with_template(&template)
+            .ok()
+            .map(|s| s.with_key("left", left).progress_chars("=> "))
+    }
+
+    /// Replaces the shown bar by a new one. The previous one is cleared first: two bars
+    /// drawing at once would each redraw the line over the other's.
+    fn show(&self, label: &str, total: Option<u64>) {
+        let Ok(mut shown) = self.bar.lock() else {
+            return;
+        };
+        if let Some(old) = shown.take() {
+            old.finish_and_clear();
+        }
+        let began = self
+            .stage_began
+            .lock()
+            .ok()
+            .and_then(|b| *b)
+            .map_or(std::time::Duration::ZERO, |b| b.elapsed());
+        let bar = indicatif::ProgressBar::new(total.unwrap_or(1).max(1)).with_elapsed(began);
+        if let Some(style) = self.style(total.is_some()) {
+            bar.set_style(style);
+        }
+        bar.set_prefix(label.to_string());
+        bar.enable_steady_tick(TICK);
+        *shown = Some(bar);
+    }
+}
+
+/// The `-estimate` text at the end of the bar (at most 17 characters below 100 hours).
+pub fn left_text(seconds: Option<f64>) -> String {
+    match seconds {
+        Some(s) => format!("~{} left", format_left(s)),
+        None => "estimating".to_string(),
+    }
+}
+
+/// What a stage's line is called.
+pub fn stage_label(stage: &str) -> &str {
+    match stage {
+        "load" => "Loading",
+        "sample" => "Sampling",
+        "delaunay" => "Delaunay",
+        "voronoi" => "Voronoi",
+        "guard" => "Guard",
+        "reduce" => "Reduce",
+        "wall_raise" => "Raise",
+        "check" => "Check",
+        "corner_check" => "Corners",
+        "write" => "Writing",
+        other => other,
+    }
 }
 
 impl Progress for TerminalBar {
+    fn stage(&self, name: &str) {
+        if let Ok(mut c) = self.clock.lock() {
+            c.stage(name);
+        }
+        if let Ok(mut b) = self.stage_began.lock() {
+            *b = Some(std::time::Instant::now());
+        }
+        self.show(stage_label(name), None);
+    }
+
     fn start(&self, label: &str, total: u64) {
-        let bar = indicatif::ProgressBar::new(total);
-        let template = if self.estimate {
-            "{msg:>10} [{wide_bar}] {percent:>3}% {elapsed} (~{eta} left)"
-        } else {
-            "{msg:>10} [{wide_bar}] {percent:>3}% {elapsed}"
-        };
-        if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
-            bar.set_style(style.progress_chars("=> "));
+        // The clock's lock is released before the bar draws (its style reads the clock).
+        if let Ok(mut c) = self.clock.lock() {
+            c.start(total);
         }
-        bar.set_message(label.to_string());
-        if let Ok(mut b) = self.bar.lock() {
-            *b = Some(bar);
-        }
+        self.show(label, Some(total).filter(|&t| t > 1));
     }
 
     fn advance(&self, n: u64) {
+        if let Ok(mut c) = self.clock.lock() {
+            c.advance(n);
+        }
         if let Ok(b) = self.bar.lock()
             && let Some(bar) = b.as_ref()
         {
@@ -250,10 +343,52 @@ impl Progress for TerminalBar {
     }
 
     fn finish(&self) {
-        if let Ok(mut b) = self.bar.lock()
-            && let Some(bar) = b.take()
-        {
+        let bar = self.bar.lock().ok().and_then(|mut b| b.take());
+        if let Some(bar) = bar {
             bar.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The widest [`left_text`] below 100 hours.
+    const LEFT_WIDTH: usize = "~99 h 59 min left".len();
+
+    /// The bar's line at 80 columns: the fixed parts of the `-estimate` template and the
+    /// longest estimate leave the bar at least 20 columns (indicatif shortens the bar,
+    /// never the text, so a longer text would wrap).
+    #[test]
+    fn the_estimate_line_fits_80_columns() {
+        for s in [0.0, 59.4, 3599.0, 359_999.0] {
+            assert!(
+                left_text(Some(s)).len() <= LEFT_WIDTH,
+                "{}",
+                left_text(Some(s))
+            );
+        }
+        assert!(left_text(None).len() <= LEFT_WIDTH);
+        // "{prefix:>10} [{wide_bar}] {percent:>3}% {elapsed:>4} {left}"
+        let longest_label = [
+            "load",
+            "sample",
+            "delaunay",
+            "voronoi",
+            "guard",
+            "reduce",
+            "wall_raise",
+            "check",
+            "corner_check",
+            "write",
+        ]
+        .iter()
+        .map(|s| stage_label(s).len())
+        .max()
+        .unwrap();
+        assert!(longest_label <= 10);
+        let fixed = 10 + " [".len() + "] ".len() + "100%".len() + " 59m 59s".len() + 1;
+        assert!(80 - fixed - LEFT_WIDTH >= 20, "{fixed} + {LEFT_WIDTH}");
     }
 }
