@@ -92,6 +92,8 @@ for opt in "-sd 0" "-sd -4" "-sd nan" "-sd inf" "-rl 2" "-rl nan" "-ms 0" "-ms 1
     try "bsp2vdg $opt" "$B" $opt "$W/box.bsp" -o "$W/x.vdg"
 done
 try "bsp2vdg no map" "$B"
+# No graph: a clear error naming the pointfile it wrote, exit 1.
+try "bsp2vdg -md 100000 (empty graph)" "$B" -nolog -md 100000 "$W/box.bsp" -o "$W/empty.vdg"
 try "bsp2vdg missing map" "$B" "$W/missing.bsp"
 try "bsp2vdg a folder as map" "$B" "$W"
 try "bsp2vdg -o the map itself" "$B" "$W/box.bsp" -o "$W/box.bsp"
@@ -157,6 +159,9 @@ if [ -s "$W/good.ft" ]; then
         try "flowtile-bake render tiling truncated to $cut" "$F" render "$W/t.ft" -o "$W/t.png"
     done
     try "flowtile-bake render to a missing folder" "$F" render "$W/good.ft" -o "$W/no/x.png"
+    for u in 0 -64 nan inf; do
+        try "flowtile-bake render --tile-units $u" "$F" render "$W/good.ft" -o "$W/x.png" --tile-units "$u"
+    done
     timeout 60 bash -c "'$F' info '$W/good.ft' | head -1 >/dev/null; exit \${PIPESTATUS[0]}" 2>"$W/err"; rc=$?
     if grep -q panicked "$W/err" || [ $rc = 101 ]; then verdict "flowtile-bake info | head -1" $rc "$W/err"
     else COUNT[ok]=$((COUNT[ok] + 1)); echo "ok     $rc  flowtile-bake info | head -1"; fi

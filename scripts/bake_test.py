@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
 """Checks of scripts/bake.py that need no Dask cluster: the per-map timeout, the log
-each step returns, the refusal of two maps with one file name, and the progress lines.
+each step returns, the refusal of two maps with one file name, the progress lines (plain
+when piped, one self-rewriting line on a terminal), and a whole bake() on an in-process
+stand-in for the Dask client: one log per map in OUT/NAME.log and a progress report per
+map as it finishes. Run by `cargo test -p bsp2vdg --test bake`.
 
     scripts/bake_test.py [--bsp2vdg PATH]      (default target/release/bsp2vdg)
 
@@ -68,7 +71,72 @@ def main(argv):
     p({"name": "e1m2", "status": "FAILED", "ok": False, "error": "boom", "seconds": 0.1})
     good &= check(out.getvalue() == "[1/2] e1m1 built 1.5 s\n[2/2] e1m2 FAILED: boom 0.1 s\n",
                   "progress lines when piped")
+    tty = Terminal()
+    p = bake.Progress(3, stream=tty)
+    for name in ("e1m1", "e1m2", "e1m3"):
+        p({"name": name, "status": "built", "ok": True, "seconds": 1.0})
+    good &= check(tty.getvalue() == "\r\x1b[K[1/3] e1m1 built 1.0 s\r\x1b[K[2/3] e1m2 built 1.0 s"
+                  "\r\x1b[K[3/3] e1m3 built 1.0 s\n", f"one self-rewriting line on a terminal ({tty.getvalue()!r})")
+    good &= bake_in_process(exe, maps[:2])
     return 0 if good else 1
+
+
+class Terminal(io.StringIO):
+    """A stream that says it is a terminal."""
+
+    def isatty(self):
+        return True
+
+
+class Done:
+    """A finished stand-in for a Dask future."""
+
+    def __init__(self, value):
+        self.value = value
+
+    def result(self):
+        return self.value
+
+
+class InProcessClient:
+    """Runs each submitted step at once, in this process, as a Dask client would on a worker."""
+
+    def submit(self, fn, *args, key=None, pure=None):
+        return Done(fn(*args))
+
+
+def bake_in_process(exe, maps):
+    """bake() with the stand-in client: a log per map beside its graph, progress per map."""
+    import types
+
+    fake = types.ModuleType("dask.distributed")
+    fake.as_completed = iter
+    saved = {k: sys.modules.get(k) for k in ("dask", "dask.distributed")}
+    sys.modules["dask"] = types.ModuleType("dask")
+    sys.modules["dask.distributed"] = fake
+    d = tempfile.mkdtemp(prefix="bake-test-")
+    good = True
+    try:
+        seen = []
+        rows = bake.bake(maps, ["-rl", "1.0"], exe, os.path.join(d, "out"), os.path.join(d, "cache"),
+                         InProcessClient(), on_result=seen.append)
+        names = [os.path.splitext(os.path.basename(m))[0] for m in maps]
+        good &= check([r["name"] for r in seen] == names and all(r["ok"] for r in rows),
+                      f"bake() reports each map as it finishes ({[r.get('status') for r in seen]})")
+        for m, name in zip(maps, names):
+            log = os.path.join(d, "out", name + ".log")
+            text = open(log).read() if os.path.exists(log) else ""
+            good &= check("Loading model" in text and m in text and "{MAP}" not in text,
+                          f"OUT/{name}.log holds the map's compile log, naming the map")
+            good &= check(os.path.getsize(os.path.join(d, "out", name + ".vdg")) > 0, f"OUT/{name}.vdg written")
+    finally:
+        shutil.rmtree(d)
+        for k, v in saved.items():
+            if v is None:
+                sys.modules.pop(k, None)
+            else:
+                sys.modules[k] = v
+    return good
 
 
 if __name__ == "__main__":

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # libvdg's C proof under a memory checker, and its camera timed against the Rust API.
 #
+# 0. Installs libvdg into a temporary prefix and builds a C program against it with
+#    pkg-config alone, shared and static (scripts/libvdg-install-check.sh; no root).
 # 1. Runs the C proof (vdgformat/capi/tests/c_smoke.rs) in the release profile, keeping
 #    the compiled tests/c/smoke.c, the generated complex.vdg, the script and a corrupt
 #    copy in $OUT (the test checks the C output bit for bit against the Rust API).
@@ -18,6 +20,9 @@ REPEAT=${REPEAT:-30}
 ROUNDS=${ROUNDS:-5}
 mkdir -p "$OUT"
 OUT=$(cd "$OUT" && pwd)
+
+echo "== install into a temporary prefix, build with pkg-config" >&2
+scripts/libvdg-install-check.sh
 
 echo "== C proof (release): cargo test -p vdgformat-capi --test c_smoke" >&2
 SMOKE_KEEP="$OUT" nice cargo test --release -q -p vdgformat-capi --test c_smoke >&2

@@ -52,3 +52,28 @@ fn bake_on_a_loopback_cluster_survives_a_killed_worker() {
     assert!(out.contains("killed worker"), "{out}");
     assert!(out.contains("was redone: built"), "{out}");
 }
+
+/// scripts/bake_test.py: bake.py's per-map timeout, its log per map, its progress on a
+/// terminal and in a pipe, and its refusal of two maps with one name, with no cluster (an
+/// in-process stand-in for the Dask client). Needs only python3.
+#[test]
+fn bake_script_keeps_logs_progress_and_timeouts() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    if Command::new("python3").arg("--version").output().is_err() {
+        eprintln!("skipped: no python3 to run scripts/bake_test.py");
+        return;
+    }
+    let o = Command::new("python3")
+        .arg(root.join("scripts/bake_test.py"))
+        .arg("--bsp2vdg")
+        .arg(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .current_dir(&root)
+        .output()
+        .expect("python3 runs");
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && !out.contains("FAILED"),
+        "scripts/bake_test.py failed:\n{out}\n{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}

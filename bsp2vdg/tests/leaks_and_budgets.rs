@@ -74,3 +74,112 @@ fn a_map_over_its_budget_fails_with_the_reason() {
     options.budget = 1.0;
     pipeline::compile(&map, &options, &log, &NoProgress).unwrap();
 }
+
+/// The points of a pointfile (`x y z` per line), which must parse.
+fn pointfile_points(path: &std::path::Path) -> Vec<[f64; 3]> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.lines()
+        .map(|l| {
+            let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            assert_eq!(v.len(), 3, "{l}");
+            [v[0], v[1], v[2]]
+        })
+        .collect()
+}
+
+#[test]
+fn a_map_without_a_graph_gets_a_pointfile_of_its_player_starts() {
+    let dir = tempdir();
+    let map = dir.join("box_room.bsp");
+    let world = worlds::box_room();
+    std::fs::write(&map, mapgen::bsp::write_world(&world)).unwrap();
+    let out = dir.join("box_room.vdg");
+    let mut options = CompileOptions::new(out.clone());
+    // No free space has this much clearance: the graph is empty.
+    options.min_clearance = 1000.0;
+    let log = Log::new(Verbosity::Quiet, true);
+    let err = pipeline::compile(&map, &options, &log, &NoProgress).unwrap_err();
+    let pts = dir.join("box_room.pts");
+    assert!(matches!(err, CompileError::EmptyGraph { .. }), "{err}");
+    assert!(
+        err.to_string()
+            .contains(&format!("pointfile {}", pts.display())),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let mut spawns: Vec<[f64; 3]> = world.spawn_points().to_vec();
+    spawns.dedup();
+    assert_eq!(pointfile_points(&pts), spawns);
+}
+
+#[test]
+fn standing_places_the_graph_misses_are_written_as_a_pointfile() {
+    // two_rooms: a 128-wide, 112-high corridor between two rooms. With -md 60 no
+    // Voronoi vertex of the corridor keeps its clearance, so the graph misses its floor.
+    let dir = tempdir();
+    let map = dir.join("two_rooms.bsp");
+    let bytes = mapgen::bsp::write_world(&worlds::two_rooms());
+    std::fs::write(&map, &bytes).unwrap();
+    let out = dir.join("two_rooms.vdg");
+    let missed_pts = dir.join("two_rooms.missed.pts");
+    let log = Log::new(Verbosity::Quiet, true);
+    let mut options = CompileOptions::new(out.clone());
+    options.min_clearance = 60.0;
+    let stats =
+        pipeline::compile(&map, &options, &log, &NoProgress).unwrap_or_else(|e| panic!("{e}"));
+    let missed = stats.missed_places.expect("the coverage was checked");
+    assert_eq!(
+        stats.missed_pointfile.as_deref(),
+        Some(missed_pts.as_path())
+    );
+    let points = pointfile_points(&missed_pts);
+    assert_eq!(points.len(), missed);
+    let bsp = Bsp::parse(&bytes).unwrap();
+    let oracle = Oracle::new(&bsp, &OracleOptions::default());
+    let file = vdgformat::VdgFile::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
+    let g = file.graph();
+    let in_corridor = |p: [f64; 3]| p[0] > 368.0 && p[0] < 656.0 && p[1] > 128.0 && p[1] < 256.0;
+    for p in &points {
+        // Each is a standing place (to the pointfile's tenth of a unit) (the player hull fits on a floor) outside the volume.
+        assert!(
+            bsp::player::on_floor(&oracle, *p, false),
+            "{p:?} is no standing place"
+        );
+        assert!(
+            !g.contains(p.map(|x| x as f32)),
+            "{p:?} is inside the volume"
+        );
+    }
+    // The largest cluster, first in the file, is the corridor's floor, and most of the
+    // missed places are there.
+    let corridor = points.iter().filter(|p| in_corridor(**p)).count();
+    assert!(in_corridor(points[0]), "{:?}", points[0]);
+    assert!(
+        corridor * 2 > missed,
+        "{corridor} of {missed} in the corridor"
+    );
+    // Every standing place of the corridor is missed (none of its vertices survived).
+    let standing = bsp::player::grid_origins(
+        &oracle,
+        [0.0, 0.0, 0.0],
+        [1024.0, 384.0, 192.0],
+        bsp::player::KEEP_SPACING,
+    );
+    let corridor_places = standing
+        .iter()
+        .filter(|p| in_corridor(**p) && p[0] > 400.0 && p[0] < 620.0);
+    for p in corridor_places {
+        let listed = points
+            .iter()
+            .any(|q| (0..3).all(|i| (q[i] - p[i]).abs() <= 0.06));
+        assert!(listed, "{p:?} in the corridor is not in the pointfile");
+    }
+
+    // At the default -md the graph covers every standing place: no pointfile, and the
+    // earlier one is removed.
+    let stats = pipeline::compile(&map, &CompileOptions::new(out.clone()), &log, &NoProgress)
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(stats.missed_places, Some(0));
+    assert!(stats.missed_pointfile.is_none());
+    assert!(!missed_pts.exists());
+}

@@ -766,7 +766,15 @@ impl Region {
     pub fn picture(&self, width: u32) -> Result<Canvas, crate::world::WorldError> {
         let (lo, hi) = self.bounds();
         let view = View::new(lo, hi, width)?;
-        let (cw, ch) = view.canvas_size();
+        let title = format!(
+            "{}: floor z {:.0} +- {:.0}, {} slots of {:.0} units",
+            self.source,
+            self.floor,
+            self.band,
+            self.open_slots(),
+            self.tile
+        );
+        let (cw, ch) = picture_size(&view, &title);
         let mut c = Canvas::new(cw, ch, [1.0, 1.0, 1.0]);
         self.draw_top_view(&mut c, &view);
         for y in 0..self.height {
@@ -808,44 +816,221 @@ impl Region {
                 }
             }
         }
-        draw_axes(
-            &mut c,
-            &view,
-            &format!(
-                "{}: floor z {:.0} +- {:.0}, {} slots of {:.0} units",
-                self.source,
-                self.floor,
-                self.band,
-                self.open_slots(),
-                self.tile
-            ),
-            None,
-            "units",
-        );
-        let [pw, _] = view.plot_size();
-        let (lx, mut ly) = (view.left + pw + 8.0, view.top);
-        for (col, label) in [
-            ([0.6f32, 0.6, 0.58], "floor"),
-            ([0.86, 0.84, 0.80], "other lvl"),
-            ([0.18, 0.18, 0.2], "no floor"),
-            ([0.45, 0.6, 0.9], "open slot"),
-            ([0.85, 0.2, 0.1], "source"),
-            ([0.1, 0.6, 0.2], "sink"),
-        ] {
+        draw_axes(&mut c, &view, &title, None, "units");
+        let [lx, mut ly, _, _] = legend_box(&view);
+        for (col, label) in LEGEND {
             c.fill_rect(lx, ly, lx + 10.0, ly + 10.0, col, 1.0);
             c.text(lx + 14.0, ly + 1.0, label, [0.15, 0.15, 0.18]);
             ly += 16.0;
         }
-        c.text(lx, ly + 4.0, "arrow:", [0.15, 0.15, 0.18]);
-        c.text(lx, ly + 14.0, "designed", [0.15, 0.15, 0.18]);
-        c.text(lx, ly + 24.0, "direction", [0.15, 0.15, 0.18]);
+        for (k, line) in LEGEND_ARROW.iter().enumerate() {
+            c.text(lx, ly + 4.0 + 10.0 * k as f64, line, [0.15, 0.15, 0.18]);
+        }
         Ok(c)
+    }
+}
+
+/// The region picture's legend: colour and label per row.
+const LEGEND: [([f32; 3], &str); 6] = [
+    ([0.6, 0.6, 0.58], "floor"),
+    ([0.86, 0.84, 0.80], "other lvl"),
+    ([0.18, 0.18, 0.2], "no floor"),
+    ([0.45, 0.6, 0.9], "open slot"),
+    ([0.85, 0.2, 0.1], "source"),
+    ([0.1, 0.6, 0.2], "sink"),
+];
+/// The legend's last rows: what the arrows are.
+const LEGEND_ARROW: [&str; 3] = ["arrow:", "designed", "direction"];
+
+/// The legend's box `[left, top, right, bottom]` in pixels: right of the plot, from its
+/// top.
+fn legend_box(view: &View) -> [f64; 4] {
+    let [pw, _] = view.plot_size();
+    let (l, t) = (view.left + pw + 8.0, view.top);
+    let widest = LEGEND
+        .iter()
+        .map(|(_, label)| 14 + 8 * label.len())
+        .chain(LEGEND_ARROW.iter().map(|line| 8 * line.len()))
+        .max()
+        .unwrap_or(0) as f64;
+    let rows = 16.0 * LEGEND.len() as f64 + 4.0 + 10.0 * LEGEND_ARROW.len() as f64;
+    [l, t, l + widest, t + rows]
+}
+
+/// The picture's size: the view's, grown to hold the legend (a wide, flat region's plot
+/// is lower than the legend) and the title (8 pixels a character, from 40 pixels right
+/// of the plot's left edge).
+fn picture_size(view: &View, title: &str) -> (u32, u32) {
+    let (w, h) = view.canvas_size();
+    let [_, _, right, bottom] = legend_box(view);
+    let title_right = view.left + 40.0 + 8.0 * title.len() as f64;
+    let w = (w as f64).max(right + 8.0).max(title_right + 8.0);
+    let h = (h as f64).max(bottom + 8.0);
+    (w.ceil() as u32, h.ceil() as u32)
+}
+
+/// Sources and sinks that the open slots do not connect (4-neighbour steps): the flow
+/// from such a source reaches no sink, and its slots get no designed direction.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Unconnected {
+    /// Sources from which no sink can be reached (or on no open slot).
+    pub sources: Vec<[f64; 3]>,
+    /// Sinks that no source reaches (or on no open slot).
+    pub sinks: Vec<[f64; 3]>,
+}
+
+impl Unconnected {
+    pub fn is_empty(&self) -> bool {
+        self.sources.is_empty() && self.sinks.is_empty()
+    }
+}
+
+impl Region {
+    /// The open slots' connected parts: a part number per slot (`u32::MAX` for closed).
+    fn parts(&self) -> Vec<u32> {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let mut part = vec![u32::MAX; self.open.len()];
+        let mut next = 0;
+        for start in 0..self.open.len() {
+            if !self.open[start] || part[start] != u32::MAX {
+                continue;
+            }
+            part[start] = next;
+            let mut stack = vec![start];
+            while let Some(k) = stack.pop() {
+                let (x, y) = (k as i64 % w, k as i64 / w);
+                for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if (0..w).contains(&nx) && (0..h).contains(&ny) {
+                        let n = (ny * w + nx) as usize;
+                        if self.open[n] && part[n] == u32::MAX {
+                            part[n] = next;
+                            stack.push(n);
+                        }
+                    }
+                }
+            }
+            next += 1;
+        }
+        part
+    }
+
+    /// The sources and sinks the open slots do not connect (see [`Unconnected`]); empty
+    /// when the region has no sources or no sinks (the flow then follows the ones it has).
+    pub fn unconnected(&self) -> Unconnected {
+        if self.sources.is_empty() || self.sinks.is_empty() {
+            return Unconnected::default();
+        }
+        let part = self.parts();
+        let part_of = |p: &[f64; 3]| {
+            self.slot_of(p[0], p[1])
+                .map(|(x, y)| part[(y * self.width + x) as usize])
+                .filter(|&k| k != u32::MAX)
+        };
+        let sink_parts: Vec<u32> = self.sinks.iter().filter_map(part_of).collect();
+        let source_parts: Vec<u32> = self.sources.iter().filter_map(part_of).collect();
+        let cut = |points: &[[f64; 3]], others: &[u32]| {
+            points
+                .iter()
+                .filter(|p| part_of(p).is_none_or(|k| !others.contains(&k)))
+                .copied()
+                .collect()
+        };
+        Unconnected {
+            sources: cut(&self.sources, &sink_parts),
+            sinks: cut(&self.sinks, &source_parts),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A region by hand: `rows` of `#` (open) and `.` (closed), top row first, slots
+    /// of 64 units from the origin.
+    fn region(rows: &[&str], sources: Vec<[f64; 3]>, sinks: Vec<[f64; 3]>) -> Region {
+        let (width, height) = (rows[0].len() as u32, rows.len() as u32);
+        let open: Vec<bool> = rows
+            .iter()
+            .rev()
+            .flat_map(|r| r.chars().map(|c| c == '#'))
+            .collect();
+        let per_slot = 2;
+        let ground = vec![0.0f32; (width * height * per_slot * per_slot) as usize];
+        let mut r = Region {
+            origin: [0.0, 0.0],
+            tile: 64.0,
+            width,
+            height,
+            open,
+            floor: 0.0,
+            band: 48.0,
+            per_slot,
+            ground,
+            sources,
+            sinks,
+            directions: Vec::new(),
+            strength: 4.0,
+            source: "generated.bsp".into(),
+            floors_from: "hand".into(),
+        };
+        r.directions = r.sink_directions();
+        r
+    }
+
+    #[test]
+    fn sources_and_sinks_in_separate_parts_are_unconnected() {
+        // Two parts: slots 0–1 and 3–5 of one row; a source in each, a sink in the second.
+        let r = region(
+            &["##.###"],
+            vec![[32.0, 32.0, 0.0], [224.0, 32.0, 0.0]],
+            vec![[352.0, 32.0, 0.0]],
+        );
+        let u = r.unconnected();
+        assert_eq!(u.sources, vec![[32.0, 32.0, 0.0]]);
+        assert!(u.sinks.is_empty());
+        // Joined, every source reaches the sink.
+        let joined = region(&["######"], r.sources.clone(), r.sinks.clone());
+        assert!(joined.unconnected().is_empty());
+        // A sink that no source reaches.
+        let lone = region(
+            &["##.###"],
+            vec![[32.0, 32.0, 0.0]],
+            vec![[352.0, 32.0, 0.0]],
+        );
+        assert_eq!(lone.unconnected().sinks, vec![[352.0, 32.0, 0.0]]);
+    }
+
+    /// The legend lies inside the picture and off the plot, also for a region much wider
+    /// than high (whose plot is lower than the legend is long), and the title fits.
+    #[test]
+    fn the_region_legend_is_inside_the_picture_and_off_the_plot() {
+        for rows in [vec!["#".repeat(40)], vec!["######".to_string(); 20]] {
+            let rows: Vec<&str> = rows.iter().map(|s| s.as_ref()).collect();
+            let r = region(&rows, vec![], vec![]);
+            for width in [200, 800] {
+                let c = r.picture(width).unwrap();
+                let (lo, hi) = r.bounds();
+                let view = View::new(lo, hi, width).unwrap();
+                let [l, t, rt, b] = legend_box(&view);
+                assert!(
+                    l >= 0.0 && t >= 0.0 && rt <= c.width() as f64 && b <= c.height() as f64,
+                    "legend {:?} outside the {}x{} picture",
+                    [l, t, rt, b],
+                    c.width(),
+                    c.height()
+                );
+                let [pw, ph] = view.plot_size();
+                let plot = [view.left, view.top, view.left + pw, view.top + ph];
+                assert!(
+                    l >= plot[2] || rt <= plot[0] || t >= plot[3] || b <= plot[1],
+                    "legend {:?} covers the plot {plot:?}",
+                    [l, t, rt, b]
+                );
+            }
+        }
+    }
 
     /// The nav mesh's floors against the map's own hulls (the ground truth of
     /// where a player stands) on the shared Counter-Strike maps: most slots

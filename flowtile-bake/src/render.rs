@@ -1,5 +1,9 @@
 //! Pictures of baked tilings: arrows, streamlines or particle trails over the
-//! flow, blocked slots shaded, tile seams optional, written as PNG.
+//! flow, blocked slots shaded, tile seams optional, written as PNG. Arrowheads show
+//! which way the flow goes (on every arrow, along each streamline, at each particle's
+//! head); a legend strip under the tiling says what the colours mean (speed, with its
+//! scale and units), what the grey hatch is, and carries a scale bar (in map units with
+//! `tile_units`, else in tiles).
 
 use std::fmt;
 use std::path::Path;
@@ -34,6 +38,10 @@ pub struct RenderOptions {
     pub steps: usize,
     /// Seed for seeds and particles.
     pub seed: u64,
+    /// Draw the legend strip under the tiling.
+    pub legend: bool,
+    /// Map units per tile side, for the scale bar and the speed's units; `None`: tiles.
+    pub tile_units: Option<f64>,
 }
 
 impl Default for RenderOptions {
@@ -45,6 +53,8 @@ impl Default for RenderOptions {
             particles: 600,
             steps: 400,
             seed: 1,
+            legend: true,
+            tile_units: None,
         }
     }
 }
@@ -209,15 +219,39 @@ pub fn ramp(t: f64) -> [f32; 3] {
 const BACKGROUND: [f32; 3] = [0.97, 0.97, 0.95];
 const BLOCKED: [f32; 3] = [0.42, 0.42, 0.44];
 const SEAM: [f32; 3] = [0.55, 0.58, 0.68];
+const INK: [f32; 3] = [0.15, 0.15, 0.18];
+
+/// Height of the legend strip under the tiling (pixels).
+pub const LEGEND_HEIGHT: u32 = 60;
+/// The picture is at least this wide when it has a legend, so the legend fits.
+pub const LEGEND_WIDTH: u32 = 400;
+
+/// The picture's size and the tiling's part of it (pixels): `(width, height, plot
+/// width, plot height)`; the legend strip lies below the plot, across the picture.
+pub fn picture_size(baked: &BakedTiling, opt: &RenderOptions) -> Result<[u64; 4], RenderError> {
+    let ppt = opt.px_per_tile as u64;
+    let (w, h) = (baked.width as u64 * ppt, baked.height as u64 * ppt);
+    let (cw, ch) = if opt.legend {
+        (w.max(LEGEND_WIDTH as u64), h + LEGEND_HEIGHT as u64)
+    } else {
+        (w, h)
+    };
+    if w == 0 || h == 0 || cw > MAX_PX || ch > MAX_PX {
+        return Err(RenderError::Size(cw, ch));
+    }
+    Ok([cw, ch, w, h])
+}
 
 /// Renders `baked` to a PNG image in memory.
 pub fn render(baked: &BakedTiling, opt: &RenderOptions) -> Result<Vec<u8>, RenderError> {
+    render_canvas(baked, opt)?.to_png()
+}
+
+/// Renders `baked` to a canvas.
+pub fn render_canvas(baked: &BakedTiling, opt: &RenderOptions) -> Result<Canvas, RenderError> {
+    let [cw, ch, w, h] = picture_size(baked, opt)?;
     let ppt = opt.px_per_tile as u64;
-    let (w, h) = (baked.width as u64 * ppt, baked.height as u64 * ppt);
-    if w == 0 || h == 0 || w > MAX_PX || h > MAX_PX {
-        return Err(RenderError::Size(w, h));
-    }
-    let mut c = Canvas::new(w as u32, h as u32, BACKGROUND);
+    let mut c = Canvas::new(cw as u32, ch as u32, BACKGROUND);
     let s = ppt as f64;
     let to_px = |u: f64, v: f64| (u * s, (baked.height as f64 - v) * s);
     // Blocked slots: solid with a light hatch.
@@ -225,19 +259,7 @@ pub fn render(baked: &BakedTiling, opt: &RenderOptions) -> Result<Vec<u8>, Rende
         for x in 0..baked.width {
             if baked.tile_at(x, y).is_none() {
                 let (px, py) = to_px(x as f64, y as f64 + 1.0);
-                c.fill_rect(px, py, px + s, py + s, BLOCKED, 1.0);
-                let mut k = 0.0;
-                while k < 2.0 * s {
-                    c.line(
-                        px + k.min(s),
-                        py + (k - s).max(0.0),
-                        px + (k - s).max(0.0),
-                        py + k.min(s),
-                        [0.55; 3],
-                        0.6,
-                    );
-                    k += (s / 6.0).max(3.0);
-                }
+                hatch(&mut c, px, py, s, s);
             }
         }
     }
@@ -255,10 +277,144 @@ pub fn render(baked: &BakedTiling, opt: &RenderOptions) -> Result<Vec<u8>, Rende
     let mut rng = Rng::new(opt.seed);
     match opt.style {
         Style::Arrows => draw_arrows(&mut c, baked, s, vmax),
-        Style::Streamlines => draw_streamlines(&mut c, baked, s, vmax, &mut rng),
+        Style::Streamlines => {
+            draw_streamlines(&mut c, baked, s, vmax, &mut rng);
+        }
         Style::Particles => draw_particles(&mut c, baked, s, vmax, opt, &mut rng),
     }
-    c.to_png()
+    if opt.legend {
+        draw_legend(&mut c, h as f64, s, vmax, opt);
+    }
+    Ok(c)
+}
+
+/// A blocked slot: grey with a light hatch.
+fn hatch(c: &mut Canvas, px: f64, py: f64, sw: f64, sh: f64) {
+    c.fill_rect(px, py, px + sw, py + sh, BLOCKED, 1.0);
+    let mut k = 0.0;
+    let step = (sw.min(sh) / 6.0).max(3.0);
+    while k < sw + sh {
+        let (a, b) = ((k).min(sw), (k - sw).max(0.0));
+        let (d, e) = ((k - sh).max(0.0), k.min(sh));
+        c.line(px + a, py + b, px + d, py + e, [0.55; 3], 0.6);
+        k += step;
+    }
+}
+
+/// An arrowhead with its tip at `(x, y)` pointing along the unit pixel direction
+/// `(dx, dy)`, `size` pixels long.
+fn arrowhead(
+    c: &mut Canvas,
+    (x, y): (f64, f64),
+    (dx, dy): (f64, f64),
+    size: f64,
+    col: [f32; 3],
+    a: f32,
+) {
+    for side in [-1.0, 1.0] {
+        let (hx, hy) = (-dx * 0.87 - side * dy * 0.5, -dy * 0.87 + side * dx * 0.5);
+        c.line(x, y, x + hx * size, y + hy * size, col, a);
+    }
+}
+
+/// A "nice" length (1, 2 or 5 × 10^k) at most `raw`.
+fn nice_below(raw: f64) -> f64 {
+    let p = 10f64.powf(raw.log10().floor());
+    [5.0, 2.0, 1.0]
+        .iter()
+        .map(|m| m * p)
+        .find(|&l| l <= raw)
+        .unwrap_or(p)
+}
+
+/// A number with two significant digits (the speed scale's end).
+fn two_digits(x: f64) -> String {
+    if x >= 10.0 {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{x:.1}")
+    } else {
+        let digits = (-x.log10().floor()) as usize + 1;
+        format!("{x:.digits$}")
+    }
+}
+
+/// The legend strip under the plot (which is `plot_h` pixels high): the speed colour
+/// bar with its range and units, the blocked slot's hatch, the tile seam, a scale bar
+/// and the arrow of the flow's direction.
+fn draw_legend(c: &mut Canvas, plot_h: f64, s: f64, vmax: f64, opt: &RenderOptions) {
+    let y0 = plot_h;
+    c.fill_rect(
+        0.0,
+        y0,
+        c.width() as f64,
+        c.height() as f64,
+        BACKGROUND,
+        1.0,
+    );
+    c.line(0.0, y0 + 0.5, c.width() as f64, y0 + 0.5, INK, 0.8);
+    let (unit, per_tile) = match opt.tile_units {
+        Some(u) if u.is_finite() && u > 0.0 => ("units", u),
+        _ => ("tiles", 1.0),
+    };
+    // Row 1: speed colour bar (particles: what their colours are), blocked slot, seam.
+    let (bx, by, bw) = (8.0, y0 + 17.0, 128.0);
+    let top = if opt.style == Style::Particles {
+        c.text(8.0, y0 + 6.0, "trail: one colour per particle,", INK);
+        c.text(8.0, y0 + 17.0, "fading into its past", INK);
+        String::new()
+    } else {
+        c.text(8.0, y0 + 6.0, &format!("speed ({unit}/s)"), INK);
+        for i in 0..bw as i64 {
+            let x = bx + i as f64;
+            c.fill_rect(x, by, x + 1.0, by + 8.0, ramp(i as f64 / bw), 1.0);
+        }
+        let top = two_digits(vmax * per_tile);
+        c.text(bx + bw + 4.0, by, &top, INK);
+        c.text(bx, by + 10.0, "0", INK);
+        top
+    };
+    let lx = if opt.style == Style::Particles {
+        8.0 + 8.0 * 32.0
+    } else {
+        bx + bw + 12.0 + 8.0 * top.len() as f64
+    };
+    hatch(c, lx, by - 2.0, 12.0, 12.0);
+    c.text(lx + 16.0, by, "blocked", INK);
+    if opt.seams {
+        let sx = lx + 16.0 + 8.0 * 8.0 + 4.0;
+        c.line(sx, by + 4.0, sx + 14.0, by + 4.0, SEAM, 1.0);
+        c.text(sx + 18.0, by, "seam", INK);
+    }
+    // Row 2: scale bar, flow arrow.
+    let ry = y0 + 44.0;
+    let units_per_px = per_tile / s;
+    let length = nice_below(110.0 * units_per_px);
+    let px = length / units_per_px;
+    c.line(8.0, ry, 8.0 + px, ry, INK, 1.0);
+    for x in [8.0, 8.0 + px] {
+        c.line(x, ry - 4.0, x, ry + 4.0, INK, 1.0);
+    }
+    let label = if unit == "tiles" && length == 1.0 {
+        "1 tile".to_string()
+    } else {
+        format!("{} {unit}", format_length(length))
+    };
+    c.text(8.0 + px + 6.0, ry - 4.0, &label, INK);
+    let ax = 8.0 + 110.0 + 6.0 + 8.0 * 12.0 + 12.0;
+    c.line(ax, ry, ax + 26.0, ry, ramp(0.6), 1.0);
+    arrowhead(c, (ax + 26.0, ry), (1.0, 0.0), 6.0, ramp(0.6), 1.0);
+    c.text(ax + 34.0, ry - 4.0, "flow direction", INK);
+}
+
+/// A scale bar's length as written: no decimals unless it is below one.
+fn format_length(x: f64) -> String {
+    if x >= 1.0 {
+        format!("{x:.0}")
+    } else {
+        let digits = (-x.log10().floor()) as usize;
+        format!("{x:.digits$}")
+    }
 }
 
 /// Renders and writes atomically to `path`.
@@ -304,11 +460,7 @@ fn draw_arrows(c: &mut Canvas, b: &BakedTiling, s: f64, vmax: f64) {
                     let (x1, y1) = (cx + dx * len / 2.0, cy + dy * len / 2.0);
                     let col = ramp(speed / vmax);
                     c.line(x0, y0, x1, y1, col, 1.0);
-                    let head = (len * 0.35).min(6.0);
-                    for side in [-1.0, 1.0] {
-                        let (hx, hy) = (-dx * 0.87 - side * dy * 0.5, -dy * 0.87 + side * dx * 0.5);
-                        c.line(x1, y1, x1 + hx * head, y1 + hy * head, col, 1.0);
-                    }
+                    arrowhead(c, (x1, y1), (dx, dy), (len * 0.35).min(6.0), col, 1.0);
                 } else {
                     c.fill_rect(
                         u * s - 0.5,
@@ -342,10 +494,20 @@ fn direction_step(b: &BakedTiling, p: [f64; 2], h: f64) -> Option<[f64; 2]> {
     Some([p[0] + v1[0] / s1 * h, p[1] + v1[1] / s1 * h])
 }
 
-fn draw_streamlines(c: &mut Canvas, b: &BakedTiling, s: f64, vmax: f64, rng: &mut Rng) {
+/// Streamlines from jittered seeds, each traced both ways from its seed; an arrowhead
+/// sits on the downstream half of each, where it has gone a third of its length.
+/// Returns the arrowheads (pixel tip and unit pixel direction).
+fn draw_streamlines(
+    c: &mut Canvas,
+    b: &BakedTiling,
+    s: f64,
+    vmax: f64,
+    rng: &mut Rng,
+) -> Vec<((f64, f64), (f64, f64))> {
     let spacing = (10.0 / s).max(0.08); // tile units between seeds
     let h = 0.3 / b.set.n as f64;
     let steps = (1.2 / h) as usize;
+    let mut heads = Vec::new();
     let mut v = 0.0;
     while v < b.height as f64 {
         let mut u = 0.0;
@@ -373,12 +535,20 @@ fn draw_streamlines(c: &mut Canvas, b: &BakedTiling, s: f64, vmax: f64, rng: &mu
                     let (x0, y0) = (p[0] * s, (b.height as f64 - p[1]) * s);
                     let (x1, y1) = (q[0] * s, (b.height as f64 - q[1]) * s);
                     c.line(x0, y0, x1, y1, ramp(speed), 0.55 * fade);
+                    if dir > 0.0 && k == steps / 3 && speed > 0.0 {
+                        // Along the flow at the tip (pixel y points down).
+                        let n = vel[0].hypot(vel[1]);
+                        let d = (vel[0] / n, -vel[1] / n);
+                        arrowhead(c, (x1, y1), d, 4.0, ramp(speed), 0.9);
+                        heads.push(((x1, y1), d));
+                    }
                     p = wrap(b, q);
                 }
             }
         }
         v += spacing;
     }
+    heads
 }
 
 /// Wraps a point back into a periodic grid.
@@ -442,9 +612,22 @@ fn draw_particles(
             );
             p = wrap(b, q);
         }
-        // The particle itself: a small leaf / head.
+        // The particle itself: an arrowhead the way it last moved (a dot if it did not).
         let (x, y) = (p[0] * s, (hgt - p[1]) * s);
-        c.fill_rect(x - 1.5, y - 1.5, x + 1.5, y + 1.5, [0.1, 0.1, 0.1], 0.9);
+        let v = b.velocity(p[0], p[1]);
+        let speed = v[0].hypot(v[1]);
+        if speed > 1e-9 {
+            arrowhead(
+                c,
+                (x, y),
+                (v[0] / speed, -v[1] / speed),
+                4.0,
+                [0.1, 0.1, 0.1],
+                0.95,
+            );
+        } else {
+            c.fill_rect(x - 1.5, y - 1.5, x + 1.5, y + 1.5, [0.1, 0.1, 0.1], 0.9);
+        }
     }
 }
 
@@ -472,6 +655,7 @@ mod tests {
                 style,
                 particles: 30,
                 steps: 50,
+                legend: false,
                 ..Default::default()
             };
             let a = render(&b, &opt).unwrap();
@@ -486,6 +670,80 @@ mod tests {
             // Pixel near the centre of slot (1, 1): image row 36, column 36.
             let px = &buf[(36 * 96 + 33) * 3..][..3];
             assert!(px[0] < 180, "blocked slot not shaded: {px:?}");
+        }
+    }
+
+    /// The legend strip lies under the tiling, inside the picture, and the tiling's
+    /// pixels are those of the picture without a legend.
+    #[test]
+    fn the_legend_lies_under_the_tiling() {
+        let b = baked();
+        for (px, units) in [(24, None), (48, Some(64.0)), (160, Some(128.0))] {
+            let opt = RenderOptions {
+                px_per_tile: px,
+                tile_units: units,
+                ..Default::default()
+            };
+            let [cw, ch, w, h] = picture_size(&b, &opt).unwrap();
+            assert_eq!(ch, h + LEGEND_HEIGHT as u64);
+            assert!(cw >= LEGEND_WIDTH as u64 && cw >= w);
+            let with = render_canvas(&b, &opt).unwrap();
+            let without = render_canvas(
+                &b,
+                &RenderOptions {
+                    legend: false,
+                    ..opt.clone()
+                },
+            )
+            .unwrap();
+            let (a, z) = (with.to_rgb8(), without.to_rgb8());
+            for y in 0..h as usize {
+                let row =
+                    |img: &[u8], width: usize| img[y * width * 3..][..w as usize * 3].to_vec();
+                assert!(
+                    row(&a, cw as usize) == row(&z, w as usize),
+                    "row {y} of the tiling differs"
+                );
+            }
+            // Something is drawn in the strip: ink in both of its rows.
+            let dark = |y0: usize, y1: usize| {
+                (y0..y1).any(|y| (0..cw as usize).any(|x| a[(y * cw as usize + x) * 3] < 90))
+            };
+            assert!(dark(h as usize + 2, h as usize + 30) && dark(h as usize + 32, ch as usize));
+        }
+    }
+
+    /// The scale bar's length is a round number of map units (or tiles), 40 to 110 px.
+    #[test]
+    fn the_scale_bar_is_round() {
+        assert_eq!(nice_below(110.0 * 64.0 / 48.0), 100.0);
+        assert_eq!(nice_below(110.0 / 48.0), 2.0);
+        assert_eq!(nice_below(110.0 * 128.0 / 160.0), 50.0);
+        for raw in [0.3, 1.7, 23.0, 999.0] {
+            let l = nice_below(raw);
+            assert!(l <= raw && l > raw / 2.6, "{raw} -> {l}");
+        }
+        assert_eq!(two_digits(0.0123), "0.012");
+        assert_eq!(format_length(0.5), "0.5");
+    }
+
+    /// Every streamline's arrowhead points the way the flow goes at its tip.
+    #[test]
+    fn streamline_arrowheads_point_downstream() {
+        let b = baked();
+        let s = 48.0;
+        let mut c = Canvas::new(4 * 48, 3 * 48, BACKGROUND);
+        let vmax = max_speed(&b);
+        let heads = draw_streamlines(&mut c, &b, s, vmax, &mut Rng::new(1));
+        assert!(heads.len() > 20, "{} arrowheads", heads.len());
+        for ((x, y), (dx, dy)) in heads {
+            let v = b.velocity(x / s, b.height as f64 - y / s);
+            let speed = v[0].hypot(v[1]);
+            let along = (dx * v[0] - dy * v[1]) / speed;
+            assert!(
+                along > 0.9,
+                "head at ({x:.1}, {y:.1}) points {along:.2} along the flow"
+            );
         }
     }
 

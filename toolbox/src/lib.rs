@@ -6,12 +6,13 @@
 //! runtime crate `vdgformat` can use it as well as the compiler and the viewers.
 //! Tests and examples take their scratch folders from [`ScratchDir`], which removes
 //! them when they are done. The [`console`] macros print without ever panicking on a
-//! closed pipe or a full disk.
+//! closed pipe or a full disk. [`table`] lays out text tables whose columns line up.
 
 mod atomic;
 pub mod console;
 mod rng;
 mod scratch;
+pub mod table;
 
 pub mod vec3;
 pub use atomic::{clean_stale_temps, temp_path, write_atomic, write_bytes_atomic};

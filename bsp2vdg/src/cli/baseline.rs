@@ -19,6 +19,7 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use toolbox::table::{self, Align};
 use vdgcheck::{CheckOptions, check};
 
 /// How far a figure may move before it is a regression. Defaults are documented in the
@@ -262,37 +263,49 @@ pub fn update(run: &Run) -> Result<bool> {
             json!({ "baseline": run.dir.display().to_string(), "maps": rows })
         );
     } else {
-        toolbox::outln!(
-            "{:<28} {:>9} {:>9} {:>10} {:>8} {:>9}  baseline",
-            "map",
-            "vertices",
-            "faces",
-            "bytes",
-            "seconds",
-            "coverage"
-        );
-        for r in &rows {
-            let s = &r["stats"];
-            if r["ok"] == true {
-                toolbox::outln!(
-                    "{:<28} {:>9} {:>9} {:>10} {:>8.2} {:>9.4}  stored",
-                    r["map"].as_str().unwrap_or(""),
-                    s["vertices"],
-                    s["faces"],
-                    s["bytes"],
-                    s["seconds"].as_f64().unwrap_or(0.0),
-                    s["check"]["coverage"].as_f64().unwrap_or(f64::NAN),
-                );
-            } else {
-                toolbox::outln!(
-                    "{:<28} FAILED: {}",
-                    r["map"].as_str().unwrap_or(""),
-                    r["error"].as_str().unwrap_or("")
-                );
-            }
+        for line in stored_lines(&rows) {
+            toolbox::outln!("{line}");
         }
     }
     Ok(ok)
+}
+
+/// The table of `--update-baseline`: a row per map stored (or failed), its columns as
+/// wide as their widest cell.
+fn stored_lines(rows: &[Value]) -> Vec<String> {
+    let cells = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<String>>();
+    let mut table = vec![cells(&[
+        "map",
+        "vertices",
+        "faces",
+        "bytes",
+        "seconds",
+        "coverage",
+        " baseline",
+    ])];
+    for r in rows {
+        let map = r["map"].as_str().unwrap_or("").to_string();
+        let s = &r["stats"];
+        table.push(if r["ok"] == true {
+            vec![
+                map,
+                s["vertices"].to_string(),
+                s["faces"].to_string(),
+                s["bytes"].to_string(),
+                format!("{:.2}", s["seconds"].as_f64().unwrap_or(0.0)),
+                format!("{:.4}", s["check"]["coverage"].as_f64().unwrap_or(f64::NAN)),
+                " stored".into(),
+            ]
+        } else {
+            vec![
+                map,
+                format!("FAILED: {}", r["error"].as_str().unwrap_or("")),
+            ]
+        });
+    }
+    let mut aligns = vec![Align::Left];
+    aligns.extend([Align::Right; 5]);
+    table::lines(&table, &aligns, 1)
 }
 
 /// One compared figure.
@@ -520,53 +533,47 @@ fn option_changes(base: &Value, cur: &Value) -> Vec<String> {
 }
 
 fn print_table(reports: &[Value]) {
-    // Columns as wide as their longest entry, so long map names keep them aligned.
-    let map_w = reports
-        .iter()
-        .map(|r| r["map"].as_str().unwrap_or("").chars().count())
-        .chain([3])
-        .max()
-        .unwrap_or(3);
-    let fig_w = reports
-        .iter()
-        .flat_map(|r| r["figures"].as_array().into_iter().flatten())
-        .map(|f| f["name"].as_str().unwrap_or("").chars().count())
-        .chain([9])
-        .max()
-        .unwrap_or(9);
-    toolbox::outln!(
-        "{:<map_w$} {:<fig_w$} {:>14} {:>14} {:>9} {:>8}  verdict",
-        "map",
-        "figure",
-        "baseline",
-        "current",
-        "change",
-        "tol"
-    );
+    for line in compare_lines(reports) {
+        toolbox::outln!("{line}");
+    }
+}
+
+/// The table of `--baseline`: a row per compared figure (or per map whose graph is
+/// identical, or that failed), option differences, and the count; its columns as wide
+/// as their widest cell (long map and figure names, large numbers).
+fn compare_lines(reports: &[Value]) -> Vec<String> {
+    let cells = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<String>>();
+    let mut table = vec![cells(&[
+        "map", "figure", "baseline", "current", "change", "tol", " verdict",
+    ])];
     let mut regressions = 0;
     for r in reports {
         let map = r["map"].as_str().unwrap_or("");
         if let Some(e) = r["error"].as_str() {
             regressions += 1;
-            toolbox::outln!("{map:<map_w$} FAILED: {e}");
+            table.push(vec![map.into(), format!("FAILED: {e}")]);
             continue;
         }
         if r["identical"] == true {
-            toolbox::outln!(
-                "{map:<map_w$} {:<fig_w$} {:>14} {:>14} {:>9} {:>8}  ok",
+            table.push(cells(&[
+                map,
                 "(graph)",
                 "identical",
                 "identical",
                 "",
-                ""
-            );
+                "",
+                " ok",
+            ]));
             continue;
         }
         for change in r["option_changes"].as_array().into_iter().flatten() {
-            toolbox::outln!(
-                "{map:<map_w$} options differ from the baseline's: {}",
-                change.as_str().unwrap_or("")
-            );
+            table.push(vec![
+                map.into(),
+                format!(
+                    "options differ from the baseline's: {}",
+                    change.as_str().unwrap_or("")
+                ),
+            ]);
         }
         for f in r["figures"].as_array().into_iter().flatten() {
             let (b, c) = (
@@ -584,21 +591,37 @@ fn print_table(reports: &[Value]) {
                 format!("{:+.4}", c - b)
             };
             let verdict = if f["ok"] == true {
-                "ok"
+                " ok"
             } else {
                 regressions += 1;
-                "REGRESSION"
+                " REGRESSION"
             };
-            toolbox::outln!(
-                "{map:<map_w$} {:<fig_w$} {:>14} {:>14} {change:>9} {:>8}  {verdict}",
-                f["name"].as_str().unwrap_or(""),
+            table.push(vec![
+                map.into(),
+                f["name"].as_str().unwrap_or("").into(),
                 short(b),
                 short(c),
+                change,
                 short(f["tolerance"].as_f64().unwrap_or(f64::NAN)),
-            );
+                verdict.into(),
+            ]);
         }
     }
-    toolbox::outln!("{} maps, {} regressions", reports.len(), regressions);
+    let aligns = [
+        Align::Left,
+        Align::Left,
+        Align::Right,
+        Align::Right,
+        Align::Right,
+        Align::Right,
+    ];
+    let mut lines = table::lines(&table, &aligns, 1);
+    lines.push(format!(
+        "{} maps, {} regressions",
+        reports.len(),
+        regressions
+    ));
+    lines
 }
 
 fn short(x: f64) -> String {
@@ -612,6 +635,115 @@ fn short(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use toolbox::table::cell_spans;
+
+    /// Both baseline tables with long map and figure names and large numbers: every
+    /// column starts (text) or ends (figures) at one position in every row.
+    #[test]
+    fn the_baseline_tables_align() {
+        let long = "a_map_whose_name_is_much_longer_than_twenty_eight_characters";
+        let figure = |name: &str, b: f64, c: f64, kind: &str, ok: bool| {
+            json!({"name": name, "baseline": b, "current": c, "tolerance": 0.05,
+                "tolerance_kind": kind, "ok": ok})
+        };
+        let reports = vec![
+            json!({"map": long, "option_changes": ["-sd: 24 -> 16"], "figures": [
+                figure("bytes", 123_456_789_012_345.0, 123_456_789_999_999.0, "relative", true),
+                figure("check.visible_fn_camera_with_a_long_name", 0.0123, 0.5, "absolute", false),
+            ]}),
+            json!({"map": "b", "figures": [figure("vertices", 1.0, 2.0, "relative", false)]}),
+            json!({"map": "c", "identical": true}),
+            json!({"map": "d", "error": "cannot read d.bsp"}),
+        ];
+        let lines = compare_lines(&reports);
+        let rows: Vec<(usize, Vec<&str>)> = vec![
+            (
+                0,
+                vec![
+                    "map", "figure", "baseline", "current", "change", "tol", "verdict",
+                ],
+            ),
+            (
+                2,
+                vec![
+                    long,
+                    "bytes",
+                    "123456789012345",
+                    "123456789999999",
+                    "+0.0%",
+                    "0.0500",
+                    "ok",
+                ],
+            ),
+            (
+                3,
+                vec![
+                    long,
+                    "check.visible_fn_camera_with_a_long_name",
+                    "0.0123",
+                    "0.5000",
+                    "+0.4877",
+                    "0.0500",
+                    "REGRESSION",
+                ],
+            ),
+            (
+                4,
+                vec!["b", "vertices", "1", "2", "+100.0%", "0.0500", "REGRESSION"],
+            ),
+            (5, vec!["c", "(graph)", "identical", "identical"]),
+        ];
+        let spans: Vec<_> = rows
+            .iter()
+            .map(|(i, c)| cell_spans(&lines[*i], c))
+            .collect();
+        for ((i, c), s) in rows.iter().zip(&spans) {
+            assert_eq!(s.len(), c.len(), "{}", lines[*i]);
+            assert_eq!(s[1].0, spans[0][1].0, "figure column: {lines:#?}");
+            for k in 2..c.len().min(6) {
+                assert_eq!(s[k].1, spans[0][k].1, "column {k}: {lines:#?}");
+            }
+            if c.len() == 7 {
+                assert_eq!(s[6].0, spans[0][6].0, "verdict: {lines:#?}");
+            }
+        }
+        assert!(lines[1].contains("options differ from the baseline's: -sd: 24 -> 16"));
+        assert_eq!(lines[1].find("options"), Some(spans[0][1].0));
+        assert!(lines[6].starts_with("d ") && lines[6].contains("FAILED: cannot read d.bsp"));
+
+        let stored = stored_lines(&[
+            json!({"map": long, "ok": true, "stats": {"vertices": 12_345_678, "faces": 3,
+                "bytes": 9_876_543_210u64, "seconds": 12_345.678, "check": {"coverage": 0.9}}}),
+            json!({"map": "b", "ok": true, "stats": {"vertices": 1, "faces": 22_222_222,
+                "bytes": 5, "seconds": 0.5, "check": {"coverage": 1.0}}}),
+        ]);
+        let cells = [
+            vec![
+                "map", "vertices", "faces", "bytes", "seconds", "coverage", "baseline",
+            ],
+            vec![
+                long,
+                "12345678",
+                "3",
+                "9876543210",
+                "12345.68",
+                "0.9000",
+                "stored",
+            ],
+            vec!["b", "1", "22222222", "5", "0.50", "1.0000", "stored"],
+        ];
+        let spans: Vec<_> = stored
+            .iter()
+            .zip(&cells)
+            .map(|(l, c)| cell_spans(l, c))
+            .collect();
+        for s in &spans {
+            for k in 1..6 {
+                assert_eq!(s[k].1, spans[0][k].1, "column {k}: {stored:#?}");
+            }
+            assert_eq!(s[6].0, spans[0][6].0, "{stored:#?}");
+        }
+    }
 
     #[test]
     fn figures_by_name_and_direction() {

@@ -94,6 +94,9 @@ pub(crate) struct Budgeted<'a> {
 }
 
 impl Progress for Budgeted<'_> {
+    fn stage(&self, name: &str) {
+        self.inner.stage(name);
+    }
     fn start(&self, label: &str, total: u64) {
         if let Ok(mut l) = self.label.lock() {
             *l = label.to_string();

@@ -14,6 +14,10 @@ pub struct Context<'a> {
     pub log: &'a Log,
     pub progress: &'a dyn Progress,
     pub stats: Stats,
+    /// The standing places the reduction kept inside the volume (player origins on the
+    /// floors of its grid), for the check of the written graph's coverage; `None` until
+    /// the reduction ran.
+    pub standing: Option<Vec<[f64; 3]>>,
     /// The map's budget, if it has one ([`super::Budget`]).
     pub budget: Option<super::Budget>,
     /// When the compile began.
@@ -30,6 +34,7 @@ impl<'a> Context<'a> {
             log,
             progress,
             stats: Stats::default(),
+            standing: None,
             budget: None,
             began: now,
             stage_began: now,
@@ -43,7 +48,9 @@ impl<'a> Context<'a> {
             b.check_time(name);
         }
         self.stage_began = Instant::now();
+        self.progress.stage(name);
         let out = stage(self);
+        self.progress.finish();
         let seconds = self.stage_seconds();
         self.stats.seconds.push((name, seconds));
         out

@@ -18,7 +18,10 @@ pub enum CompileError {
     },
     Delaunay(crate::delaunay::DelaunayError),
     /// Too few samples: the map has (almost) no walls around free space.
-    NoFreeSpace(usize),
+    NoFreeSpace {
+        samples: usize,
+        pointfile: Option<Pointfile>,
+    },
     Vdg {
         path: PathBuf,
         error: String,
@@ -45,7 +48,42 @@ pub enum CompileError {
     /// No vertex (or no face) survived: nothing to write.
     EmptyGraph {
         min_clearance: f64,
+        pointfile: Option<Pointfile>,
     },
+}
+
+/// The pointfile a failed compile wrote for the editor (see [`super::pointfiles`]), or
+/// why it could not.
+#[derive(Debug)]
+pub struct Pointfile {
+    pub path: PathBuf,
+    /// What its points are ("the player starts").
+    pub shows: &'static str,
+    /// The write's error, if it failed.
+    pub error: Option<String>,
+}
+
+impl fmt::Display for Pointfile {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.error {
+            None => write!(
+                f,
+                "; pointfile {} shows {} (load it in the editor)",
+                self.path.display(),
+                self.shows
+            ),
+            Some(e) => write!(
+                f,
+                "; cannot write the pointfile {}: {e}",
+                self.path.display()
+            ),
+        }
+    }
+}
+
+/// A pointfile's text in an error: empty when there is none.
+fn pointfile_text(p: &Option<Pointfile>) -> String {
+    p.as_ref().map(|p| p.to_string()).unwrap_or_default()
 }
 
 impl fmt::Display for CompileError {
@@ -56,9 +94,10 @@ impl fmt::Display for CompileError {
                 write!(f, "cannot write {}: {error}", path.display())
             }
             CompileError::Delaunay(e) => write!(f, "Delaunay stage: {e}"),
-            CompileError::NoFreeSpace(n) => write!(
+            CompileError::NoFreeSpace { samples, pointfile } => write!(
                 f,
-                "the map has no walls around free space to build a graph from ({n} samples; is it sealed, with no empty leaves?)"
+                "the map has no walls around free space to build a graph from ({samples} samples; is it sealed, with no empty leaves?){}",
+                pointfile_text(pointfile)
             ),
             CompileError::Vdg { path, error } => {
                 write!(f, "cannot write {}: {error}", path.display())
@@ -68,9 +107,13 @@ impl fmt::Display for CompileError {
                 "{}: {format}, which bsp2vdg does not read (it reads GoldSrc BSP v30, Quake BSP29, BSP2 and 2PSB, Quake 2 IBSP/QBSP 38 and Quake 3 IBSP 46 maps)",
                 path.display()
             ),
-            CompileError::EmptyGraph { min_clearance } => write!(
+            CompileError::EmptyGraph {
+                min_clearance,
+                pointfile,
+            } => write!(
                 f,
-                "the graph is empty: no free space with at least -md {min_clearance} units of clearance survived (is the map sealed, or -md too large?); nothing written"
+                "the graph is empty: no free space with at least -md {min_clearance} units of clearance survived (is the map sealed, or -md too large?); nothing written{}",
+                pointfile_text(pointfile)
             ),
             CompileError::UnusableFaces {
                 unusable,

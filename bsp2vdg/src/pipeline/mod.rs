@@ -12,12 +12,13 @@
 mod budget;
 mod context;
 mod error;
+pub mod pointfiles;
 pub mod stages;
 mod stats;
 
 pub use budget::Budget;
 pub use context::Context;
-pub use error::{CompileError, other_format};
+pub use error::{CompileError, Pointfile, other_format};
 pub use stats::Stats;
 
 use crate::log::{Log, secs};
@@ -103,7 +104,8 @@ fn compile_within(
         bounds: (world.mins.map(f64::from), world.maxs.map(f64::from)),
         game: bsp.game,
     };
-    build_graph(&mut cx, map, &sampled.samples, &space)?;
+    build_graph(&mut cx, map, &sampled.samples, &space)
+        .map_err(|e| with_failure_pointfile(e, &cx, &bsp))?;
     let total = cx.total_seconds();
     cx.stats.seconds.push(("total", total));
     log.info(format!("Total {}", secs(total)));
@@ -122,7 +124,10 @@ fn build_graph(
         return Ok(());
     }
     if samples.points.len() < 4 {
-        return Err(CompileError::NoFreeSpace(samples.points.len()));
+        return Err(CompileError::NoFreeSpace {
+            samples: samples.points.len(),
+            pointfile: None,
+        });
     }
     if let Some(b) = cx.budget {
         // About 6.5 tetrahedra per point, each with its vertices, neighbours and
@@ -188,11 +193,46 @@ fn build_graph(
     if graph.vertices.is_empty() || graph.faces.is_empty() {
         return Err(CompileError::EmptyGraph {
             min_clearance: options.min_clearance,
+            pointfile: None,
         });
     }
     cx.stage("write", |cx| {
-        stages::write_graph(cx, map, &graph, corners.as_deref())
+        stages::write_graph(cx, map, &graph, corners.as_deref())?;
+        stages::report_missed_places(cx, space);
+        Ok(())
     })
+}
+
+/// A compile that found no graph writes a pointfile of where free space was looked for
+/// ([`pointfiles`]), named in its error; a leaking map's pointfile (the same name) is
+/// kept and named instead.
+fn with_failure_pointfile(e: CompileError, cx: &Context, bsp: &bsp::Bsp) -> CompileError {
+    let pointfile = || {
+        if let Some(path) = &cx.stats.pointfile {
+            return Pointfile {
+                path: path.clone(),
+                shows: "where the map leaks",
+                error: None,
+            };
+        }
+        let path = pointfiles::failure_path(&cx.options.output, bsp.game);
+        let (points, shows) = pointfiles::where_free_space_was_looked_for(bsp);
+        let error = pointfiles::write(&path, &points)
+            .err()
+            .map(|e| e.to_string());
+        Pointfile { path, shows, error }
+    };
+    match e {
+        CompileError::NoFreeSpace { samples, .. } => CompileError::NoFreeSpace {
+            samples,
+            pointfile: Some(pointfile()),
+        },
+        CompileError::EmptyGraph { min_clearance, .. } => CompileError::EmptyGraph {
+            min_clearance,
+            pointfile: Some(pointfile()),
+        },
+        other => other,
+    }
 }
 
 /// Whether the compile stops after `stage` (`--stop-after`), saying so in the log.

@@ -402,6 +402,7 @@ pub fn reduce_graph(cx: &mut Context, graph: &Graph, space: &MapSpace) -> Graph 
         bsp::player::KEEP_SPACING,
     ));
     let crouching = keep.len() - standing;
+    cx.standing = Some(keep[..standing].to_vec());
     let before = graph.vertices.len();
     let cost = options.cost.formula();
     log.info(if options.floor_sets_target(before) {
@@ -564,6 +565,89 @@ pub fn write_graph(
     cx.stats.vdg = Some((graph.vertices.len(), graph.faces.len(), bytes));
     cx.stats.output = Some(options.output.clone());
     Ok(())
+}
+
+/// The standing places the written graph misses (outside its volume; see
+/// [`super::pointfiles`]): a warning naming the count and a pointfile through them,
+/// `OUT.missed.pts` (`.lin`), for the editor. A stale one from an earlier compile is
+/// removed when nothing is missed.
+pub fn report_missed_places(cx: &mut Context, space: &MapSpace) {
+    use rayon::prelude::*;
+    let Some(output) = cx.stats.output.clone() else {
+        return;
+    };
+    let standing = cx.standing.take().unwrap_or_else(|| {
+        bsp::player::grid_origins(
+            space.oracle,
+            space.bounds.0,
+            space.bounds.1,
+            bsp::player::KEEP_SPACING,
+        )
+    });
+    let path = super::pointfiles::missed_path(&output, space.game);
+    let bytes = match std::fs::read(&output) {
+        Ok(b) => b,
+        Err(e) => {
+            cx.log.warn(format!(
+                "cannot read back {} to check its standing places: {e}",
+                output.display()
+            ));
+            return;
+        }
+    };
+    let file = match vdgformat::VdgFile::from_bytes(&bytes) {
+        Ok(f) => f,
+        Err(e) => {
+            cx.log.warn(format!(
+                "cannot open {} to check its standing places: {e}",
+                output.display()
+            ));
+            return;
+        }
+    };
+    let graph = file.graph();
+    let missed: Vec<[f64; 3]> = standing
+        .par_iter()
+        .filter(|p| !graph.contains(p.map(|x| x as f32)))
+        .copied()
+        .collect();
+    cx.stats.missed_places = Some(missed.len());
+    if missed.is_empty() {
+        let _ = std::fs::remove_file(&path);
+        cx.log.detail(format!(
+            "Every one of the {} standing places lies inside the graph's volume",
+            standing.len()
+        ));
+        return;
+    }
+    let groups = super::pointfiles::clusters(&missed, 1.5 * bsp::player::KEEP_SPACING);
+    let c = super::pointfiles::centre_member(&groups[0]);
+    let mut line = format!(
+        "{} of {} standing places lie outside the graph's volume (the camera has no graph there), in {} {}; the largest, {} places, around ({:.0} {:.0} {:.0})",
+        missed.len(),
+        standing.len(),
+        groups.len(),
+        if groups.len() == 1 {
+            "cluster"
+        } else {
+            "clusters"
+        },
+        groups[0].len(),
+        c[0],
+        c[1],
+        c[2]
+    );
+    match super::pointfiles::write(&path, &super::pointfiles::path_through(&groups)) {
+        Ok(()) => {
+            line.push_str(&format!("; pointfile {}", path.display()));
+            cx.stats.missed_pointfile = Some(path);
+        }
+        Err(e) => line.push_str(&format!(
+            "; cannot write the pointfile {}: {e}",
+            path.display()
+        )),
+    }
+    cx.log.warn(line);
 }
 
 fn log_samples(log: &Log, s: &Samples) {

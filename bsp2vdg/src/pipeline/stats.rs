@@ -42,4 +42,8 @@ pub struct Stats {
     /// pointfile written for the editor.
     pub leak: Option<String>,
     pub pointfile: Option<PathBuf>,
+    /// Standing places outside the written graph's volume (see
+    /// [`super::pointfiles`]), and the pointfile through them when there are any.
+    pub missed_places: Option<usize>,
+    pub missed_pointfile: Option<PathBuf>,
 }

@@ -99,6 +99,10 @@ pub fn run(a: Args) -> Result<()> {
     let region = flowtile_bake::region::extract_with(&bsp, floors, &name, &opt)
         .with_context(|| format!("{}", map.display()))?;
     let extract_s = t1.elapsed().as_secs_f64();
+    let unconnected = region.unconnected();
+    if let Some(line) = unconnected_warning(&unconnected, &region) {
+        toolbox::errln!("{line}");
+    }
     let problem = write_spec(&region, &a.output, a.picture.as_deref(), a.seed)?;
     let flows = [a.flow_picture.as_deref(), a.flow_gif.as_deref()];
     flow_pictures(&region, &problem, &name, a.seed, flows)?;
@@ -111,6 +115,36 @@ pub fn run(a: Args) -> Result<()> {
         a.picture.as_deref(),
         a.json,
     )
+}
+
+/// The warning for sources and sinks that the region's open slots do not connect, or
+/// `None` when every one is connected.
+fn unconnected_warning(u: &flowtile_bake::region::Unconnected, region: &Region) -> Option<String> {
+    if u.is_empty() {
+        return None;
+    }
+    let at = |p: &[f64; 3]| format!("({:.0} {:.0} {:.0})", p[0], p[1], p[2]);
+    let mut parts = Vec::new();
+    if let Some(p) = u.sources.first() {
+        parts.push(format!(
+            "{} of {} sources reach no sink through open slots (the first at {})",
+            u.sources.len(),
+            region.sources.len(),
+            at(p)
+        ));
+    }
+    if let Some(p) = u.sinks.first() {
+        parts.push(format!(
+            "{} of {} sinks are reached from no source (the first at {})",
+            u.sinks.len(),
+            region.sinks.len(),
+            at(p)
+        ));
+    }
+    Some(format!(
+        "warning: {}: the region's sources and sinks are not connected; the flow there has no designed direction (a larger --band or a smaller --tile may join the parts)",
+        parts.join("; ")
+    ))
 }
 
 /// Reads the nav mesh, warning when it was made for another build of the map.
@@ -263,6 +297,8 @@ fn report(
         "floors_from": region.floors_from,
         "sources": region.sources.len(),
         "sinks": region.sinks.len(),
+        "unconnected_sources": region.unconnected().sources.len(),
+        "unconnected_sinks": region.unconnected().sinks.len(),
         "read_seconds": read_s,
         "extract_seconds": extract_s,
         "output": output.display().to_string(),

@@ -34,6 +34,13 @@ pub struct Args {
     /// Seed for streamline seeds and particles.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Map units per tile side: the scale bar and the speed are in map units
+    /// (by default in tiles).
+    #[arg(long, value_name = "UNITS")]
+    pub tile_units: Option<f64>,
+    /// Draw no legend strip (speed colours, blocked slots, scale bar, flow direction).
+    #[arg(long)]
+    pub no_legend: bool,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -58,7 +65,14 @@ pub fn run(a: Args) -> Result<()> {
         particles: a.particles,
         steps: a.steps,
         seed: a.seed,
+        legend: !a.no_legend,
+        tile_units: a.tile_units,
     };
+    if let Some(u) = a.tile_units
+        && !(u.is_finite() && u > 0.0)
+    {
+        anyhow::bail!("--tile-units must be a positive number of map units, got {u}");
+    }
     render_to_file(&baked, &opt, &a.output).with_context(|| format!("{}", a.output.display()))?;
     outln!("wrote {}", a.output.display())?;
     Ok(())
