@@ -230,7 +230,7 @@ impl Camera {
         for &v in &sc.reach {
             let pv = g.pos(v);
             let r = f64::from(g.vertices[v as usize].clearance);
-            let clear = self.clear_cost(scene, s, r);
+            let clear = self.clear_cost(s, r);
             let base = self.dist_cost(scene, pv)
                 + self.angle_cost(scene, pv)
                 + self.inertia_cost(scene, pv)

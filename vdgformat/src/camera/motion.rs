@@ -185,8 +185,6 @@ impl Camera {
         } else {
             desired
         };
-        let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
-        let vel = self.brake_before_the_target(scene, s, vel);
         let mut step = vel * scene.dt;
         let len = step.norm();
         let mut allowed = (v * scene.dt).min(dist_best);
@@ -221,22 +219,9 @@ impl Camera {
             (p, f) = slide(g, &self.faces, p, f, s.pos + step, margin, hops);
         }
         if !a.reached {
-            // The straight line at no more than the speed the camera had
-            // plus what `max_decel` allows in a frame: at the full command
-            // a camera that had slowed along a wall leapt off it (a speed
-            // jump of a few hundred units per second in one frame).
-            let straight = if self.params.max_decel > 0.0 {
-                allowed.min((s.vel.norm() + f64::from(self.params.max_decel) * scene.dt) * scene.dt)
-            } else {
-                allowed
-            };
-            // A slide that carried the camera at least half its step keeps
-            // it: turning onto the straight line there reflected the
-            // camera off the wall (a kink every time it grazed one).
-            let slid = (p - s.pos).norm();
-            let left = straight - slid;
-            if left > 1e-6 && !(self.params.slide && slid >= 0.5 * len.min(straight)) {
-                let goal = s.pos + dir * straight;
+            let left = allowed - (p - s.pos).norm();
+            if left > 1e-6 {
+                let goal = s.pos + dir * allowed;
                 let b = g.advance_tol(
                     s.face,
                     from,
@@ -265,65 +250,6 @@ impl Camera {
         }
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)
-    }
-}
-
-impl Camera {
-    /// With `max_decel`, the part of the velocity heading for the volume's
-    /// boundary is no faster than the camera can brake from before it
-    /// reaches the margin: √(2 · max_decel · (clearance − margin)), the
-    /// clearance being the distance to the nearest boundary, so never more
-    /// than the way left in any direction. A camera that ran into the
-    /// boundary at speed stopped dead there or, turning onto its best
-    /// candidate, bounced off it within a frame.
-    fn brake_at_walls(&self, g: &Vdg<'_>, s: &State, vel: V3, here_clear: f64, margin: f32) -> V3 {
-        let a = f64::from(self.params.max_decel);
-        let room = (here_clear - f64::from(margin)).max(0.0);
-        let speed2 = vel.norm2();
-        // Far enough from every wall to stop from this speed: nothing to do.
-        if a <= 0.0 || speed2 <= 2.0 * a * room {
-            return vel;
-        }
-        let Some(n) = inward_normal(g, s.face, s.pos) else {
-            return vel;
-        };
-        let towards = -vel.dot(n);
-        let limit = (2.0 * a * room).sqrt();
-        if towards > limit {
-            vel + n * (towards - limit)
-        } else {
-            vel
-        }
-    }
-}
-
-impl Camera {
-    /// With `max_decel`, the camera closes in on the target no faster than
-    /// it can brake from before it comes within d_μ of it, plus the
-    /// target's own speed: nearer than d_μ f_dist wants it back, never on.
-    /// A camera catching up at speed when the player stopped ran on up to
-    /// him (or past him) and, at rest there, stayed too close: f_inertia
-    /// rates every start from rest alike, so a distance error under 2 d_σ
-    /// never made it back off.
-    fn brake_before_the_target(&self, scene: &Scene, s: &State, vel: V3) -> V3 {
-        let a = f64::from(self.params.max_decel);
-        if a <= 0.0 {
-            return vel;
-        }
-        let to_t = scene.t - s.pos;
-        let r = to_t.norm();
-        if r < 1e-6 {
-            return vel;
-        }
-        let u = to_t * (1.0 / r);
-        let closing = vel.dot(u);
-        let near = f64::from(self.params.distance_mu);
-        let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.target_speed;
-        if closing > limit {
-            vel - u * (closing - limit)
-        } else {
-            vel
-        }
     }
 }
 

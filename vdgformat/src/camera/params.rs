@@ -224,17 +224,6 @@ pub struct CameraParams {
     /// target needs its speed; it still never passes its best candidate.
     /// 0 = the thesis.
     pub target_speed_floor: f32,
-    /// f_clear asks for no more room than the graph gives the target
-    /// itself: "room for p_σ seconds at the current speed" (about 125
-    /// units when following a running player) is more than a corridor,
-    /// a doorway or even open ground at eye height (the floor is 64 units
-    /// below a standing player's eye) ever has, so every position the
-    /// player's way passes through was rated as cramped, the more the
-    /// faster the camera chased: a chasing camera next to the doorway the
-    /// player had gone through kept to the open room. Where the player
-    /// has room, the camera still keeps its distance from walls. false =
-    /// the thesis' need, whatever the target's room.
-    pub clearance_within_target_room: bool,
 }
 
 impl Default for CameraParams {
@@ -276,7 +265,6 @@ impl Default for CameraParams {
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
-            clearance_within_target_room: true,
         }
     }
 }
@@ -308,7 +296,6 @@ impl CameraParams {
             pursuit_length: 0.0,
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
-            clearance_within_target_room: false,
             ..CameraParams::default()
         }
     }
