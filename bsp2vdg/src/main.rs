@@ -408,6 +408,7 @@ fn run(cli: &Cli) -> Result<bool> {
         cli::batch::in_slots(&cli.maps, rayon::current_num_threads(), |m| {
             (m.clone(), build_one(cli, m, verbosity))
         })
+        .context("cannot start the batch's threads")?
     } else {
         cli.maps
             .iter()

@@ -16,8 +16,14 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 const SLOT_STACK_BYTES: usize = 8 << 20;
 
 /// Runs `work` on every item, at most `slots` at a time, and returns the results in the
-/// items' order. A panic in `work` is passed on once every slot has stopped.
-pub fn in_slots<T, R>(items: &[T], slots: usize, work: impl Fn(&T) -> R + Sync) -> Vec<R>
+/// items' order. When the system refuses a thread, the slots already running take the
+/// items on; when it refuses the first, that is the error. A panic in `work` is passed
+/// on once every slot has stopped.
+pub fn in_slots<T, R>(
+    items: &[T],
+    slots: usize,
+    work: impl Fn(&T) -> R + Sync,
+) -> std::io::Result<Vec<R>>
 where
     T: Sync,
     R: Send,
@@ -28,7 +34,7 @@ where
     std::thread::scope(|scope| {
         for slot in 0..slots {
             let (next, results, work) = (&next, &results, &work);
-            std::thread::Builder::new()
+            let spawned = std::thread::Builder::new()
                 .name(format!("map slot {slot}"))
                 .stack_size(SLOT_STACK_BYTES)
                 .spawn_scoped(scope, move || {
@@ -40,16 +46,22 @@ where
                             all[i] = Some(r);
                         }
                     }
-                })
-                .expect("cannot start a batch thread");
+                });
+            match spawned {
+                Ok(_) => {}
+                Err(e) if slot == 0 => return Err(e),
+                Err(_) => break,
+            }
         }
-    });
-    results
+        Ok(())
+    })?;
+    // Every slot ran until no item was left, so every result is there.
+    Ok(results
         .into_inner()
         .unwrap_or_else(|e| e.into_inner())
         .into_iter()
-        .map(|r| r.expect("every item was run"))
-        .collect()
+        .flatten()
+        .collect())
 }
 
 #[cfg(test)]
@@ -67,23 +79,25 @@ mod tests {
         let running = AtomicUsize::new(0);
         let most = AtomicUsize::new(0);
         let items: Vec<u64> = (0..24).collect();
-        let out = pool.install(|| {
-            in_slots(&items, 2, |&x| {
-                let now = running.fetch_add(1, Ordering::SeqCst) + 1;
-                most.fetch_max(now, Ordering::SeqCst);
-                // Inner parallel work that waits: the moment a stealing scheduler would
-                // start another item on this thread.
-                let inner: u64 = (0..8u64)
-                    .into_par_iter()
-                    .map(|k| {
-                        std::thread::sleep(Duration::from_millis(2));
-                        k + x
-                    })
-                    .sum();
-                running.fetch_sub(1, Ordering::SeqCst);
-                inner
+        let out = pool
+            .install(|| {
+                in_slots(&items, 2, |&x| {
+                    let now = running.fetch_add(1, Ordering::SeqCst) + 1;
+                    most.fetch_max(now, Ordering::SeqCst);
+                    // Inner parallel work that waits: the moment a stealing scheduler would
+                    // start another item on this thread.
+                    let inner: u64 = (0..8u64)
+                        .into_par_iter()
+                        .map(|k| {
+                            std::thread::sleep(Duration::from_millis(2));
+                            k + x
+                        })
+                        .sum();
+                    running.fetch_sub(1, Ordering::SeqCst);
+                    inner
+                })
             })
-        });
+            .unwrap();
         assert!(
             most.load(Ordering::SeqCst) <= 2,
             "{} at once",
@@ -99,9 +113,10 @@ mod tests {
         let out = in_slots(&[3, 1, 2], 1, |&x| {
             seen.lock().unwrap().push(x);
             x * 10
-        });
+        })
+        .unwrap();
         assert_eq!(out, vec![30, 10, 20]);
         assert_eq!(*seen.lock().unwrap(), vec![3, 1, 2]);
-        assert!(in_slots(&[] as &[u8], 4, |&x| x).is_empty());
+        assert!(in_slots(&[] as &[u8], 4, |&x| x).unwrap().is_empty());
     }
 }

@@ -494,22 +494,11 @@ mod tests {
         }
         assert!(left_text(None).len() <= LEFT_WIDTH);
         // "{prefix:>10} [{wide_bar}] {percent:>3}% {elapsed:>4} {left}"
-        let longest_label = [
-            "load",
-            "sample",
-            "delaunay",
-            "voronoi",
-            "guard",
-            "reduce",
-            "wall_raise",
-            "check",
-            "corner_check",
-            "write",
-        ]
-        .iter()
-        .map(|s| stage_label(s).len())
-        .max()
-        .unwrap();
+        let longest_label = bsp2vdg::pipeline::STAGE_NAMES
+            .iter()
+            .map(|s| stage_label(s).len())
+            .max()
+            .unwrap();
         assert!(longest_label <= 10);
         let fixed = 10 + " [".len() + "] ".len() + "100%".len() + " 59m 59s".len() + 1;
         assert!(80 - fixed - LEFT_WIDTH >= 20, "{fixed} + {LEFT_WIDTH}");

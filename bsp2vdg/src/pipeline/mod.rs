@@ -63,21 +63,24 @@ pub fn compile(
     }
 }
 
+/// Every stage's name, in the order a compile runs them (the names `--json`, the
+/// budget and the progress display use).
+pub const STAGE_NAMES: [&str; 10] = [
+    "load",
+    "sample",
+    "delaunay",
+    "voronoi",
+    "guard",
+    "reduce",
+    "wall_raise",
+    "check",
+    "corner_check",
+    "write",
+];
+
 /// The stage names the budget reports, as `&'static str`.
 fn stage_name(stage: &str) -> &'static str {
-    const NAMES: [&str; 10] = [
-        "load",
-        "sample",
-        "delaunay",
-        "voronoi",
-        "guard",
-        "reduce",
-        "wall_raise",
-        "check",
-        "corner_check",
-        "write",
-    ];
-    NAMES
+    STAGE_NAMES
         .iter()
         .find(|n| stage.starts_with(*n))
         .copied()
