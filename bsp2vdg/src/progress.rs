@@ -28,6 +28,75 @@ impl Progress for NoProgress {
     fn finish(&self) {}
 }
 
+/// A stage's work items, reported to a [`Progress`] a block at a time. Each worker
+/// counts its own items ([`Ticker::local`]) and reports a block when it has one, and
+/// the rest when it is done: the inner loop pays an increment per item and nothing is
+/// shared between the workers but the reports. The reports are where a compile's time
+/// budget is checked, so a stage whose every loop ticks stops within one block of its
+/// deadline.
+pub struct Ticker<'a> {
+    progress: &'a dyn Progress,
+    block: u64,
+}
+
+impl<'a> Ticker<'a> {
+    /// Items a block holds unless the stage says otherwise: small enough that a block
+    /// of the slowest items (a guard face, ~20 µs) takes well under a second.
+    pub const BLOCK: u64 = 1024;
+
+    /// Starts `label` with `total` items on `progress`, reported every `block` items.
+    pub fn start(progress: &'a dyn Progress, label: &str, total: u64, block: u64) -> Self {
+        progress.start(label, total);
+        Ticker {
+            progress,
+            block: block.max(1),
+        }
+    }
+
+    /// Counts into the stage `progress` already started (a part of its work).
+    pub fn within(progress: &'a dyn Progress, block: u64) -> Self {
+        Ticker {
+            progress,
+            block: block.max(1),
+        }
+    }
+
+    /// One worker's count (for rayon's `map_init`, or a serial loop).
+    pub fn local(&self) -> LocalTicker<'_> {
+        LocalTicker {
+            ticker: self,
+            count: 0,
+        }
+    }
+}
+
+/// One worker's items of a [`Ticker`]: a block is reported when full, the rest when
+/// the worker drops it.
+pub struct LocalTicker<'t> {
+    ticker: &'t Ticker<'t>,
+    count: u64,
+}
+
+impl LocalTicker<'_> {
+    /// One more item is done.
+    pub fn tick(&mut self) {
+        self.count += 1;
+        if self.count == self.ticker.block {
+            self.count = 0;
+            self.ticker.progress.advance(self.ticker.block);
+        }
+    }
+}
+
+impl Drop for LocalTicker<'_> {
+    fn drop(&mut self) {
+        // Not while unwinding: the budget check in the report would unwind again.
+        if self.count > 0 && !std::thread::panicking() {
+            self.ticker.progress.advance(self.count);
+        }
+    }
+}
+
 /// Plain lines `label: 10%`, `label: 20%` … on stderr, for logs that are not terminals.
 /// Stages shorter than a second print nothing: the log line at their end says enough.
 #[derive(Debug, Default)]

@@ -183,3 +183,43 @@ fn standing_places_the_graph_misses_are_written_as_a_pointfile() {
     assert!(stats.missed_pointfile.is_none());
     assert!(!missed_pts.exists());
 }
+
+#[test]
+fn a_batch_fails_the_map_over_its_budget_and_compiles_the_one_under_it() {
+    let dir = tempdir();
+    let small = dir.join("box_room.bsp");
+    let large = dir.join("open_field.bsp");
+    std::fs::write(&small, mapgen::bsp::write_world(&worlds::box_room())).unwrap();
+    std::fs::write(&large, mapgen::bsp::write_world(&worlds::open_field())).unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    // At -sd 8 the field has a few hundred thousand wall samples in a file of a few
+    // kilobytes: its Delaunay stage would need more memory than a twentieth of a
+    // normal budget allows (about 0.2 GB). The box room's ~13 000 need a tenth of that,
+    // and its ~30 s are many times what it takes.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(["--budget", "0.05", "-sd", "8", "-nolog", "-o"])
+        .arg(&out)
+        .arg(&large)
+        .arg(&small)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{stdout}");
+    // The summary table's row of a map.
+    let line = |name: &str| {
+        stdout
+            .lines()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no line for {name} in\n{stdout}"))
+            .to_string()
+    };
+    let failed = line("open_field.bsp");
+    assert!(
+        failed.contains("FAILED") && failed.contains("delaunay stage went over the map's budget"),
+        "{stdout}"
+    );
+    assert!(line("box_room.bsp").ends_with(" ok"), "{stdout}");
+    assert!(out.join("box_room.vdg").exists());
+    assert!(!out.join("open_field.vdg").exists());
+}

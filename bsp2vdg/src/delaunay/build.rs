@@ -8,6 +8,7 @@ use super::predicates::{collinear, orient_ids};
 use super::sort::brio_order;
 use super::triangulation::Triangulation;
 use super::{DelaunayError, INFINITE};
+use crate::progress::{Progress, Ticker};
 
 /// Marks a tetrahedron slot that is on the free list.
 pub(super) const DEAD: u32 = u32::MAX - 1;
@@ -55,7 +56,10 @@ impl<'a> Builder<'a> {
     /// The points are copied in insertion order and get internal ids `0..n` in that order:
     /// consecutive insertions then touch neighbouring memory. Ids are mapped back to input
     /// indices when the result is assembled.
-    pub fn run(input: &[[f64; 3]]) -> Result<Triangulation, DelaunayError> {
+    pub fn run(
+        input: &[[f64; 3]],
+        progress: &dyn Progress,
+    ) -> Result<Triangulation, DelaunayError> {
         if input.len() >= (MAX_TETS / 8) {
             return Err(DelaunayError::TooManyPoints { count: input.len() });
         }
@@ -67,7 +71,7 @@ impl<'a> Builder<'a> {
         };
         let Builder {
             cells, duplicates, ..
-        } = Builder::triangulate(&sorted, simplex)?;
+        } = Builder::triangulate(&sorted, simplex, progress)?;
         // Free what is no longer needed before the renumbering table and the result's copy
         // of the points are allocated: they do not add to the peak memory then.
         drop(sorted);
@@ -81,7 +85,11 @@ impl<'a> Builder<'a> {
         ))
     }
 
-    fn triangulate(pts: &'a [[f64; 3]], simplex: [u32; 4]) -> Result<Self, DelaunayError> {
+    fn triangulate(
+        pts: &'a [[f64; 3]],
+        simplex: [u32; 4],
+        progress: &dyn Progress,
+    ) -> Result<Self, DelaunayError> {
         // ~6.7 cells per point for uniform input, ~5.5 on wall samples.
         let cap = (pts.len().saturating_mul(27) / 4).min(MAX_TETS);
         let mut b = Builder {
@@ -98,7 +106,10 @@ impl<'a> Builder<'a> {
         // with an error, never an abort, if even that is impossible).
         let _ = b.cells.try_reserve_exact(cap);
         b.create_simplex(simplex);
+        let ticker = Ticker::start(progress, "Delaunay", pts.len() as u64, 4 * Ticker::BLOCK);
+        let mut done = ticker.local();
         for q in 0..pts.len() as u32 {
+            done.tick();
             if simplex.contains(&q) {
                 continue;
             }
@@ -294,7 +305,7 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| Builder::run(&pts).unwrap())
+                .install(|| Builder::run(&pts, &crate::progress::NoProgress).unwrap())
         };
         let (one, two) = (run(1), run(2));
         assert!(one.cells().eq(two.cells()));
@@ -325,7 +336,7 @@ mod tests {
             ]);
         }
         pts.push([0.0, 0.0, 0.0]);
-        let tri = Builder::run(&pts).unwrap();
+        let tri = Builder::run(&pts, &crate::progress::NoProgress).unwrap();
         tri.validate().unwrap();
         // Every point is a hull vertex or the centre: the centre has cells to all of them.
         let centre = pts.len() as u32 - 1;

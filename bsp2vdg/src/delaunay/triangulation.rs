@@ -321,10 +321,19 @@ impl Triangulation {
     /// assert!(matches!(Triangulation::new(&flat), Err(DelaunayError::Degenerate { .. })));
     /// ```
     pub fn new(points: &[[f64; 3]]) -> Result<Triangulation, super::DelaunayError> {
+        Triangulation::new_reporting(points, &crate::progress::NoProgress)
+    }
+
+    /// [`Triangulation::new`], reporting the insertions to `progress` (a block of
+    /// points at a time) as the stage "Delaunay".
+    pub fn new_reporting(
+        points: &[[f64; 3]],
+        progress: &dyn crate::progress::Progress,
+    ) -> Result<Triangulation, super::DelaunayError> {
         if let Some(index) = points.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(super::DelaunayError::NonFinite { index });
         }
-        super::build::Builder::run(points)
+        super::build::Builder::run(points, progress)
     }
 }
 

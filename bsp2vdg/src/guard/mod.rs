@@ -13,6 +13,7 @@
 //! about half a unit for 10-unit cells at 30 units of clearance), not a global shrink.
 
 use crate::graph::Graph;
+use crate::progress::{NoProgress, Progress, Ticker};
 use crate::space::FreeSpace;
 use rayon::prelude::*;
 
@@ -54,32 +55,43 @@ pub fn guard_interpolation(
     space: &dyn FreeSpace,
     min_clearance: f64,
 ) -> (Graph, GuardStats) {
-    guard_with(graph, space, min_clearance, GuardMode::Bound)
+    guard_with(graph, space, min_clearance, GuardMode::Bound, &NoProgress)
 }
 
-/// [`guard_interpolation`] with a choice of [`GuardMode`].
+/// [`guard_interpolation`] with a choice of [`GuardMode`], reporting the faces it
+/// bounds to `progress` (as "Guard", or "Check" in repair mode).
 pub fn guard_with(
     graph: Graph,
     space: &dyn FreeSpace,
     min_clearance: f64,
     mode: GuardMode,
+    progress: &dyn Progress,
 ) -> (Graph, GuardStats) {
     let mut stats = GuardStats::default();
+    let label = match mode {
+        GuardMode::Bound => "Guard",
+        GuardMode::Repair => "Check",
+    };
+    let ticker = Ticker::start(progress, label, graph.faces.len() as u64, Ticker::BLOCK);
     let lowering: Vec<f64> = graph
         .faces
         .par_iter()
-        .map_init(Recent::new, |recent, f| {
-            let (seen, bound) = face_excess(
-                f.map(|v| graph.vertices[v as usize]),
-                f.map(|v| graph.clearance[v as usize]),
-                space,
-                recent,
-            );
-            match mode {
-                GuardMode::Repair if seen <= 0.0 => 0.0,
-                _ => bound,
-            }
-        })
+        .map_init(
+            || (Recent::new(), ticker.local()),
+            |(recent, done), f| {
+                done.tick();
+                let (seen, bound) = face_excess(
+                    f.map(|v| graph.vertices[v as usize]),
+                    f.map(|v| graph.clearance[v as usize]),
+                    space,
+                    recent,
+                );
+                match mode {
+                    GuardMode::Repair if seen <= 0.0 => 0.0,
+                    _ => bound,
+                }
+            },
+        )
         .collect();
     let mut lower = vec![0.0f64; graph.vertices.len()];
     for (f, &l) in graph.faces.iter().zip(&lowering) {
@@ -211,15 +223,33 @@ pub(crate) fn curvature_margin(h: f64, d_low: f64) -> f64 {
 /// and whose grid sees a ball reach into a wall (as [`guard_with`]'s repair mode
 /// looks) falls back to its vertices' clearances. Returns how many did. The
 /// certificate allows none; this is the same safety net the vertex clearances get.
-pub fn check_corners(graph: &Graph, radii: &mut [[f64; 3]], space: &dyn FreeSpace) -> usize {
+///
+/// The faces are reported to `progress` as "Corner check".
+pub fn check_corners(
+    graph: &Graph,
+    radii: &mut [[f64; 3]],
+    space: &dyn FreeSpace,
+    progress: &dyn Progress,
+) -> usize {
+    let ticker = Ticker::start(
+        progress,
+        "Corner check",
+        graph.faces.len() as u64,
+        Ticker::BLOCK,
+    );
     let failed: Vec<bool> = graph
         .faces
         .par_iter()
         .zip(radii.par_iter())
-        .map_init(Recent::new, |recent, (f, r)| {
-            let c = f.map(|v| graph.clearance[v as usize]);
-            *r != c && face_excess(f.map(|v| graph.vertices[v as usize]), *r, space, recent).0 > 0.0
-        })
+        .map_init(
+            || (Recent::new(), ticker.local()),
+            |(recent, done), (f, r)| {
+                done.tick();
+                let c = f.map(|v| graph.clearance[v as usize]);
+                *r != c
+                    && face_excess(f.map(|v| graph.vertices[v as usize]), *r, space, recent).0 > 0.0
+            },
+        )
         .collect();
     let mut n = 0;
     for ((f, r), bad) in graph.faces.iter().zip(radii.iter_mut()).zip(failed) {

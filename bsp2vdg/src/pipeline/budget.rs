@@ -86,33 +86,54 @@ impl Budget {
     }
 }
 
-/// The progress display, with the time budget checked at every report.
+/// The progress display, with the time budget checked at every report: the stages
+/// report a block of their work at a time (see [`crate::progress::Ticker`]), so a map
+/// over its time stops within a block, in whatever stage it is.
 pub(crate) struct Budgeted<'a> {
     pub inner: &'a dyn Progress,
     pub budget: Option<Budget>,
-    pub label: Mutex<String>,
+    /// The running stage's name (one of [`super::STAGE_NAMES`]), as the error names it.
+    pub stage: Mutex<String>,
 }
 
 impl Progress for Budgeted<'_> {
     fn stage(&self, name: &str) {
+        if let Ok(mut s) = self.stage.lock() {
+            name.clone_into(&mut s);
+        }
         self.inner.stage(name);
     }
     fn start(&self, label: &str, total: u64) {
-        if let Ok(mut l) = self.label.lock() {
-            *l = label.to_string();
-        }
         self.inner.start(label, total);
     }
     fn advance(&self, n: u64) {
         self.inner.advance(n);
         if let Some(b) = &self.budget {
-            let label = self.label.lock().map(|l| l.clone()).unwrap_or_default();
-            b.check_time(&label.to_lowercase());
+            let stage = self.stage.lock().map(|s| s.clone()).unwrap_or_default();
+            b.check_time(&stage);
         }
     }
     fn finish(&self) {
         self.inner.finish();
     }
+}
+
+/// Runs `work` as the stage `stage` of a map whose time is already up, and returns the
+/// stage it stopped in, or `None` if it ran to its end: for the tests that each costly
+/// stage stops inside itself, within a block of its work.
+#[cfg(test)]
+pub(crate) fn stopped_in(stage: &str, work: impl FnOnce(&dyn Progress)) -> Option<String> {
+    let mut budget = Budget::for_map(0, 1.0).expect("a budget");
+    budget.deadline = Instant::now() - Duration::from_secs(1);
+    let budgeted = Budgeted {
+        inner: &crate::progress::NoProgress,
+        budget: Some(budget),
+        stage: Default::default(),
+    };
+    budgeted.stage(stage);
+    let run = std::panic::AssertUnwindSafe(|| work(&budgeted));
+    let payload = std::panic::catch_unwind(run).err()?;
+    Some(payload.downcast::<OutOfTime>().ok()?.stage)
 }
 
 #[cfg(test)]

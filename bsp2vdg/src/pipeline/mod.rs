@@ -17,6 +17,8 @@ pub mod stages;
 mod stats;
 
 pub use budget::Budget;
+#[cfg(test)]
+pub(crate) use budget::stopped_in;
 pub use context::Context;
 pub use error::{CompileError, Pointfile, other_format};
 pub use stats::Stats;
@@ -39,7 +41,7 @@ pub fn compile(
     let budgeted = budget::Budgeted {
         inner: progress,
         budget: Budget::for_map(size, options.budget),
-        label: Default::default(),
+        stage: Default::default(),
     };
     // A stage over its time unwinds to here (with no panic message): its work is
     // dropped on the way and the map fails with the stage named.
@@ -175,6 +177,14 @@ fn build_graph(
             .info("Reduction limit 1.0: the graph is written unreduced.");
         graph
     };
+    if let (Some(b), true) = (cx.budget, options.wall_raise) {
+        // The raise's certificate grids, one per face, grow with the faces' lengths.
+        b.check_memory(
+            "wall_raise",
+            crate::raise::grid_bytes(&graph),
+            &format!("the certificate grids of {} faces", graph.faces.len()),
+        )?;
+    }
     // An unreduced graph is raised too: the guard lowered each of its vertices by its
     // curvature margin, which the raise gives back where the walls allow.
     let mut corners = options.wall_raise.then(|| {

@@ -299,7 +299,8 @@ pub fn tetrahedralize(cx: &mut Context, samples: &Samples) -> Result<Triangulati
         "Tetrahedralizing {} sample points ...",
         samples.points.len()
     ));
-    let tri = Triangulation::new(&samples.points).map_err(CompileError::Delaunay)?;
+    let tri = Triangulation::new_reporting(&samples.points, cx.progress)
+        .map_err(CompileError::Delaunay)?;
     cx.stats.tetrahedra = Some(tri.num_finite_cells());
     cx.stats.duplicate_samples = tri.duplicates().len();
     cx.log.info(format!(
@@ -320,14 +321,11 @@ pub fn extract_voronoi(
 ) -> Graph {
     let log = cx.log;
     log.info("Building voronoi graph ...");
-    cx.progress.start("Voronoi", 1);
     let voronoi_options = VoronoiOptions {
         spacing: samples.spacing,
         min_clearance: cx.options.min_clearance,
     };
-    let (graph, vs) = voronoi::extract(&tri, space, &voronoi_options);
-    cx.progress.advance(1);
-    cx.progress.finish();
+    let (graph, vs) = voronoi::extract_reporting(&tri, space, &voronoi_options, cx.progress);
     drop(tri);
     log.info(format!(
         "Voronoi vertices {}, inner vertices {}.",
@@ -357,7 +355,13 @@ pub fn extract_voronoi(
 /// faces give tight bounds; the reduction keeps its volume inside this one
 /// (condition A), so it stays free too.
 pub fn guard_volume(cx: &mut Context, graph: Graph, space: &MapSpace) -> Graph {
-    let (graph, guard) = guard::guard_interpolation(graph, space, cx.options.min_clearance);
+    let (graph, guard) = guard::guard_with(
+        graph,
+        space,
+        cx.options.min_clearance,
+        GuardMode::Bound,
+        cx.progress,
+    );
     cx.log.info(format!(
         "Interpolation guard: lowered {} vertices by up to {:.3} units, removed {}; nodes {}, faces {} [{}]",
         guard.lowered,
@@ -493,7 +497,7 @@ pub fn reduce_graph(cx: &mut Context, graph: &Graph, space: &MapSpace) -> Graph 
 /// radii, both certified against the walls (see [`crate::raise`]). Returns the
 /// corner radii, one per face.
 pub fn raise_to_walls(cx: &mut Context, graph: &mut Graph, space: &MapSpace) -> Vec<[f64; 3]> {
-    let (raise, radii, cs) = raise::raise_to_walls_and_corners(graph, space);
+    let (raise, radii, cs) = raise::raise_to_walls_and_corners(graph, space, cx.progress);
     cx.log.info(format!(
         "Raised {} vertices towards their wall distance, certified against the walls (by {:.1} units on average), and {} corners of {} faces above their vertex's clearance, each face certified alone (by {:.1} units on average) [{}]",
         raise.raised,
@@ -511,7 +515,13 @@ pub fn raise_to_walls(cx: &mut Context, graph: &mut Graph, space: &MapSpace) -> 
 /// anyway, and faces where it evidently failed are repaired.
 pub fn check_volume(cx: &mut Context, graph: Graph, space: &MapSpace) -> Graph {
     let options = cx.options;
-    let (graph, repair) = guard::guard_with(graph, space, options.min_clearance, GuardMode::Repair);
+    let (graph, repair) = guard::guard_with(
+        graph,
+        space,
+        options.min_clearance,
+        GuardMode::Repair,
+        cx.progress,
+    );
     // An unreduced graph reaches this check through the raise alone.
     let what = if options.reduction_limit < 1.0 {
         "Reduction check"
@@ -534,7 +544,7 @@ pub fn check_volume(cx: &mut Context, graph: Graph, space: &MapSpace) -> Graph {
 /// corners stay above them; a face whose volume it found reaching a wall falls back
 /// to its vertices' clearances here.
 pub fn check_corners(cx: &mut Context, graph: &Graph, radii: &mut [[f64; 3]], space: &MapSpace) {
-    let failed = guard::check_corners(graph, radii, space);
+    let failed = guard::check_corners(graph, radii, space, cx.progress);
     cx.log.info(format!(
         "Corner check: {failed} faces back to their vertices' clearances [{}]",
         secs(cx.stage_seconds())

@@ -13,6 +13,7 @@
 
 use crate::graph::Graph;
 use crate::guard::curvature_margin;
+use crate::progress::{NoProgress, Progress, Ticker};
 use crate::space::FreeSpace;
 use rayon::prelude::*;
 
@@ -63,7 +64,7 @@ struct SlackGrid {
 /// of the free ones between points of the volume. The walls, not the
 /// unreduced volume, bound what a face may hold.
 pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
-    raise_with_grids(graph, space).0
+    raise_with_grids(graph, space, &NoProgress).0
 }
 
 /// [`raise_to_walls`], then each face's own corner radii (format version 3,
@@ -89,12 +90,14 @@ pub fn raise_to_walls(graph: &mut Graph, space: &dyn FreeSpace) -> RaiseStats {
 /// cost a noticeable share of a dense compile's time). A later lowering of vertex clearances (the
 /// reduction check's repair) leaves them certified and above the clearances; the
 /// faces whose volume it found reaching a wall are [`check_corners`](crate::guard::check_corners)' to catch.
-/// The result does not depend on the thread count.
+/// The result does not depend on the thread count. The wall distances and the
+/// certificate grids, its costly part, are reported to `progress` as "Wall raise".
 pub fn raise_to_walls_and_corners(
     graph: &mut Graph,
     space: &dyn FreeSpace,
+    progress: &dyn Progress,
 ) -> (RaiseStats, Vec<[f64; 3]>, CornerStats) {
-    let (stats, grids, target) = raise_with_grids(graph, space);
+    let (stats, grids, target) = raise_with_grids(graph, space, progress);
     let radii: Vec<[f64; 3]> = graph
         .faces
         .par_iter()
@@ -114,11 +117,20 @@ pub fn raise_to_walls_and_corners(
 fn raise_with_grids(
     graph: &mut Graph,
     space: &dyn FreeSpace,
+    progress: &dyn Progress,
 ) -> (RaiseStats, Vec<SlackGrid>, Vec<f64>) {
+    let work = (graph.vertices.len() + graph.faces.len()) as u64;
+    let ticker = Ticker::start(progress, "Wall raise", work, Ticker::BLOCK);
     let target: Vec<f64> = graph
         .vertices
         .par_iter()
-        .map(|&p| space.wall_distance(p))
+        .map_init(
+            || ticker.local(),
+            |done, &p| {
+                done.tick();
+                space.wall_distance(p)
+            },
+        )
         .collect();
     let room: Vec<f64> = target
         .iter()
@@ -136,22 +148,26 @@ fn raise_with_grids(
     let mut grids: Vec<SlackGrid> = graph
         .faces
         .par_iter()
-        .map(|f| {
-            let most = most(f);
-            if most <= 0.0 {
-                return SlackGrid {
-                    weights: Vec::new(),
-                    slack: Vec::new(),
-                };
-            }
-            slack_grid(
-                f.map(|v| graph.vertices[v as usize]),
-                f.map(|v| graph.clearance[v as usize]),
-                f.map(|v| target[v as usize]),
-                most,
-                space,
-            )
-        })
+        .map_init(
+            || ticker.local(),
+            |done, f| {
+                done.tick();
+                let most = most(f);
+                if most <= 0.0 {
+                    return SlackGrid {
+                        weights: Vec::new(),
+                        slack: Vec::new(),
+                    };
+                }
+                slack_grid(
+                    f.map(|v| graph.vertices[v as usize]),
+                    f.map(|v| graph.clearance[v as usize]),
+                    f.map(|v| target[v as usize]),
+                    most,
+                    space,
+                )
+            },
+        )
         .collect();
     let mut order: Vec<u32> = (0..graph.vertices.len() as u32)
         .filter(|&v| room[v as usize] > 0.0)
@@ -299,6 +315,30 @@ fn raise_round(
 /// distance is less than the true one, so the slack stays a lower bound. The weights
 /// are stored as `f32` rounded down, which only understates a raise's effect by
 /// less than `f32` precision of a weight ≤ 1 — covered by the slack's own margin.
+/// The divisions of a face grid along its longest edge.
+fn divisions(longest: f64) -> usize {
+    ((longest / RAISE_CELL).ceil() as usize).clamp(1, RAISE_MAX_DIVISIONS)
+}
+
+/// The most memory the certificate grids of [`raise_to_walls_and_corners`] can hold
+/// at once (bytes): every face's grid, as if every face had room. The budget checks
+/// it before the raise: a graph of long faces would otherwise ask for many gigabytes.
+pub fn grid_bytes(graph: &Graph) -> f64 {
+    let per_node = (std::mem::size_of::<[f32; 3]>() + std::mem::size_of::<f64>()) as f64;
+    graph
+        .faces
+        .iter()
+        .map(|f| {
+            let p = f.map(|v| graph.vertices[v as usize]);
+            let longest = (0..3)
+                .map(|i| toolbox::vec3::dist(p[i], p[(i + 1) % 3]))
+                .fold(0.0f64, f64::max);
+            let n = divisions(longest) as f64;
+            (n + 1.0) * (n + 2.0) / 2.0 * per_node
+        })
+        .sum()
+}
+
 fn slack_grid(
     p: [[f64; 3]; 3],
     c: [f64; 3],
@@ -311,7 +351,7 @@ fn slack_grid(
         (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
     };
     let longest = edge(0, 1).max(edge(1, 2)).max(edge(2, 0));
-    let n = ((longest / RAISE_CELL).ceil() as usize).clamp(1, RAISE_MAX_DIVISIONS);
+    let n = divisions(longest);
     let h = longest / n as f64;
     // Nodes in rows i = 0..=n, row i holding j = 0..=n − i; `row[i]` is its first index.
     let row: Vec<usize> = (0..=n + 1)
@@ -373,4 +413,31 @@ fn slack_grid(
         }
     }
     SlackGrid { weights, slack }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_face(size: f64) -> Graph {
+        Graph {
+            vertices: vec![[0.0; 3], [size, 0.0, 0.0], [0.0, size, 0.0]],
+            clearance: vec![1.0; 3],
+            faces: vec![[0, 1, 2]],
+        }
+    }
+
+    #[test]
+    fn the_grid_bytes_grow_with_the_faces_up_to_the_largest_grid() {
+        // An edge within one cell: the corners alone, 20 bytes each.
+        assert_eq!(grid_bytes(&one_face(RAISE_CELL * 0.5)), 3.0 * 20.0);
+        // Ten cells along the longest edge (the hypotenuse, 10 cells long).
+        let ten = one_face(10.0 * RAISE_CELL / 2f64.sqrt());
+        assert_eq!(grid_bytes(&ten), 66.0 * 20.0);
+        // A face of any size holds at most the grid of RAISE_MAX_DIVISIONS divisions.
+        let n = RAISE_MAX_DIVISIONS as f64;
+        let cap = (n + 1.0) * (n + 2.0) / 2.0 * 20.0;
+        assert_eq!(grid_bytes(&one_face(1e6)), cap);
+        assert_eq!(grid_bytes(&one_face(1e9)), cap);
+    }
 }

@@ -85,7 +85,7 @@ pub use options::{ReduceOptions, ReductionCost};
 pub use stats::{RaisedBack, ReduceStats, StopReason, Tick};
 
 use crate::graph::Graph;
-use crate::progress::Progress;
+use crate::progress::{Progress, Ticker};
 use keep::{KEEP_MARGIN, Keep};
 use mesh::{Changes, Edit, Mesh, Op};
 use queue::CostQueue;
@@ -253,9 +253,19 @@ fn run(
         ..ReduceStats::default()
     };
     let mut queue = CostQueue::new(mesh.pos.len());
+    // The work reported: every vertex's first costing, then every vertex removed.
+    let removals = live.saturating_sub(stats.target) as u64;
+    progress.start("Reduce", mesh.pos.len() as u64 + removals);
+    let ticker = Ticker::within(progress, Ticker::BLOCK);
     let initial: Vec<Option<f64>> = (0..mesh.pos.len() as u32)
         .into_par_iter()
-        .map(|v| cost_of(&mesh, kept.as_ref(), None, v))
+        .map_init(
+            || ticker.local(),
+            |done, v| {
+                done.tick();
+                cost_of(&mesh, kept.as_ref(), None, v)
+            },
+        )
         .collect();
     // Per vertex, the removal after which its costing last found it not
     // removable (`NOT_REFUSED` if it did not): the sweeps below skip it while
@@ -268,7 +278,6 @@ fn run(
         queue.set(v as u32, c);
     }
     stats.seconds_initial = start.elapsed().as_secs_f64();
-    progress.start("Reduce", live.saturating_sub(stats.target) as u64);
     let mut last_tick = Instant::now();
     let mut ops = [0u64; Op::COUNT];
     stats.stop = if options.floor_sets_target(live) {

@@ -25,6 +25,7 @@ mod polygon;
 
 use crate::delaunay::Triangulation;
 use crate::graph::Graph;
+use crate::progress::{NoProgress, Progress, Ticker};
 use crate::sample::grid::PointGrid;
 use crate::space::FreeSpace;
 use rayon::prelude::*;
@@ -65,6 +66,21 @@ pub fn extract(
     space: &dyn FreeSpace,
     options: &VoronoiOptions,
 ) -> (Graph, VoronoiStats) {
+    extract_reporting(tri, space, options, &NoProgress)
+}
+
+/// [`extract`], reporting its free-space tests to `progress` as the stage "Voronoi"
+/// (a block of cells or vertices at a time).
+pub fn extract_reporting(
+    tri: &Triangulation,
+    space: &dyn FreeSpace,
+    options: &VoronoiOptions,
+    progress: &dyn Progress,
+) -> (Graph, VoronoiStats) {
+    // Three passes test free space: each finite cell's centre, each cell's facets, and
+    // each graph vertex's clearance (at most one per finite cell).
+    let work = (2 * tri.num_finite_cells() + tri.num_cells()) as u64;
+    let ticker = Ticker::start(progress, "Voronoi", work, Ticker::BLOCK);
     let mut stats = VoronoiStats {
         tetrahedra: tri.num_cells(),
         voronoi_vertices: tri.num_finite_cells(),
@@ -73,10 +89,16 @@ pub fn extract(
     let spheres = tri.circumspheres();
     let inner: Vec<bool> = spheres
         .par_iter()
-        .map(|(c, r)| r.is_finite() && c.iter().all(|x| x.is_finite()) && space.is_free(*c))
+        .map_init(
+            || ticker.local(),
+            |done, (c, r)| {
+                done.tick();
+                r.is_finite() && c.iter().all(|x| x.is_finite()) && space.is_free(*c)
+            },
+        )
         .collect();
     stats.inner_vertices = inner.iter().filter(|&&b| b).count();
-    let facet_free = free_facets(tri, &spheres, &inner, space);
+    let facet_free = free_facets(tri, &spheres, &inner, space, &ticker);
 
     // Keep the rings that lie wholly in free space.
     let mut kept: Vec<Vec<u32>> = Vec::new();
@@ -113,7 +135,9 @@ pub fn extract(
         .collect();
     stats.triangulated = triangles.len();
 
-    let graph = correct_and_compact(&positions, &radii, &triangles, space, options, &mut stats);
+    let graph = correct_and_compact(
+        &positions, &radii, &triangles, space, options, &mut stats, &ticker,
+    );
     (graph, stats)
 }
 
@@ -124,26 +148,31 @@ fn free_facets(
     spheres: &[([f64; 3], f64)],
     inner: &[bool],
     space: &dyn FreeSpace,
+    ticker: &Ticker,
 ) -> Vec<u8> {
     let finite = spheres.len() as u32;
     let mut bits: Vec<u8> = (0..tri.num_cells() as u32)
         .into_par_iter()
-        .map(|t| {
-            let mut b = 0u8;
-            if t < finite && inner[t as usize] {
-                for i in 0..4 {
-                    let (u, _) = tri.neighbor(t, i);
-                    if t < u
-                        && u < finite
-                        && inner[u as usize]
-                        && space.segment_free(spheres[t as usize].0, spheres[u as usize].0)
-                    {
-                        b |= 1 << i;
+        .map_init(
+            || ticker.local(),
+            |done, t| {
+                done.tick();
+                let mut b = 0u8;
+                if t < finite && inner[t as usize] {
+                    for i in 0..4 {
+                        let (u, _) = tri.neighbor(t, i);
+                        if t < u
+                            && u < finite
+                            && inner[u as usize]
+                            && space.segment_free(spheres[t as usize].0, spheres[u as usize].0)
+                        {
+                            b |= 1 << i;
+                        }
                     }
                 }
-            }
-            b
-        })
+                b
+            },
+        )
         .collect();
     for t in 0..finite {
         for i in 0..4 {
@@ -195,18 +224,23 @@ fn correct_and_compact(
     space: &dyn FreeSpace,
     options: &VoronoiOptions,
     stats: &mut VoronoiStats,
+    ticker: &Ticker,
 ) -> Graph {
     let corrected: Vec<Option<f64>> = positions
         .par_iter()
         .zip(radii)
-        .map(|(&p, &r)| {
-            if r <= options.spacing {
-                return None;
-            }
-            // Samples lie on the walls, so the exact distance never exceeds C.
-            let c = space.wall_distance_within(p, r).unwrap_or(r);
-            (c >= options.min_clearance).then_some(c)
-        })
+        .map_init(
+            || ticker.local(),
+            |done, (&p, &r)| {
+                done.tick();
+                if r <= options.spacing {
+                    return None;
+                }
+                // Samples lie on the walls, so the exact distance never exceeds C.
+                let c = space.wall_distance_within(p, r).unwrap_or(r);
+                (c >= options.min_clearance).then_some(c)
+            },
+        )
         .collect();
     stats.removed_low_clearance = corrected.iter().filter(|c| c.is_none()).count();
     let mut new_id = vec![u32::MAX; positions.len()];

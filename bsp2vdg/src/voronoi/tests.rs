@@ -422,7 +422,7 @@ fn face_corners_rise_where_only_their_own_face_must_stay_free() {
     let mut alone = graph.clone();
     raise_to_walls(&mut alone, &Pillar);
     let mut both = graph.clone();
-    let (_, radii, stats) = raise_to_walls_and_corners(&mut both, &Pillar);
+    let (_, radii, stats) = raise_to_walls_and_corners(&mut both, &Pillar, &NoProgress);
     // The vertex raise is the same with or without the corners after it.
     assert_eq!(alone.clearance, both.clearance);
     assert_corners_certified(&both, &radii);
@@ -442,11 +442,73 @@ fn corner_check_puts_an_overreaching_face_back_to_its_vertex_clearances() {
     // The near face of the test above with a corner ball that reaches into the
     // obstacle, beside the far face raised as the certificate allows.
     let mut graph = shared_vertex_faces(205.0);
-    let (_, mut radii, _) = raise_to_walls_and_corners(&mut graph, &Pillar);
+    let (_, mut radii, _) = raise_to_walls_and_corners(&mut graph, &Pillar, &NoProgress);
     let far = radii[1];
     radii[0][2] = 30.0; // vertex 2 lies 23.2 units from the obstacle
     assert!(worst_corner_overshoot(&graph, &radii, &Pillar) > 0.0);
-    assert_eq!(check_corners(&graph, &mut radii, &Pillar), 1);
+    assert_eq!(check_corners(&graph, &mut radii, &Pillar, &NoProgress), 1);
     assert_eq!(radii[0], [0, 1, 2].map(|v| graph.clearance[v]));
     assert_eq!(radii[1], far, "a certified face keeps its corners");
+}
+
+#[test]
+fn every_costly_stage_stops_inside_itself_when_the_map_is_out_of_time() {
+    use crate::guard::{GuardMode, guard_with};
+    use crate::pipeline::stopped_in;
+    use crate::progress::Ticker;
+    let (size, m) = ([512.0, 384.0, 256.0], 12.0);
+    let points = box_samples(size, m);
+    assert!(
+        points.len() as u64 > 4 * Ticker::BLOCK,
+        "{} samples",
+        points.len()
+    );
+    let stop = |stage: &str, work: &dyn Fn(&dyn Progress)| stopped_in(stage, work);
+    // Each stage reports its work a block at a time, and the budget is checked at
+    // every report: out of time, the stage unwinds from inside itself, named.
+    let delaunay = stop("delaunay", &|p| {
+        let _ = Triangulation::new_reporting(&points, p);
+    });
+    assert_eq!(delaunay.as_deref(), Some("delaunay"));
+    let tri = Triangulation::new(&points).unwrap();
+    let options = VoronoiOptions {
+        spacing: m,
+        min_clearance: 0.0,
+    };
+    let voronoi = stop("voronoi", &|p| {
+        extract_reporting(&tri, &BoxRoom(size), &options, p);
+    });
+    assert_eq!(voronoi.as_deref(), Some("voronoi"));
+    let (graph, _) = extract(&tri, &BoxRoom(size), &options);
+    assert!(
+        graph.faces.len() as u64 > Ticker::BLOCK,
+        "{} faces",
+        graph.faces.len()
+    );
+    for (stage, mode) in [("guard", GuardMode::Bound), ("check", GuardMode::Repair)] {
+        let stopped = stop(stage, &|p| {
+            guard_with(graph.clone(), &BoxRoom(size), 0.0, mode, p);
+        });
+        assert_eq!(stopped.as_deref(), Some(stage));
+    }
+    let reduce = stop("reduce", &|p| {
+        crate::reduce::reduce(&graph, &crate::reduce::ReduceOptions::new(0.2), p);
+    });
+    assert_eq!(reduce.as_deref(), Some("reduce"));
+    let raise = stop("wall_raise", &|p| {
+        raise_to_walls_and_corners(&mut graph.clone(), &BoxRoom(size), p);
+    });
+    assert_eq!(raise.as_deref(), Some("wall_raise"));
+    let corners = stop("corner_check", &|p| {
+        let mut radii: Vec<[f64; 3]> = graph
+            .faces
+            .iter()
+            .map(|f| f.map(|v| graph.clearance[v as usize] + 1.0))
+            .collect();
+        check_corners(&graph, &mut radii, &BoxRoom(size), p);
+    });
+    assert_eq!(corners.as_deref(), Some("corner_check"));
+    // With no budget the same work runs to its end.
+    let unbudgeted = crate::progress::NoProgress;
+    assert!(Triangulation::new_reporting(&points, &unbudgeted).is_ok());
 }
