@@ -76,13 +76,22 @@ impl Budget {
             return Err(CompileError::OverBudget {
                 stage,
                 what: format!(
-                    "{what} would need about {:.1} GB, the budget is {:.1} GB",
-                    bytes / 1e9,
-                    self.bytes / 1e9
+                    "{what} would need about {}, the budget is {}",
+                    size(bytes),
+                    size(self.bytes)
                 ),
             });
         }
         Ok(())
+    }
+}
+
+/// `bytes` for a person: GB to a tenth from 1 GB up, MB below.
+fn size(bytes: f64) -> String {
+    if bytes >= 1e9 {
+        format!("{:.1} GB", bytes / 1e9)
+    } else {
+        format!("{:.0} MB", (bytes / 1e6).ceil())
     }
 }
 
@@ -159,6 +168,8 @@ mod tests {
                 .check_memory("delaunay", small.bytes * 0.5, "x")
                 .is_ok()
         );
+        assert_eq!(size(2.46e9), "2.5 GB");
+        assert_eq!(size(19.2e6), "20 MB");
     }
 
     #[test]
