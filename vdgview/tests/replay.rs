@@ -12,6 +12,7 @@ use std::process::Command;
 use vdgview::replay::cameras::{ChaseCam, ReplayCamera, SpringArm};
 use vdgview::replay::route::TargetState;
 use vdgview::replay::spawns;
+use vdgview::replay::walk::{Waypoint, walk, walk_parts};
 
 fn map(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -57,9 +58,10 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
                     r.name,
                     t.t
                 );
-                assert_ne!(
-                    world.hull_contents(hull, [o[0], o[1], o[2] - 2.0]),
-                    Contents::Empty,
+                // On the floor, unless falling off a ledge.
+                assert!(
+                    t.velocity[2] < 0.0
+                        || world.hull_contents(hull, [o[0], o[1], o[2] - 2.0]) != Contents::Empty,
                     "{} {} t={:.2}: floating at {o:?}",
                     world.name,
                     r.name,
@@ -74,6 +76,125 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
             );
         }
     }
+}
+
+/// Walking off the ramp map's ledge (128 units above the floor) the player falls under
+/// gravity, as in the game: no frame moves more than a step down, the fall lasts as long
+/// as a 128-unit drop at 800 units/s² does (0.57 s), the hull stays free all the way,
+/// and the route reaches its end on the floor below. The walker used to land in one
+/// frame, a 128-unit jump that any camera must take as a cut.
+#[test]
+fn walking_off_a_ledge_is_a_fall_not_a_jump() {
+    let world = mapgen::worlds::ramp();
+    let bsp = Bsp::open(map("ramp")).unwrap();
+    let oracle = Oracle::new(&bsp, &OracleOptions::default());
+    let path = [
+        Waypoint {
+            x: 640.0,
+            y: 96.0,
+            floor: 128.0,
+            crouch: false,
+        },
+        Waypoint {
+            x: 640.0,
+            y: 420.0,
+            floor: 0.0,
+            crouch: false,
+        },
+    ];
+    let (route, stats) = walk(&oracle, "off the ledge", &path, 7);
+    assert_eq!(stats.falls, 1, "{stats:?}");
+    assert!(!stats.cut_short, "{stats:?}");
+    let states = &route.states;
+    let (mut top, mut bottom) = (None, None);
+    for w in states.windows(2) {
+        let dz = f64::from(w[1].origin[2] - w[0].origin[2]);
+        assert!(
+            dz > -18.5,
+            "a drop of {dz} units in one frame at t={:.3}",
+            w[1].t
+        );
+        let moved = f64::from(w[1].origin[0] - w[0].origin[0])
+            .hypot(f64::from(w[1].origin[1] - w[0].origin[1]));
+        assert!(moved < 4.0, "a jump of {moved} units at t={:.3}", w[1].t);
+        if w[0].origin[2] > 150.0 && w[1].origin[2] <= 164.0 {
+            top.get_or_insert(w[0].t);
+        }
+        if w[1].origin[2] < 37.5 && w[0].origin[2] >= 37.5 {
+            bottom = Some(w[1].t);
+        }
+    }
+    for t in states {
+        let o = t.origin.map(f64::from);
+        assert_eq!(
+            world.hull_contents(1, o),
+            Contents::Empty,
+            "hull not free at {o:?}"
+        );
+    }
+    let fall = bottom.expect("reached the floor") - top.expect("left the ledge");
+    let free_fall = (2.0 * 128.0 / 800.0f64).sqrt();
+    assert!(
+        (fall - free_fall).abs() < 0.05,
+        "fell for {fall:.3} s, free fall {free_fall:.3} s"
+    );
+    let end = states.last().unwrap().origin;
+    assert!(
+        (end[1] - 420.0).abs() < 2.0 && (end[2] - 36.0).abs() < 1.5,
+        "ended at {end:?}"
+    );
+}
+
+/// A path straight through a pillar (as a nav mesh's jump or ladder link leaves a
+/// stretch the walker cannot follow): the walk is split where the floor is lost and
+/// found again, into routes that never jump, and the second part reaches the path's
+/// end. The walker used to hold still and then jump 100 units across the pillar.
+#[test]
+fn a_path_the_walker_cannot_follow_is_split_not_jumped() {
+    let bsp = Bsp::open(map("pillars")).unwrap();
+    let oracle = Oracle::new(&bsp, &OracleOptions::default());
+    let path = [
+        Waypoint {
+            x: 96.0,
+            y: 160.0,
+            floor: 0.0,
+            crouch: false,
+        },
+        Waypoint {
+            x: 400.0,
+            y: 160.0,
+            floor: 0.0,
+            crouch: false,
+        },
+    ];
+    let parts = walk_parts(&oracle, "through", &path, 3);
+    let names: Vec<&str> = parts.iter().map(|(r, _)| r.name.as_str()).collect();
+    assert_eq!(names, ["through", "through#2"]);
+    assert!(parts[0].1.cut_short && !parts[1].1.cut_short);
+    for (r, _) in &parts {
+        for w in r.states.windows(2) {
+            let moved = f64::from(w[1].origin[0] - w[0].origin[0])
+                .hypot(f64::from(w[1].origin[1] - w[0].origin[1]));
+            assert!(
+                moved < 4.0,
+                "{}: a jump of {moved} units at t={:.3}",
+                r.name,
+                w[1].t
+            );
+        }
+    }
+    let first_end = parts[0].0.states.last().unwrap().origin;
+    let second = &parts[1].0.states;
+    assert!(
+        first_end[0] < 192.0 - 15.0,
+        "first part ends at {first_end:?}"
+    );
+    assert!(
+        second[0].origin[0] > 256.0 + 15.0,
+        "second part starts at {:?}",
+        second[0].origin
+    );
+    assert!((second.last().unwrap().origin[0] - 400.0).abs() < 2.0);
 }
 
 /// On Quake 1 and 2 maps the player's box reaches 24 units below the origin and 32

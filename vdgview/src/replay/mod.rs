@@ -129,6 +129,11 @@ pub struct RouteSet {
     pub unreachable: usize,
     /// Walker steps without a floor position (the player stayed put).
     pub stuck_steps: usize,
+    /// Routes that end where the walker could not follow the path (the rest of the path
+    /// is the next route, named `NAME#2`...; see `walk::walk_parts`).
+    pub cut_short: usize,
+    /// Falls from ledges taken under gravity.
+    pub falls: usize,
 }
 
 /// The map a replay runs on, for the checks that a nav mesh or a demo was made on it.
@@ -217,6 +222,8 @@ pub fn load_routes(
         routes,
         unreachable,
         stuck_steps: stats.iter().map(|s| s.stuck_steps).sum(),
+        cut_short: stats.iter().filter(|s| s.cut_short).count(),
+        falls: stats.iter().map(|s| s.falls).sum(),
     })
 }
 
@@ -379,6 +386,8 @@ impl Report {
                 "count": self.routes.routes.len(),
                 "unreachable": self.routes.unreachable,
                 "stuck_steps": self.routes.stuck_steps,
+                "cut_short": self.routes.cut_short,
+                "falls": self.routes.falls,
                 "frames": self.frames_per_camera,
                 "seconds": self.frames_per_camera as f64 * self.dt,
                 "names": self.routes.routes.iter().map(|r| r.name.clone()).collect::<Vec<_>>(),

@@ -3,7 +3,7 @@
 //! areas, each walked on the map's own floor.
 
 use super::route::Route;
-use super::walk::{WalkStats, Waypoint, walk};
+use super::walk::{WalkStats, Waypoint, walk_parts};
 use bsp::oracle::Oracle;
 use bsp::player::{above_floor, settle};
 pub use navmesh::{NAV_CROUCH, NAV_MAGIC, NavArea, NavMesh};
@@ -118,7 +118,9 @@ pub fn routes(
         return (routes, stats, 0);
     }
     let mut tries = 0;
-    while routes.len() < count && tries < count * 20 {
+    // Paths walked (a path the walker cannot follow all along gives several routes).
+    let mut walked = 0;
+    while walked < count && tries < count * 20 {
         tries += 1;
         let (i, j) = (rng.below(mesh.areas.len()), rng.below(mesh.areas.len()));
         if mesh.areas[i].center_distance(&mesh.areas[j]) < 512.0 {
@@ -136,15 +138,15 @@ pub fn routes(
                 None => w,
             })
             .collect();
-        let k = routes.len();
+        let k = walked;
+        walked += 1;
         let name = format!("nav{k}:area{}->area{}", mesh.areas[i].id, mesh.areas[j].id);
-        let (r, s) = walk(
+        for (r, s) in walk_parts(
             oracle,
             &name,
             &path,
             seed ^ (k as u64 + 1).wrapping_mul(0x51ed),
-        );
-        if r.states.len() > 1 {
+        ) {
             routes.push(r);
             stats.push(s);
         }

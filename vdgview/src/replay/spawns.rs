@@ -8,7 +8,7 @@
 //! [`string_pull`] straightens it, [`walk`] turns it into a player's motion.
 
 use super::route::Route;
-use super::walk::{WalkStats, Waypoint, string_pull, walk};
+use super::walk::{WalkStats, Waypoint, string_pull, walk_parts};
 use bsp::Bsp;
 use bsp::oracle::Oracle;
 use bsp::player::{above_floor, clip_hulls, hull_fits, settle};
@@ -420,14 +420,15 @@ fn walk_pairs(
             "spawn{k}:{:.0},{:.0},{:.0}->{:.0},{:.0},{:.0}",
             from[0], from[1], from[2], to[0], to[1], to[2]
         );
-        let (r, s) = walk(
+        for (r, s) in walk_parts(
             oracle,
             &name,
             &path,
             seed ^ (k as u64 + 1).wrapping_mul(0x9e37),
-        );
-        routes.push(r);
-        stats.push(s);
+        ) {
+            routes.push(r);
+            stats.push(s);
+        }
     }
     (routes, stats, unreachable)
 }

@@ -3,12 +3,15 @@
 //! and then, turning round (180°) to run back a little, crouching for stretches
 //! (96 units/s) and wherever the path is too low to stand. Every frame's origin is
 //! settled on the floor with the player's clip hull, so the route is physically
-//! possible in the map. All choices come from a seeded generator: the same path
-//! and seed give the same route.
+//! possible in the map; where the floor drops by more than a step the player falls
+//! under the game's gravity instead of landing below in one frame, and a route never
+//! jumps: where the walker finds no floor for a stretch it would have to skip, the
+//! route ends at the last place it reached. All choices come from a seeded
+//! generator: the same path and seed give the same route.
 
 use super::route::{Route, TargetState};
 use bsp::oracle::Oracle;
-use bsp::player::{above_floor, crouches, settle};
+use bsp::player::{above_floor, crouches, hull_fits, settle};
 use toolbox::SplitMix64;
 
 /// The walker's fixed step (the route is resampled at the replay's `--dt`).
@@ -19,6 +22,16 @@ pub const CROUCH_SPEED: f64 = 96.0;
 const ACCEL: f64 = 2500.0;
 /// Largest view turn rate of the player in degrees per second.
 const TURN_RATE: f64 = 720.0;
+/// `sv_gravity` of GoldSrc and Quake (units/s²): how a player falls off a ledge.
+const GRAVITY: f64 = 800.0;
+/// The highest step a player walks up or down without leaving the ground (`STEPSIZE`).
+const STEP_HEIGHT: f64 = 18.0;
+/// How fast a player climbs where the path rises by more than a step (GoldSrc's ladder
+/// speed, units/s).
+const CLIMB_SPEED: f64 = 200.0;
+/// The longest move between two frames a route may make after a stretch without a
+/// floor: more would be a jump no player makes; the route ends before it instead.
+const LONGEST_CATCH_UP: f64 = 16.0;
 
 /// A point of a path on the floor (`floor` is the height of the ground under it).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -117,13 +130,37 @@ impl<'a> Polyline<'a> {
     fn length(&self) -> f64 {
         *self.cum.last().unwrap()
     }
+    /// The path from arc length `s`, starting at the floor position `at` found there.
+    fn rest_from(&self, s: f64, at: ([f64; 3], bool), oracle: &Oracle) -> Vec<Waypoint> {
+        let mut out = vec![Waypoint::from_origin(oracle, at.0, at.1)];
+        out.extend(
+            self.points
+                .iter()
+                .zip(&self.cum)
+                .filter(|&(_, &c)| c > s)
+                .map(|(w, _)| *w),
+        );
+        out
+    }
+    /// The lower of the floors at the two ends of the path's segment at arc length `s`:
+    /// where the path itself goes down (off a ledge), no lower.
+    fn segment_low(&self, s: f64) -> f64 {
+        let i = self.segment(s);
+        let j = (i + 1).min(self.points.len() - 1);
+        self.points[i].floor.min(self.points[j].floor)
+    }
+    /// The index of the path's segment at arc length `s`.
+    fn segment(&self, s: f64) -> usize {
+        let s = s.clamp(0.0, self.length());
+        match self.cum.binary_search_by(|c| c.total_cmp(&s)) {
+            Ok(i) => i.min(self.points.len().saturating_sub(2)),
+            Err(i) => (i.max(1) - 1).min(self.points.len().saturating_sub(2)),
+        }
+    }
     /// Position, floor, crouch flag and unit xy direction at arc length `s`.
     fn at(&self, s: f64) -> (f64, f64, f64, bool, [f64; 2]) {
         let s = s.clamp(0.0, self.length());
-        let i = match self.cum.binary_search_by(|c| c.total_cmp(&s)) {
-            Ok(i) => i.min(self.points.len().saturating_sub(2)),
-            Err(i) => (i.max(1) - 1).min(self.points.len().saturating_sub(2)),
-        };
+        let i = self.segment(s);
         let (a, b) = (
             self.points[i],
             self.points[(i + 1).min(self.points.len() - 1)],
@@ -154,6 +191,14 @@ impl<'a> Polyline<'a> {
 pub struct WalkStats {
     /// Steps where no floor position was found and the player stayed put.
     pub stuck_steps: usize,
+    /// Whether the route ended early: after a stretch without a floor the next floor
+    /// position lay farther than a player moves in a frame ([`LONGEST_CATCH_UP`]).
+    /// [`walk_parts`] walks the rest as another part.
+    pub cut_short: bool,
+    /// Falls from a ledge (drops deeper than a step, taken under gravity).
+    pub falls: usize,
+    /// Steps spent climbing where the path rises by more than a step.
+    pub climb_steps: usize,
     pub stops: usize,
     pub turns: usize,
     pub crouch_stretches: usize,
@@ -162,6 +207,48 @@ pub struct WalkStats {
 /// Walks `path` (at least two points) as a player; `seed` picks the speed and the
 /// moments of stops, turns and crouching.
 pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route, WalkStats) {
+    let (route, stats, _) = walk_part(oracle, name, path, seed);
+    (route, stats)
+}
+
+/// [`walk`] over the whole of `path` in parts: where the walker cannot follow the
+/// path (no floor for a stretch, e.g. a jump across a gap or a ladder the nav mesh
+/// links), the part ends and the next starts where the floor is found again, so no
+/// route ever jumps and none loses the rest of its path. Parts after the first are
+/// named `NAME#2`, `NAME#3`, ..., each with its own statistics.
+pub fn walk_parts(
+    oracle: &Oracle,
+    name: &str,
+    path: &[Waypoint],
+    seed: u64,
+) -> Vec<(Route, WalkStats)> {
+    let mut out = Vec::new();
+    let mut path = path.to_vec();
+    // Each part starts where the previous one's floor was found again, farther along.
+    for part in 1.. {
+        let name = if part == 1 {
+            name.to_string()
+        } else {
+            format!("{name}#{part}")
+        };
+        let (route, stats, rest) = walk_part(oracle, &name, &path, seed ^ (part as u64 - 1));
+        if route.states.len() > 1 {
+            out.push((route, stats));
+        }
+        match rest {
+            Some(r) if r.len() >= 2 => path = r,
+            _ => break,
+        }
+    }
+    out
+}
+
+fn walk_part(
+    oracle: &Oracle,
+    name: &str,
+    path: &[Waypoint],
+    seed: u64,
+) -> (Route, WalkStats, Option<Vec<Waypoint>>) {
     let mut rng = SplitMix64::new(seed);
     let line = Polyline::new(path);
     let run_speed = rng.range(250.0, 265.0);
@@ -181,6 +268,11 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
         last.0[2] - above_floor(oracle, last.1),
     ];
     let limit = (line.length() / CROUCH_SPEED * 4.0 + 60.0) / STEP;
+    // Steps in a row without a floor, and the downward speed of a fall (0 on the ground).
+    let mut stuck = 0usize;
+    let mut fall_speed = 0.0f64;
+    // Where the walk goes on after a stretch it could not follow (see `walk_parts`).
+    let mut rest = None;
     let crouching = crouches(oracle);
     for _ in 0..limit as usize {
         let (_, _, floor, must_crouch, dir) = line.at(s);
@@ -229,6 +321,7 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
             _ => run_speed,
         };
         v = approach_speed(v, wish, STEP);
+        let s_before = s;
         s = (s + v * STEP).clamp(0.0, line.length());
         // The view turns towards the motion (or the wished motion while stopped).
         let facing = if wish < 0.0 || (wish == 0.0 && v < 0.0) {
@@ -247,11 +340,52 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
         } else {
             nfloor
         };
-        match settle(oracle, nx, ny, hint, crouch)
-            .or_else(|| settle(oracle, nx, ny, nfloor, crouch))
-        {
-            Some(p) => last = p,
-            None => stats.stuck_steps += 1,
+        let low = line.segment_low(s);
+        match ground(oracle, nx, ny, [hint, nfloor, low], crouch) {
+            Some(p) => {
+                let moved = (p.0[0] - last.0[0]).hypot(p.0[1] - last.0[1]);
+                if stuck > 0 && moved > LONGEST_CATCH_UP {
+                    stats.cut_short = true;
+                    rest = Some(line.rest_from(s, p, oracle));
+                    break;
+                }
+                stuck = 0;
+                let feet = last.0[2] - above_floor(oracle, last.1);
+                let rise = p.0[2] - above_floor(oracle, p.1) - feet;
+                if rise > STEP_HEIGHT + 0.5 && fall_speed == 0.0 {
+                    // Higher than a step: no walking up it. Running back over a
+                    // ledge the player dropped from ends the run back; ahead on the
+                    // path (a nav mesh's jump or ladder) the player climbs in place.
+                    s = s_before;
+                    if v < 0.0 {
+                        v = 0.0;
+                        act = Act::Run;
+                        next_event = t + rng.range(2.0, 5.0);
+                    } else if let Some(up) = climb(oracle, last, &mut stats) {
+                        last = up;
+                    } else {
+                        // Something overhead: the player cannot get up here, so the
+                        // route ends and the rest of the path is walked from above.
+                        stats.cut_short = true;
+                        rest = Some(line.rest_from(s_before, p, oracle));
+                        break;
+                    }
+                } else if let Some(next) =
+                    fall_towards(oracle, last, p, &mut fall_speed, &mut stats)
+                {
+                    last = next;
+                } else {
+                    // No free line down to the floor found: end the route there
+                    // rather than land in one frame.
+                    stats.cut_short = true;
+                    rest = Some(line.rest_from(s, p, oracle));
+                    break;
+                }
+            }
+            None => {
+                stats.stuck_steps += 1;
+                stuck += 1;
+            }
         }
         let o = last.0;
         // Velocity of the feet: ducking moves GoldSrc's hull centre by 18 units at
@@ -285,7 +419,76 @@ pub fn walk(oracle: &Oracle, name: &str, path: &[Waypoint], seed: u64) -> (Route
             states,
         },
         stats,
+        rest,
     )
+}
+
+/// The floor position at `(x, y)`, looked for near each of `heights` in turn: the
+/// walker's own height, the path's floor there, and the lower end of the path's
+/// segment (where the path itself goes down a ledge, the floor a player walking off
+/// it lands on). Never deeper: a floor far below the path (a pool beside it, a void
+/// under the map) is not where the path goes.
+fn ground(
+    oracle: &Oracle,
+    x: f64,
+    y: f64,
+    heights: [f64; 3],
+    crouch: bool,
+) -> Option<([f64; 3], bool)> {
+    heights
+        .iter()
+        .find_map(|&h| settle(oracle, x, y, h, crouch))
+}
+
+/// The player's next position when the floor under it is at `landing`: on the floor
+/// when it is within a step (or the fall reaches it this frame), else falling towards
+/// it under [`GRAVITY`] (the fall's downward speed in `fall_speed`), over the landing
+/// or, where the hull does not fit there, straight down where it is. `None` where it
+/// fits at neither: no fall that does not pass through a wall.
+fn fall_towards(
+    oracle: &Oracle,
+    last: ([f64; 3], bool),
+    landing: ([f64; 3], bool),
+    fall_speed: &mut f64,
+    stats: &mut WalkStats,
+) -> Option<([f64; 3], bool)> {
+    let feet = last.0[2] - above_floor(oracle, last.1);
+    let floor = landing.0[2] - above_floor(oracle, landing.1);
+    if *fall_speed == 0.0 && floor >= feet - STEP_HEIGHT - 0.5 {
+        return Some(landing);
+    }
+    let speed = *fall_speed + GRAVITY * STEP;
+    let z = feet - speed * STEP;
+    if z <= floor {
+        *fall_speed = 0.0;
+        return Some(landing);
+    }
+    let hull = if landing.1 { 3 } else { 1 };
+    let over = |p: [f64; 3]| [p[0], p[1], z + above_floor(oracle, landing.1)];
+    let origin = [over(landing.0), over(last.0)]
+        .into_iter()
+        .find(|&o| hull_fits(oracle, hull, o))?;
+    if *fall_speed == 0.0 {
+        stats.falls += 1;
+    }
+    *fall_speed = speed;
+    Some((origin, landing.1))
+}
+
+/// The player's next position where the floor ahead is higher than a step: straight
+/// up at [`CLIMB_SPEED`] where it stands (as on a ladder, or jumping up onto a box),
+/// or `None` where the hull does not fit there (the player cannot get up).
+fn climb(
+    oracle: &Oracle,
+    last: ([f64; 3], bool),
+    stats: &mut WalkStats,
+) -> Option<([f64; 3], bool)> {
+    let up = [last.0[0], last.0[1], last.0[2] + CLIMB_SPEED * STEP];
+    let hull = if last.1 { 3 } else { 1 };
+    hull_fits(oracle, hull, up).then(|| {
+        stats.climb_steps += 1;
+        (up, last.1)
+    })
 }
 
 /// Quake-like speed change over `dt`: accelerate towards the wished speed, friction
