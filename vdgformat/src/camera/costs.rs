@@ -45,7 +45,7 @@ impl Camera {
         let dist = self.dist_cost(scene, k);
         let angle = self.angle_cost(scene, k);
         let inertia = self.inertia_cost(scene, k);
-        let clear = self.clear_cost(s, clear);
+        let clear = self.clear_cost(scene, s, clear);
         let total = (vis + scene.novis * (dist + angle + inertia + clear)) / 5.0;
         Costs {
             vis: vis as f32,
@@ -115,7 +115,14 @@ impl Camera {
         ((k - scene.c_t).norm() / scene.inertia_scale).powi(2)
     }
 
-    pub(super) fn clear_cost(&self, s: &State, clearance: f64) -> f64 {
-        (s.clear_speed * f64::from(self.params.clearance_sigma) / clearance.max(1e-3)).powi(2)
+    /// f_clear: the room the camera needs, p_σ seconds at its speed, over
+    /// the room at the position; with [`CameraParams::clearance_within_target_room`](super::CameraParams::clearance_within_target_room)
+    /// the need is at most the room the target itself has.
+    pub(super) fn clear_cost(&self, scene: &Scene, s: &State, clearance: f64) -> f64 {
+        let mut need = s.clear_speed * f64::from(self.params.clearance_sigma);
+        if self.params.clearance_within_target_room {
+            need = need.min(scene.target_room);
+        }
+        (need / clearance.max(1e-3)).powi(2)
     }
 }

@@ -185,6 +185,7 @@ impl Camera {
         } else {
             desired
         };
+        let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
         let mut step = vel * scene.dt;
         let len = step.norm();
         let mut allowed = (v * scene.dt).min(dist_best);
@@ -219,9 +220,22 @@ impl Camera {
             (p, f) = slide(g, &self.faces, p, f, s.pos + step, margin, hops);
         }
         if !a.reached {
-            let left = allowed - (p - s.pos).norm();
-            if left > 1e-6 {
-                let goal = s.pos + dir * allowed;
+            // The straight line at no more than the speed the camera had
+            // plus what `max_decel` allows in a frame: at the full command
+            // a camera that had slowed along a wall leapt off it (a speed
+            // jump of a few hundred units per second in one frame).
+            let straight = if self.params.max_decel > 0.0 {
+                allowed.min((s.vel.norm() + f64::from(self.params.max_decel) * scene.dt) * scene.dt)
+            } else {
+                allowed
+            };
+            // A slide that carried the camera at least half its step keeps
+            // it: turning onto the straight line there reflected the
+            // camera off the wall (a kink every time it grazed one).
+            let slid = (p - s.pos).norm();
+            let left = straight - slid;
+            if left > 1e-6 && !(self.params.slide && slid >= 0.5 * len.min(straight)) {
+                let goal = s.pos + dir * straight;
                 let b = g.advance_tol(
                     s.face,
                     from,
@@ -250,6 +264,35 @@ impl Camera {
         }
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)
+    }
+}
+
+impl Camera {
+    /// With `max_decel`, the part of the velocity heading for the volume's
+    /// boundary is no faster than the camera can brake from before it
+    /// reaches the margin: √(2 · max_decel · (clearance − margin)), the
+    /// clearance being the distance to the nearest boundary, so never more
+    /// than the way left in any direction. A camera that ran into the
+    /// boundary at speed stopped dead there or, turning onto its best
+    /// candidate, bounced off it within a frame.
+    fn brake_at_walls(&self, g: &Vdg<'_>, s: &State, vel: V3, here_clear: f64, margin: f32) -> V3 {
+        let a = f64::from(self.params.max_decel);
+        let room = (here_clear - f64::from(margin)).max(0.0);
+        let speed2 = vel.norm2();
+        // Far enough from every wall to stop from this speed: nothing to do.
+        if a <= 0.0 || speed2 <= 2.0 * a * room {
+            return vel;
+        }
+        let Some(n) = inward_normal(g, s.face, s.pos) else {
+            return vel;
+        };
+        let towards = -vel.dot(n);
+        let limit = (2.0 * a * room).sqrt();
+        if towards > limit {
+            vel + n * (towards - limit)
+        } else {
+            vel
+        }
     }
 }
 

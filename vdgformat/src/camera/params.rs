@@ -224,6 +224,26 @@ pub struct CameraParams {
     /// target needs its speed; it still never passes its best candidate.
     /// 0 = the thesis.
     pub target_speed_floor: f32,
+    /// A candidate the graph proves the target visible from beats every
+    /// candidate it is hidden from; f_total ranks the candidates within each
+    /// group. The thesis leaves it to the weights ("invisibility
+    /// dominates"), but with f_vis normalised the comfort terms can
+    /// outweigh it: f_clear at a camera's chasing speed grows past a
+    /// hundred at a wall, so next to a doorway a hidden vertex in the open
+    /// room beat the candidate in the doorway that saw the player.
+    /// false = the cheapest candidate whatever it sees (the thesis).
+    pub visible_first: bool,
+    /// f_clear asks for no more room than the graph gives the target
+    /// itself: "room for p_σ seconds at the current speed" (about 125
+    /// units when following a running player) is more than a corridor,
+    /// a doorway or even open ground at eye height (the floor is 64 units
+    /// below a standing player's eye) ever has, so every position the
+    /// player's way passes through was rated as cramped, the more the
+    /// faster the camera chased: a chasing camera next to the doorway the
+    /// player had gone through kept to the open room. Where the player
+    /// has room, the camera still keeps its distance from walls. false =
+    /// the thesis' need, whatever the target's room.
+    pub clearance_within_target_room: bool,
 }
 
 impl Default for CameraParams {
@@ -265,6 +285,8 @@ impl Default for CameraParams {
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
+            visible_first: true,
+            clearance_within_target_room: true,
         }
     }
 }
@@ -296,6 +318,8 @@ impl CameraParams {
             pursuit_length: 0.0,
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
+            visible_first: false,
+            clearance_within_target_room: false,
             ..CameraParams::default()
         }
     }

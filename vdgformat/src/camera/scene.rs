@@ -73,6 +73,7 @@ impl Camera {
         let inertia_scale = inertia_reach * f64::from(p.inertia_sigma);
         let v_sigma = f64::from(p.visibility_sigma);
         let novis = (v_sigma / (v_sigma + hidden)).powi(2);
+        let target_room = g.fc(face, t_vis);
         Scene {
             t,
             face,
@@ -91,7 +92,8 @@ impl Camera {
             },
             novis,
             searched,
-            t_vis_in_face: g.fc(face, t_vis) > INSIDE,
+            t_vis_in_face: target_room > INSIDE,
+            target_room: target_room.max(0.0),
         }
     }
 

@@ -232,4 +232,6 @@ pub(super) struct Scene {
     pub(super) searched: bool,
     /// `t_vis` lies in the volume of `face` (with the visibility margin).
     pub(super) t_vis_in_face: bool,
+    /// The graph's clearance at `t_vis`: the room the target has.
+    pub(super) target_room: f64,
 }
