@@ -566,3 +566,75 @@ fn a_camera_behind_a_player_standing_still_comes_to_rest_behind_him() {
         assert!(hi - lo < 8.0, "dt {dt}: camera wanders over y {lo}..{hi}");
     }
 }
+
+/// The U corridor with a hall inside its first bend (x 384–704, y 64–384,
+/// clearance 96) that opens onto the bottom and right legs.
+fn u_corridor_by_a_hall() -> VdgFile {
+    open(&grid(
+        24,
+        24,
+        32.0,
+        |_, _| 64.0,
+        |x, y| {
+            if (384.0..=704.0).contains(&x) && (64.0..=384.0).contains(&y) {
+                96.0
+            } else {
+                24.0
+            }
+        },
+        |i, j| j < 2 || i >= 22 || j >= 22 || ((12..22).contains(&i) && j < 12),
+    ))
+}
+
+/// Hidden frames, the longest hidden stretch and the mean distance to the
+/// target for a camera following a target that runs round the U by the hall at
+/// `speed`.
+fn through_the_u(params: CameraParams, dt: f32, speed: f64) -> (usize, usize, f64) {
+    let file = u_corridor_by_a_hall();
+    let g = file.graph();
+    let mut cam = Camera::new(params).unwrap();
+    cam.reset(&g, &u_walk(0.0, 0.0, speed));
+    let frames = (7.0 / dt) as usize;
+    let (mut hidden, mut run, mut longest, mut dist) = (0, 0, 0, 0.0);
+    for i in 1..=frames {
+        let t = u_walk(f64::from(i as u32) * f64::from(dt), 0.0, speed);
+        let p = cam.update(&g, &t, dt);
+        assert!(g.contains(p.eye), "frame {i}: eye left the volume");
+        assert!(!p.cut, "frame {i}: cut");
+        hidden += usize::from(!p.target_visible);
+        run = if p.target_visible { 0 } else { run + 1 };
+        longest = longest.max(run);
+        let d: f64 = (0..3)
+            .map(|k| f64::from(p.eye[k] - t.position[k]).powi(2))
+            .sum();
+        dist += d.sqrt();
+    }
+    (hidden, longest, dist / frames as f64)
+}
+
+#[test]
+fn a_camera_follows_a_runner_through_a_corridor_narrower_than_its_speed_asks() {
+    // The corridor gives the runner 24 units of room; "room for p_σ seconds at
+    // the current speed" asks 130 of a camera following at 265 u/s, so f_clear
+    // rated every place on the runner's way as cramped and the roomy hall
+    // beside it as the place to be: the camera hung back in the hall, the
+    // runner out of view round the bend. Asking no more room than the target
+    // has, it keeps closer and loses the runner less.
+    let thesis_need = CameraParams {
+        clearance_within_target_room: false,
+        ..CameraParams::default()
+    };
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        let (hidden, longest, dist) = through_the_u(CameraParams::default(), dt, 265.0);
+        let (hidden_before, _, dist_before) = through_the_u(thesis_need.clone(), dt, 265.0);
+        assert!(longest <= 30, "dt {dt}: hidden {longest} frames in a row");
+        assert!(
+            dist < dist_before - 10.0,
+            "dt {dt}: mean distance {dist:.1}, asking the thesis' room {dist_before:.1}"
+        );
+        assert!(
+            hidden <= hidden_before,
+            "dt {dt}: {hidden} frames hidden, asking the thesis' room {hidden_before}"
+        );
+    }
+}

@@ -104,7 +104,6 @@ impl Camera {
         ];
         let mut n = 0;
         let mut best = (s.pos, f64::INFINITY, 0usize);
-        let mut best_seen = false;
         let (mut wsum, mut wpos) = (0.0, V3(0.0, 0.0, 0.0));
         let mut stop = false;
         // Candidates often clamp to the same point (a blocked line, one
@@ -127,9 +126,8 @@ impl Camera {
             let costs = rate(self, pos, face, clear, n);
             let total = f64::from(costs.total);
             self.record(n, kind, k, pos, costs);
-            if self.ranks_before(costs, best.1, best_seen) {
+            if total < best.1 {
                 best = (pos, total, n);
-                best_seen = costs.vis == 0.0;
             }
             n += 1;
             if total < early_stop {
@@ -145,7 +143,7 @@ impl Camera {
             let (pos, face, clear) = self.clamp(g, s, k, margin, n);
             let costs = rate(self, pos, face, clear, n);
             self.record(n, CandidateKind::Comb, k, pos, costs);
-            if self.ranks_before(costs, best.1, best_seen) {
+            if f64::from(costs.total) < best.1 {
                 best = (pos, f64::from(costs.total), n);
             }
             n += 1;
@@ -153,18 +151,6 @@ impl Camera {
         self.debug.count = n;
         self.debug.best = best.2;
         (best.0, best.1)
-    }
-
-    /// Whether a candidate with `costs` is a better choice than the best so
-    /// far (total `best`, the target visible from it or not): the cheaper
-    /// one, and with [`CameraParams::visible_first`](super::CameraParams::visible_first) a seen one before
-    /// any hidden one.
-    fn ranks_before(&self, costs: Costs, best: f64, best_seen: bool) -> bool {
-        let seen = costs.vis == 0.0;
-        if self.params.visible_first && seen != best_seen {
-            return seen;
-        }
-        f64::from(costs.total) < best
     }
 
     fn record(&mut self, i: usize, kind: CandidateKind, wanted: V3, pos: V3, costs: Costs) {

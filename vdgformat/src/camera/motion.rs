@@ -186,6 +186,7 @@ impl Camera {
             desired
         };
         let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
+        let vel = self.brake_before_the_target(scene, s, vel);
         let mut step = vel * scene.dt;
         let len = step.norm();
         let mut allowed = (v * scene.dt).min(dist_best);
@@ -290,6 +291,36 @@ impl Camera {
         let limit = (2.0 * a * room).sqrt();
         if towards > limit {
             vel + n * (towards - limit)
+        } else {
+            vel
+        }
+    }
+}
+
+impl Camera {
+    /// With `max_decel`, the camera closes in on the target no faster than
+    /// it can brake from before it comes within d_μ of it, plus the
+    /// target's own speed: nearer than d_μ f_dist wants it back, never on.
+    /// A camera catching up at speed when the player stopped ran on up to
+    /// him (or past him) and, at rest there, stayed too close: f_inertia
+    /// rates every start from rest alike, so a distance error under 2 d_σ
+    /// never made it back off.
+    fn brake_before_the_target(&self, scene: &Scene, s: &State, vel: V3) -> V3 {
+        let a = f64::from(self.params.max_decel);
+        if a <= 0.0 {
+            return vel;
+        }
+        let to_t = scene.t - s.pos;
+        let r = to_t.norm();
+        if r < 1e-6 {
+            return vel;
+        }
+        let u = to_t * (1.0 / r);
+        let closing = vel.dot(u);
+        let near = f64::from(self.params.distance_mu);
+        let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.target_speed;
+        if closing > limit {
+            vel - u * (closing - limit)
         } else {
             vel
         }

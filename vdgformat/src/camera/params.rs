@@ -224,15 +224,6 @@ pub struct CameraParams {
     /// target needs its speed; it still never passes its best candidate.
     /// 0 = the thesis.
     pub target_speed_floor: f32,
-    /// A candidate the graph proves the target visible from beats every
-    /// candidate it is hidden from; f_total ranks the candidates within each
-    /// group. The thesis leaves it to the weights ("invisibility
-    /// dominates"), but with f_vis normalised the comfort terms can
-    /// outweigh it: f_clear at a camera's chasing speed grows past a
-    /// hundred at a wall, so next to a doorway a hidden vertex in the open
-    /// room beat the candidate in the doorway that saw the player.
-    /// false = the cheapest candidate whatever it sees (the thesis).
-    pub visible_first: bool,
     /// f_clear asks for no more room than the graph gives the target
     /// itself: "room for p_σ seconds at the current speed" (about 125
     /// units when following a running player) is more than a corridor,
@@ -285,7 +276,6 @@ impl Default for CameraParams {
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
-            visible_first: true,
             clearance_within_target_room: true,
         }
     }
@@ -318,7 +308,6 @@ impl CameraParams {
             pursuit_length: 0.0,
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
-            visible_first: false,
             clearance_within_target_room: false,
             ..CameraParams::default()
         }
