@@ -5,6 +5,7 @@
 //! k_comb, and the cheapest chosen.
 
 use super::motion::{CLAMP_TOL, MARGIN_SLACK};
+use super::types::Ahead;
 use super::{Camera, CandidateDebug, Costs, Scene, Slot, State};
 use crate::geom::V3;
 use crate::query::CoverBudget;
@@ -109,23 +110,45 @@ impl Camera {
         // Candidates often clamp to the same point (a blocked line, one
         // vertex best by two criteria): each point's sight line is tested
         // once.
-        let mut tested = [(V3(0.0, 0.0, 0.0), false); 8];
+        // Each entry: the point, whether it sees the target, and whether
+        // it sees the point ahead (when it sees the target).
+        let mut tested = [(V3(0.0, 0.0, 0.0), false, false); 8];
         let mut n_tested = 0;
         let mut rate = |this: &mut Self, pos: V3, face: u32, clear: f64, slot: usize| {
-            let known = tested[..n_tested].iter().find(|e| e.0 == pos).map(|e| e.1);
-            let costs = this.costs_at(g, scene, s, pos, face, clear, known, Some(Slot::Line(slot)));
+            let known = tested[..n_tested].iter().find(|e| e.0 == pos).copied();
+            let mut costs = this.costs_at(
+                g,
+                scene,
+                s,
+                pos,
+                face,
+                clear,
+                known.map(|e| e.1),
+                Some(Slot::Line(slot)),
+            );
+            let visible = costs.vis == 0.0;
+            let mut ahead_seen = true;
+            if visible && let Some(ahead) = &scene.ahead {
+                ahead_seen = match known {
+                    Some(e) => e.2,
+                    None => this.sees_ahead(g, face, pos, ahead, slot),
+                };
+                if !ahead_seen {
+                    this.hidden_ahead(g, scene, face, pos, ahead, &mut costs);
+                }
+            }
             if known.is_none() && n_tested < tested.len() {
-                tested[n_tested] = (pos, costs.vis == 0.0);
+                tested[n_tested] = (pos, visible, ahead_seen);
                 n_tested += 1;
             }
-            costs
+            (costs, visible)
         };
         for (kind, k) in wanted {
             let Some(k) = k else { continue };
             let (pos, face, clear) = self.clamp(g, s, k, margin, n);
-            let costs = rate(self, pos, face, clear, n);
+            let (costs, visible) = rate(self, pos, face, clear, n);
             let total = f64::from(costs.total);
-            self.record(n, kind, k, pos, costs);
+            self.record(n, kind, k, pos, costs, visible);
             if total < best.1 {
                 best = (pos, total, n);
             }
@@ -141,8 +164,8 @@ impl Camera {
         if !stop && wsum > 0.0 {
             let k = wpos * (1.0 / wsum);
             let (pos, face, clear) = self.clamp(g, s, k, margin, n);
-            let costs = rate(self, pos, face, clear, n);
-            self.record(n, CandidateKind::Comb, k, pos, costs);
+            let (costs, visible) = rate(self, pos, face, clear, n);
+            self.record(n, CandidateKind::Comb, k, pos, costs, visible);
             if f64::from(costs.total) < best.1 {
                 best = (pos, f64::from(costs.total), n);
             }
@@ -153,14 +176,44 @@ impl Camera {
         (best.0, best.1)
     }
 
-    fn record(&mut self, i: usize, kind: CandidateKind, wanted: V3, pos: V3, costs: Costs) {
+    fn record(
+        &mut self,
+        i: usize,
+        kind: CandidateKind,
+        wanted: V3,
+        pos: V3,
+        costs: Costs,
+        visible: bool,
+    ) {
         self.debug.candidates[i] = CandidateDebug {
             kind,
             wanted: wanted.to_f32(),
             pos: pos.to_f32(),
-            visible: costs.vis == 0.0,
+            visible,
             costs,
         };
+    }
+
+    /// Rates a candidate that sees the target but not the point ahead of
+    /// it as hidden: f_vis with the way to that point (VDistance to the
+    /// target, then the straight free segment on), f_total again.
+    fn hidden_ahead(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        face: u32,
+        pos: V3,
+        ahead: &Ahead,
+        costs: &mut Costs,
+    ) {
+        let vd = self.vdistance(g, scene, face, pos) + ahead.lead;
+        let vis = self.vis_cost(vd);
+        let rest = f64::from(costs.dist)
+            + f64::from(costs.angle)
+            + f64::from(costs.inertia)
+            + f64::from(costs.clear);
+        costs.vis = vis as f32;
+        costs.total = ((vis + scene.novis * rest) / 5.0) as f32;
     }
 
     /// Pulls a candidate back into the solution space: the thesis' Trace in

@@ -235,6 +235,16 @@ pub struct CameraParams {
     /// has room, the camera still keeps its distance from walls. false =
     /// the thesis' need, whatever the target's room.
     pub clearance_within_target_room: bool,
+    /// Seconds ahead the candidates must see the target: a candidate that
+    /// sees where the target is but not where its motion takes it within
+    /// this time (its velocity over the last update, stopped at the
+    /// volume's boundary) is rated as hidden, with the way through the
+    /// graph to that point. A camera that only sees the player now waits
+    /// where the sight line grazes a wall until it is cut: high in a room,
+    /// looking down through a doorway into a low corridor, it watched the
+    /// player walk in and lost him under the lintel. 0 = the thesis (the
+    /// target where it is).
+    pub sight_lead: f32,
 }
 
 impl Default for CameraParams {
@@ -277,6 +287,7 @@ impl Default for CameraParams {
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
             clearance_within_target_room: true,
+            sight_lead: 0.25,
         }
     }
 }
@@ -309,6 +320,7 @@ impl CameraParams {
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
             clearance_within_target_room: false,
+            sight_lead: 0.0,
             ..CameraParams::default()
         }
     }
@@ -350,6 +362,7 @@ impl CameraParams {
             ("pursuit_length", self.pursuit_length),
             ("inertia_target_speed", self.inertia_target_speed),
             ("target_speed_floor", self.target_speed_floor),
+            ("sight_lead", self.sight_lead),
         ];
         require(&non_negative, "zero or positive", |v| {
             v.is_finite() && v >= 0.0

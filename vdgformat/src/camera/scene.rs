@@ -3,8 +3,11 @@
 //! visibility is judged to, the ideal direction a_n and the frame's fixed
 //! cost terms.
 
+use super::motion::CLAMP_TOL;
+use super::types::Ahead;
 use super::{Camera, Scene, State, Target};
 use crate::geom::V3;
+use crate::query::CoverBudget;
 use crate::read::Vdg;
 
 /// Clearance a point needs to count as inside a face volume in the camera's
@@ -74,6 +77,12 @@ impl Camera {
         let v_sigma = f64::from(p.visibility_sigma);
         let novis = (v_sigma / (v_sigma + hidden)).powi(2);
         let target_room = g.fc(face, t_vis);
+        let ahead = match state {
+            Some(s) if inside && dt > 0.0 && target_speed > 0.0 => {
+                self.ahead(g, face, t, t - s.target_prev, target_speed)
+            }
+            _ => None,
+        };
         Scene {
             t,
             face,
@@ -94,7 +103,41 @@ impl Camera {
             searched,
             t_vis_in_face: target_room > INSIDE,
             target_room: target_room.max(0.0),
+            ahead,
         }
+    }
+
+    /// Where the target gets within [`CameraParams::sight_lead`](super::CameraParams::sight_lead) going on
+    /// at `speed` along `motion` (its last update's displacement), stopped
+    /// at the volume's boundary; `None` when that is less than a unit away.
+    fn ahead(&self, g: &Vdg<'_>, face: u32, t: V3, motion: V3, speed: f64) -> Option<Ahead> {
+        let lead = f64::from(self.params.sight_lead) * speed;
+        let len = motion.norm();
+        if lead < 1.0 || len < 1e-9 {
+            return None;
+        }
+        let goal = t + motion * (lead / len);
+        let mut budget = CoverBudget {
+            hops: self.params.max_substeps,
+            leaf_searches: 0,
+        };
+        let a = g.advance_tol(
+            face,
+            t.to_f32(),
+            goal.to_f32(),
+            0.0,
+            &mut budget,
+            CLAMP_TOL,
+            None,
+            Some(&self.faces),
+        );
+        let point = V3::from_f32(a.point);
+        let lead = (point - t).norm();
+        (lead >= 1.0).then_some(Ahead {
+            point,
+            face: a.face,
+            lead,
+        })
     }
 
     /// The target's face: a local climb from last frame's face; when that

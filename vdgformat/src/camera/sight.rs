@@ -4,6 +4,7 @@
 //! line took last frame.
 
 use super::scene::INSIDE;
+use super::types::Ahead;
 use super::{Camera, Scene};
 use crate::geom::V3;
 use crate::query::{CoverBudget, CoverHint};
@@ -109,6 +110,39 @@ impl Camera {
         );
         self.sight_budget.hops -= hops - budget.hops;
         self.sight_budget.leaf_searches = budget.leaf_searches;
+        seen
+    }
+
+    /// Visible(k, ahead) for the `slot`-th candidate from face `face`: the
+    /// candidates' sight line to the point ahead of the target
+    /// ([`Scene::ahead`]), on its own allowance and hints.
+    pub(super) fn sees_ahead(
+        &mut self,
+        g: &Vdg<'_>,
+        face: u32,
+        k: V3,
+        ahead: &Ahead,
+        slot: usize,
+    ) -> bool {
+        if g.fc(ahead.face, k) > INSIDE && g.fc(ahead.face, ahead.point) > INSIDE {
+            return true;
+        }
+        self.debug.visibility_tests += 1;
+        let hops = self.ahead_budget.hops.min(VISIBILITY_HOPS);
+        let mut budget = CoverBudget {
+            hops,
+            leaf_searches: self.ahead_budget.leaf_searches,
+        };
+        let seen = g.visible_hinted_cached(
+            face,
+            k.to_f32(),
+            ahead.point.to_f32(),
+            &mut budget,
+            Some(&mut self.ahead_hints[slot]),
+            Some(&self.faces),
+        );
+        self.ahead_budget.hops -= hops - budget.hops;
+        self.ahead_budget.leaf_searches = budget.leaf_searches;
         seen
     }
 

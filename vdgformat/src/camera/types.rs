@@ -234,4 +234,16 @@ pub(super) struct Scene {
     pub(super) t_vis_in_face: bool,
     /// The graph's clearance at `t_vis`: the room the target has.
     pub(super) target_room: f64,
+    /// Where the target's motion takes it within
+    /// [`CameraParams::sight_lead`](super::CameraParams::sight_lead) (in the volume), when it moves.
+    pub(super) ahead: Option<Ahead>,
+}
+
+/// The point the candidates must also see (see [`Scene::ahead`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Ahead {
+    pub(super) point: V3,
+    pub(super) face: u32,
+    /// Its distance from `t_vis` (a straight free segment).
+    pub(super) lead: f64,
 }

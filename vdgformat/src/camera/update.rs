@@ -31,6 +31,11 @@ pub struct Camera {
     /// The way each candidate's sight line (by position in the frame's
     /// list, which follows the kinds) and the pose's took last frame.
     pub(super) hints: [CoverHint; 9],
+    /// What the candidates' sight lines to the point ahead of the target
+    /// may still spend in this update (an allowance of their own: they
+    /// must not starve the tests to the target itself), and their ways.
+    pub(super) ahead_budget: CoverBudget,
+    pub(super) ahead_hints: [CoverHint; 8],
     /// The same for the sight lines of recently tested vertices.
     pub(super) vertex_hints: VertexHints,
     /// The way each candidate's clamp took last frame.
@@ -63,6 +68,11 @@ impl Camera {
             },
             clamp_leaf_searches: 0,
             hints: [CoverHint::default(); 9],
+            ahead_budget: CoverBudget {
+                hops: 0,
+                leaf_searches: 0,
+            },
+            ahead_hints: [CoverHint::default(); 8],
             vertex_hints: VertexHints::default(),
             clamp_hints: [CoverHint::default(); 8],
             faces: FaceCache::default(),
@@ -128,6 +138,7 @@ impl Camera {
             leaf_searches: self.params.leaf_searches,
         };
         self.clamp_leaf_searches = self.params.leaf_searches;
+        self.ahead_budget = self.sight_budget;
         let dt = f64::from(dt.min(self.params.max_dt));
         let t = V3::from_f32(target.position) + V3(0.0, 0.0, f64::from(self.params.target_height));
         let heading = self.heading(target);
@@ -164,6 +175,7 @@ impl Camera {
         s.vis.reserve(cap);
         // Hints name faces of the old graph.
         self.hints = [CoverHint::default(); 9];
+        self.ahead_hints = [CoverHint::default(); 8];
         self.vertex_hints = VertexHints::default();
         self.clamp_hints = [CoverHint::default(); 8];
         // Sized whatever `vertex_tests` says now: `set_params` may turn the
