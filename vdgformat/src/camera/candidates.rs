@@ -71,6 +71,81 @@ const MEMO_FRESH: f64 = 16.0;
 /// when the update's fresh tests are spent.
 const MEMO_STALE: f64 = 64.0;
 
+/// A candidate of the frame as rated: where it was clamped to, its face,
+/// its f_total, and whether its sight ahead is still to be asked (it sees
+/// the target and there is a point ahead).
+#[derive(Clone, Copy, Debug)]
+struct Rated {
+    pos: V3,
+    face: u32,
+    total: f64,
+    pending: bool,
+}
+
+/// The frame's sight-line answers by candidate point: candidates often
+/// clamp to the same point (a blocked line, one vertex best by two
+/// criteria), and each point's sight lines are tested once.
+#[derive(Debug, Default)]
+struct SightMemo {
+    entries: [SightEntry; 8],
+    n: usize,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct SightEntry {
+    pos: V3,
+    visible: bool,
+    /// The sight line to the point ahead, once asked.
+    ahead: Option<bool>,
+}
+
+impl Default for Rated {
+    fn default() -> Self {
+        Rated {
+            pos: V3(0.0, 0.0, 0.0),
+            face: 0,
+            total: f64::INFINITY,
+            pending: false,
+        }
+    }
+}
+
+impl Default for SightEntry {
+    fn default() -> Self {
+        SightEntry {
+            pos: V3(0.0, 0.0, 0.0),
+            visible: false,
+            ahead: None,
+        }
+    }
+}
+
+impl SightMemo {
+    fn find(&self, pos: V3) -> Option<SightEntry> {
+        self.entries[..self.n]
+            .iter()
+            .find(|e| e.pos == pos)
+            .copied()
+    }
+
+    fn put(&mut self, pos: V3, visible: bool) {
+        if self.n < self.entries.len() {
+            self.entries[self.n] = SightEntry {
+                pos,
+                visible,
+                ahead: None,
+            };
+            self.n += 1;
+        }
+    }
+
+    fn put_ahead(&mut self, pos: V3, seen: bool) {
+        if let Some(e) = self.entries[..self.n].iter_mut().find(|e| e.pos == pos) {
+            e.ahead = Some(seen);
+        }
+    }
+}
+
 /// Edges the pursuit candidate's descent may follow (bounds its cost).
 const PURSUIT_STEPS: usize = 8;
 
@@ -104,76 +179,146 @@ impl Camera {
             (CandidateKind::Path, k_path),
         ];
         let mut n = 0;
-        let mut best = (s.pos, f64::INFINITY, 0usize);
-        let (mut wsum, mut wpos) = (0.0, V3(0.0, 0.0, 0.0));
+        let mut rated = [Rated::default(); 8];
+        let mut memo = SightMemo::default();
         let mut stop = false;
-        // Candidates often clamp to the same point (a blocked line, one
-        // vertex best by two criteria): each point's sight line is tested
-        // once.
-        // Each entry: the point, whether it sees the target, and whether
-        // it sees the point ahead (when it sees the target).
-        let mut tested = [(V3(0.0, 0.0, 0.0), false, false); 8];
-        let mut n_tested = 0;
-        let mut rate = |this: &mut Self, pos: V3, face: u32, clear: f64, slot: usize| {
-            let known = tested[..n_tested].iter().find(|e| e.0 == pos).copied();
-            let mut costs = this.costs_at(
-                g,
-                scene,
-                s,
-                pos,
-                face,
-                clear,
-                known.map(|e| e.1),
-                Some(Slot::Line(slot)),
-            );
-            let visible = costs.vis == 0.0;
-            let mut ahead_seen = true;
-            if visible && let Some(ahead) = &scene.ahead {
-                ahead_seen = match known {
-                    Some(e) => e.2,
-                    None => this.sees_ahead(g, face, pos, ahead, slot),
-                };
-                if !ahead_seen {
-                    this.hidden_ahead(g, scene, face, pos, ahead, &mut costs);
-                }
-            }
-            if known.is_none() && n_tested < tested.len() {
-                tested[n_tested] = (pos, visible, ahead_seen);
-                n_tested += 1;
-            }
-            (costs, visible)
-        };
         for (kind, k) in wanted {
             let Some(k) = k else { continue };
-            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
-            let (costs, visible) = rate(self, pos, face, clear, n);
-            let total = f64::from(costs.total);
-            self.record(n, kind, k, pos, costs, visible);
-            if total < best.1 {
-                best = (pos, total, n);
-            }
+            rated[n] = self.rate(g, scene, s, kind, k, margin, n, &mut memo);
             n += 1;
-            if total < early_stop {
-                stop = true;
-                break;
+            if rated[n - 1].total < early_stop {
+                self.settle_ahead(g, scene, &mut rated[n - 1], n - 1, &mut memo);
+                if rated[n - 1].total < early_stop {
+                    stop = true;
+                    break;
+                }
             }
-            let w = 1.0 / total.max(1e-12);
-            wsum += w;
-            wpos = wpos + pos * w;
         }
-        if !stop && wsum > 0.0 {
-            let k = wpos * (1.0 / wsum);
-            let (pos, face, clear) = self.clamp(g, s, k, margin, n);
-            let (costs, visible) = rate(self, pos, face, clear, n);
-            self.record(n, CandidateKind::Comb, k, pos, costs, visible);
-            if f64::from(costs.total) < best.1 {
-                best = (pos, f64::from(costs.total), n);
+        let mut best = self.cheapest_settled(g, scene, &mut rated[..n], &mut memo);
+        if !stop {
+            // Weighted by the totals as they stand: those of candidates
+            // whose sight ahead was never asked (they could not win) lack
+            // its penalty.
+            let (mut wsum, mut wpos) = (0.0, V3(0.0, 0.0, 0.0));
+            for c in &rated[..n] {
+                let w = 1.0 / c.total.max(1e-12);
+                wsum += w;
+                wpos = wpos + c.pos * w;
             }
-            n += 1;
+            if wsum > 0.0 {
+                let k = wpos * (1.0 / wsum);
+                rated[n] = self.rate(g, scene, s, CandidateKind::Comb, k, margin, n, &mut memo);
+                if best.is_none_or(|b| rated[n].total < rated[b].total) {
+                    self.settle_ahead(g, scene, &mut rated[n], n, &mut memo);
+                    if best.is_none_or(|b| rated[n].total < rated[b].total) {
+                        best = Some(n);
+                    }
+                }
+                n += 1;
+            }
         }
         self.debug.count = n;
-        self.debug.best = best.2;
-        (best.0, best.1)
+        self.debug.best = best.unwrap_or(0);
+        match best {
+            Some(b) => (rated[b].pos, rated[b].total),
+            None => (s.pos, f64::INFINITY),
+        }
+    }
+
+    /// Clamps candidate `k` (the `slot`-th of the frame) into the volume
+    /// and rates it with the target where it is; its sight ahead is left
+    /// for [`Camera::settle_ahead`].
+    #[allow(clippy::too_many_arguments)]
+    fn rate(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        s: &State,
+        kind: CandidateKind,
+        k: V3,
+        margin: f32,
+        slot: usize,
+        memo: &mut SightMemo,
+    ) -> Rated {
+        let (pos, face, clear) = self.clamp(g, s, k, margin, slot);
+        let known = memo.find(pos);
+        let costs = self.costs_at(
+            g,
+            scene,
+            s,
+            pos,
+            face,
+            clear,
+            known.map(|e| e.visible),
+            Some(Slot::Line(slot)),
+        );
+        let visible = costs.vis == 0.0;
+        if known.is_none() {
+            memo.put(pos, visible);
+        }
+        self.record(slot, kind, k, pos, costs, visible);
+        Rated {
+            pos,
+            face,
+            total: f64::from(costs.total),
+            pending: visible && scene.ahead.is_some(),
+        }
+    }
+
+    /// The cheapest of `rated` once its sight ahead is known: the penalty
+    /// only adds cost, so asking it of the cheapest candidate until one
+    /// keeps its place gives the choice asking every candidate would.
+    fn cheapest_settled(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        rated: &mut [Rated],
+        memo: &mut SightMemo,
+    ) -> Option<usize> {
+        loop {
+            let mut best: Option<usize> = None;
+            for (i, c) in rated.iter().enumerate() {
+                if best.is_none_or(|b| c.total < rated[b].total) {
+                    best = Some(i);
+                }
+            }
+            let b = best?;
+            if !rated[b].pending {
+                return Some(b);
+            }
+            self.settle_ahead(g, scene, &mut rated[b], b, memo);
+        }
+    }
+
+    /// Asks whether the `slot`-th candidate, which sees the target, also
+    /// sees the point ahead of it; if not, rates it as hidden
+    /// ([`Camera::hidden_ahead`]).
+    fn settle_ahead(
+        &mut self,
+        g: &Vdg<'_>,
+        scene: &Scene,
+        c: &mut Rated,
+        slot: usize,
+        memo: &mut SightMemo,
+    ) {
+        let Some(ahead) = scene.ahead.filter(|_| c.pending) else {
+            return;
+        };
+        c.pending = false;
+        let seen = match memo.find(c.pos).and_then(|e| e.ahead) {
+            Some(seen) => seen,
+            None => {
+                let seen = self.sees_ahead(g, c.face, c.pos, &ahead, slot);
+                memo.put_ahead(c.pos, seen);
+                seen
+            }
+        };
+        if !seen {
+            let mut costs = self.debug.candidates[slot].costs;
+            self.hidden_ahead(g, scene, c.face, c.pos, &ahead, &mut costs);
+            self.debug.candidates[slot].costs = costs;
+            c.total = f64::from(costs.total);
+        }
     }
 
     fn record(
