@@ -342,7 +342,7 @@ impl Camera {
     /// Rates a candidate that sees the target but not the point ahead of
     /// it as hidden: f_vis with the way to that point (VDistance to the
     /// target, then the straight free segment on), f_total again.
-    fn hidden_ahead(
+    pub(super) fn hidden_ahead(
         &mut self,
         g: &Vdg<'_>,
         scene: &Scene,

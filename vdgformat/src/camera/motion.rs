@@ -56,7 +56,7 @@ impl Camera {
         // target moved a few units since) in our variant, a trace in the
         // thesis'.
         let known = (self.params.max_substeps > 0).then_some(s.visible);
-        let current = self.costs_at(
+        let mut current = self.costs_at(
             g,
             scene,
             &s,
@@ -66,6 +66,15 @@ impl Camera {
             known,
             Some(Slot::Line(POSE_HINT)),
         );
+        // The place the camera stands is rated as its candidates are: one
+        // that is about to lose the target costs as if hidden, so the step
+        // rule (whose speed grows with this cost) hurries away from it.
+        if current.vis == 0.0
+            && let Some(ahead) = &scene.ahead
+            && !self.sees_ahead(g, s.face, s.pos, ahead, POSE_HINT)
+        {
+            self.hidden_ahead(g, scene, s.face, s.pos, ahead, &mut current);
+        }
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
         let to_best = best_pos - s.pos;
         let dist_best = to_best.norm();

@@ -242,8 +242,11 @@ pub struct CameraParams {
     /// graph to that point. A camera that only sees the player now waits
     /// where the sight line grazes a wall until it is cut: high in a room,
     /// looking down through a doorway into a low corridor, it watched the
-    /// player walk in and lost him under the lintel. 0 = the thesis (the
-    /// target where it is).
+    /// player walk in and lost him under the lintel. The camera's own
+    /// place is rated so too, so the step rule (whose speed grows with
+    /// its cost) hurries from a place about to lose him. 0.25 s, the
+    /// inertia horizon: the time over which the camera plans its motion.
+    /// 0 = the thesis (the target where it is).
     pub sight_lead: f32,
 }
 

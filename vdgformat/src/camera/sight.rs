@@ -113,9 +113,10 @@ impl Camera {
         seen
     }
 
-    /// Visible(k, ahead) for the `slot`-th candidate from face `face`: the
-    /// candidates' sight line to the point ahead of the target
-    /// ([`Scene::ahead`]), on its own allowance and hints.
+    /// Visible(k, ahead) from face `face` for the `slot`-th candidate (or,
+    /// at [`POSE_HINT`], the camera's own place): the sight line to the
+    /// point ahead of the target ([`Scene::ahead`]), on its own allowance
+    /// and hints.
     pub(super) fn sees_ahead(
         &mut self,
         g: &Vdg<'_>,

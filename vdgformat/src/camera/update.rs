@@ -31,11 +31,12 @@ pub struct Camera {
     /// The way each candidate's sight line (by position in the frame's
     /// list, which follows the kinds) and the pose's took last frame.
     pub(super) hints: [CoverHint; 9],
-    /// What the candidates' sight lines to the point ahead of the target
-    /// may still spend in this update (an allowance of their own: they
-    /// must not starve the tests to the target itself), and their ways.
+    /// What the sight lines to the point ahead of the target (the
+    /// candidates', then the pose's) may still spend in this update (an
+    /// allowance of their own: they must not starve the tests to the
+    /// target itself), and their ways.
     pub(super) ahead_budget: CoverBudget,
-    pub(super) ahead_hints: [CoverHint; 8],
+    pub(super) ahead_hints: [CoverHint; 9],
     /// The same for the sight lines of recently tested vertices.
     pub(super) vertex_hints: VertexHints,
     /// The way each candidate's clamp took last frame.
@@ -72,7 +73,7 @@ impl Camera {
                 hops: 0,
                 leaf_searches: 0,
             },
-            ahead_hints: [CoverHint::default(); 8],
+            ahead_hints: [CoverHint::default(); 9],
             vertex_hints: VertexHints::default(),
             clamp_hints: [CoverHint::default(); 8],
             faces: FaceCache::default(),
@@ -175,7 +176,7 @@ impl Camera {
         s.vis.reserve(cap);
         // Hints name faces of the old graph.
         self.hints = [CoverHint::default(); 9];
-        self.ahead_hints = [CoverHint::default(); 8];
+        self.ahead_hints = [CoverHint::default(); 9];
         self.vertex_hints = VertexHints::default();
         self.clamp_hints = [CoverHint::default(); 8];
         // Sized whatever `vertex_tests` says now: `set_params` may turn the
