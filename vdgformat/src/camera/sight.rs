@@ -7,7 +7,7 @@ use super::scene::INSIDE;
 use super::types::Ahead;
 use super::{Camera, Scene};
 use crate::geom::V3;
-use crate::query::{CoverBudget, CoverHint};
+use crate::query::{CoverBudget, CoverHint, FaceCache};
 use crate::read::Vdg;
 
 /// Which remembered sight line a test continues.
@@ -90,27 +90,18 @@ impl Camera {
             return true;
         }
         self.debug.visibility_tests += 1;
-        let hops = self.sight_budget.hops.min(VISIBILITY_HOPS);
-        let mut budget = CoverBudget {
-            hops,
-            leaf_searches: self.sight_budget.leaf_searches,
-        };
         let hint = match slot {
             Some(Slot::Line(i)) => Some(&mut self.hints[i]),
             Some(Slot::Vertex(v)) => Some(self.vertex_hints.get(v)),
             None => None,
         };
-        let seen = g.visible_hinted_cached(
-            face,
-            k.to_f32(),
-            scene.t_vis.to_f32(),
-            &mut budget,
+        charged_sight(
+            g,
+            &mut self.sight_budget,
+            &self.faces,
+            (face, k, scene.t_vis),
             hint,
-            Some(&self.faces),
-        );
-        self.sight_budget.hops -= hops - budget.hops;
-        self.sight_budget.leaf_searches = budget.leaf_searches;
-        seen
+        )
     }
 
     /// Visible(k, ahead) from face `face` for the `slot`-th candidate (or,
@@ -129,22 +120,13 @@ impl Camera {
             return true;
         }
         self.debug.visibility_tests += 1;
-        let hops = self.ahead_budget.hops.min(VISIBILITY_HOPS);
-        let mut budget = CoverBudget {
-            hops,
-            leaf_searches: self.ahead_budget.leaf_searches,
-        };
-        let seen = g.visible_hinted_cached(
-            face,
-            k.to_f32(),
-            ahead.point.to_f32(),
-            &mut budget,
+        charged_sight(
+            g,
+            &mut self.ahead_budget,
+            &self.faces,
+            (face, k, ahead.point),
             Some(&mut self.ahead_hints[slot]),
-            Some(&self.faces),
-        );
-        self.ahead_budget.hops -= hops - budget.hops;
-        self.ahead_budget.leaf_searches = budget.leaf_searches;
-        seen
+        )
     }
 
     /// [`Camera::sees`] from vertex `v` (in its first face), continuing
@@ -169,4 +151,32 @@ impl Camera {
         };
         self.sees(g, face, k, scene, Some(Slot::Line(POSE_HINT)))
     }
+}
+
+/// One budgeted sight test from `k` (in face `face`) to `to`, charged to
+/// `allowance`: at most [`VISIBILITY_HOPS`] of its hops, and the tree-leaf
+/// searches it made.
+fn charged_sight(
+    g: &Vdg<'_>,
+    allowance: &mut CoverBudget,
+    faces: &FaceCache,
+    (face, k, to): (u32, V3, V3),
+    hint: Option<&mut CoverHint>,
+) -> bool {
+    let hops = allowance.hops.min(VISIBILITY_HOPS);
+    let mut budget = CoverBudget {
+        hops,
+        leaf_searches: allowance.leaf_searches,
+    };
+    let seen = g.visible_hinted_cached(
+        face,
+        k.to_f32(),
+        to.to_f32(),
+        &mut budget,
+        hint,
+        Some(faces),
+    );
+    allowance.hops -= hops - budget.hops;
+    allowance.leaf_searches = budget.leaf_searches;
+    seen
 }
