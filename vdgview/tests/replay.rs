@@ -78,6 +78,16 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
     }
 }
 
+/// A standing waypoint of a path at `(x, y)` on the floor at height `floor`.
+fn standing(x: f64, y: f64, floor: f64) -> Waypoint {
+    Waypoint {
+        x,
+        y,
+        floor,
+        crouch: false,
+    }
+}
+
 /// Walking off the ramp map's ledge (128 units above the floor) the player falls under
 /// gravity, as in the game: no frame moves more than a step down, the fall lasts as long
 /// as a 128-unit drop at 800 units/s² does (0.57 s), the hull stays free all the way,
@@ -88,20 +98,7 @@ fn walking_off_a_ledge_is_a_fall_not_a_jump() {
     let world = mapgen::worlds::ramp();
     let bsp = Bsp::open(map("ramp")).unwrap();
     let oracle = Oracle::new(&bsp, &OracleOptions::default());
-    let path = [
-        Waypoint {
-            x: 640.0,
-            y: 96.0,
-            floor: 128.0,
-            crouch: false,
-        },
-        Waypoint {
-            x: 640.0,
-            y: 420.0,
-            floor: 0.0,
-            crouch: false,
-        },
-    ];
+    let path = [standing(640.0, 96.0, 128.0), standing(640.0, 420.0, 0.0)];
     let (route, stats) = walk(&oracle, "off the ledge", &path, 7);
     assert_eq!(stats.falls, 1, "{stats:?}");
     assert!(!stats.cut_short, "{stats:?}");
@@ -153,20 +150,7 @@ fn walking_off_a_ledge_is_a_fall_not_a_jump() {
 fn a_path_the_walker_cannot_follow_is_split_not_jumped() {
     let bsp = Bsp::open(map("pillars")).unwrap();
     let oracle = Oracle::new(&bsp, &OracleOptions::default());
-    let path = [
-        Waypoint {
-            x: 96.0,
-            y: 160.0,
-            floor: 0.0,
-            crouch: false,
-        },
-        Waypoint {
-            x: 400.0,
-            y: 160.0,
-            floor: 0.0,
-            crouch: false,
-        },
-    ];
+    let path = [standing(96.0, 160.0, 0.0), standing(400.0, 160.0, 0.0)];
     let parts = walk_parts(&oracle, "through", &path, 3);
     let names: Vec<&str> = parts.iter().map(|(r, _)| r.name.as_str()).collect();
     assert_eq!(names, ["through", "through#2"]);
