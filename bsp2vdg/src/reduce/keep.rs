@@ -176,29 +176,48 @@ impl Bvh {
     /// A face whose volume holds `p` at least `enough` deep, else the one that
     /// holds it deepest (ties: the smaller id), with that clearance; `None` outside
     /// the volume.
-    fn deep_face(&self, mesh: &Mesh, p: P3, enough: f64) -> Option<(u32, f64)> {
+    ///
+    /// `hint` is a face to try first, usually the home of the point searched
+    /// before (the points come in spatial order, and neighbours mostly share a
+    /// home). It changes how much is searched, never what is found: the answer
+    /// holds `p` at least `floor = min(hint's clearance at p, enough)` deep
+    /// (the search stops only at a face at least `enough` deep, and else
+    /// returns the deepest face, which is at least as deep as the hint), so no
+    /// node or face whose bound is more than [`SKIP_MARGIN`] under `floor` can
+    /// hold the answer or change the order in which the others are visited, and
+    /// the search skips them.
+    fn deep_face(&self, mesh: &Mesh, p: P3, enough: f64, hint: Option<u32>) -> Option<(u32, f64)> {
         let bound = |n: &Node| {
             let d2: f64 = (0..3)
                 .map(|i| (n.lo[i] - p[i]).max(p[i] - n.hi[i]).max(0.0).powi(2))
                 .sum();
             n.max_r - d2.sqrt()
         };
+        let floor = hint
+            .filter(|&f| mesh.alive[f as usize])
+            .map_or(f64::NEG_INFINITY, |f| {
+                vdgformat::triangle_clearance(face_balls(mesh, f), p).min(enough)
+            });
         let mut best: Option<(f64, u32)> = None;
         // Nodes with their bounds, each bound worked out once.
         let mut stack: SmallVec<[(u32, f64); 64]> = SmallVec::new();
         stack.push((0, bound(&self.nodes[0])));
         while let Some((i, b)) = stack.pop() {
             let n = &self.nodes[i as usize];
-            if b <= 0.0 || best.is_some_and(|x| b < x.0) {
+            // The floor prunes with the margin the face test uses: a node's bound
+            // bounds its faces' clearances only up to rounding.
+            if b <= 0.0 || b + SKIP_MARGIN < floor || best.is_some_and(|x| b < x.0) {
                 continue;
             }
             if n.count > 0 || n.first == 0 {
                 let range = n.first as usize..(n.first + n.count) as usize;
                 for &f in &self.faces[range] {
                     let balls = face_balls(mesh, f);
-                    // A face whose bound lies well below the best cannot beat
-                    // it: no need for its exact clearance (see `SKIP_MARGIN`).
-                    if clearance_bound(&balls, p) + SKIP_MARGIN < best.map_or(0.0, |x| x.0) {
+                    // A face whose bound lies well below the best (or the floor)
+                    // cannot beat it: no need for its exact clearance (see
+                    // `SKIP_MARGIN`).
+                    let beat = best.map_or(0.0, |x| x.0).max(floor);
+                    if clearance_bound(&balls, p) + SKIP_MARGIN < beat {
                         continue;
                     }
                     let c = vdgformat::triangle_clearance(balls, p);
@@ -304,10 +323,21 @@ impl Keep {
     ) -> Keep {
         use rayon::prelude::*;
         let bvh = Bvh::new(mesh);
+        // Each worker hints the home of the point it searched before (see
+        // `Bvh::deep_face`: the hint saves work, the answer is the same).
         let homes: Vec<Option<(u32, f64)>> = points
             .par_iter()
             .enumerate()
-            .map(|(i, &p)| bvh.deep_face(mesh, p, enough(i)))
+            .map_init(
+                || None,
+                |last: &mut Option<u32>, (i, &p)| {
+                    let home = bvh.deep_face(mesh, p, enough(i), *last);
+                    if let Some((f, _)) = home {
+                        *last = Some(f);
+                    }
+                    home
+                },
+            )
             .collect();
         let mut held = vec![SmallVec::new(); mesh.faces.len()];
         let mut kept = Vec::new();
@@ -508,4 +538,73 @@ fn deepest_of(mesh: &Mesh, faces: &[u32], p: P3) -> Option<(u32, f64)> {
         }
     }
     best.map(|x| (x.1, x.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::graph::Graph;
+
+    /// A hint changes how much [`Bvh::deep_face`] searches, never what it finds:
+    /// on a folded sheet of faces with uneven clearances, every point gets the
+    /// same face and depth with any hint (its own answer, a far face, a dead
+    /// one) as without, whether the search stops at `enough` or looks for the
+    /// deepest face.
+    #[test]
+    fn a_hint_never_changes_the_face_found() {
+        let mut rng = toolbox::SplitMix64::new(7);
+        let n = 24;
+        let mut g = Graph {
+            vertices: vec![],
+            clearance: vec![],
+            faces: vec![],
+        };
+        for y in 0..n {
+            for x in 0..n {
+                let (fx, fy) = (x as f64 * 16.0, y as f64 * 16.0);
+                g.vertices
+                    .push([fx, fy, 40.0 * (fx / 90.0).sin() * (fy / 70.0).cos()]);
+                g.clearance.push(rng.range(4.0, 60.0));
+            }
+        }
+        for y in 0..n - 1 {
+            for x in 0..n - 1 {
+                let v = (y * n + x) as u32;
+                let n = n as u32;
+                g.faces.push([v, v + 1, v + n]);
+                g.faces.push([v + 1, v + n + 1, v + n]);
+            }
+        }
+        let mut mesh = Mesh::new(&g);
+        // A dead face must not serve as a hint.
+        mesh.alive[5] = false;
+        let bvh = Bvh::new(&mesh);
+        let faces = mesh.faces.len() as u32;
+        let mut found = 0;
+        for _ in 0..3000 {
+            let p = [
+                rng.range(-40.0, 16.0 * n as f64 + 40.0),
+                rng.range(-40.0, 16.0 * n as f64 + 40.0),
+                rng.range(-80.0, 80.0),
+            ];
+            let enough = if rng.next_u64().is_multiple_of(2) {
+                8.0
+            } else {
+                f64::INFINITY
+            };
+            let plain = bvh.deep_face(&mesh, p, enough, None);
+            found += usize::from(plain.is_some());
+            let mut hints = vec![5, (rng.next_u64() % faces as u64) as u32];
+            hints.extend(plain.map(|x| x.0));
+            for h in hints {
+                assert_eq!(
+                    bvh.deep_face(&mesh, p, enough, Some(h)),
+                    plain,
+                    "{p:?} hint {h}"
+                );
+            }
+        }
+        // Most points lie inside the volume: the test compares real answers.
+        assert!(found > 1500, "{found}");
+    }
 }
