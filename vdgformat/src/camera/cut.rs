@@ -50,6 +50,7 @@ impl Camera {
             pos,
             face,
             vel: V3(0.0, 0.0, 0.0),
+            acc: V3(0.0, 0.0, 0.0),
             speed: 0.0,
             clear_speed: 0.0,
             look,

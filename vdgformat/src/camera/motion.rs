@@ -210,6 +210,15 @@ impl Camera {
         if len > allowed && len > 0.0 {
             step = step * (allowed / len);
         }
+        let mut len = len;
+        if self.params.max_jerk > 0.0 {
+            // The capped step is the velocity the camera is commanded; it
+            // gets there through a continuous acceleration (and may then
+            // pass the best candidate a little more).
+            let vel = self.limit_jerk(scene, s, step * (1.0 / scene.dt));
+            step = vel * scene.dt;
+            len = step.norm();
+        }
         let from = s.pos.to_f32();
         let budget = CoverBudget {
             hops,
@@ -234,7 +243,10 @@ impl Camera {
             // plus what `max_decel` allows in a frame: at the full command
             // a camera that had slowed along a wall leapt off it (a speed
             // jump of a few hundred units per second in one frame).
-            let straight = if self.params.max_decel > 0.0 {
+            let straight = if self.params.max_jerk > 0.0 {
+                // No faster than the step the jerk bound let through.
+                allowed.min(len)
+            } else if self.params.max_decel > 0.0 {
                 allowed.min((s.vel.norm() + f64::from(self.params.max_decel) * scene.dt) * scene.dt)
             } else {
                 allowed
@@ -274,6 +286,40 @@ impl Camera {
         }
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)
+    }
+}
+
+impl Camera {
+    /// With `max_jerk`, the velocity `vel` the step wants, reached through
+    /// an acceleration that differs from the last update's by at most
+    /// `max_jerk · Δt` (and kept in the state for the next update). The acceleration asked for is the one that closes
+    /// the gap to `vel` in this update, but no more than the camera can
+    /// bring back to zero by the time the gap is closed (√(2 · max_jerk ·
+    /// gap), the arrival rule one derivative up): without it the velocity
+    /// overshot its command and swung about it.
+    fn limit_jerk(&self, scene: &Scene, s: &mut State, vel: V3) -> V3 {
+        let j = f64::from(self.params.max_jerk);
+        let dt = scene.dt;
+        let gap = vel - s.vel;
+        let g = gap.norm();
+        let wanted = if g > 1e-12 {
+            let reach = (2.0 * j * g).sqrt().min(g / dt);
+            gap * (reach / g)
+        } else {
+            V3(0.0, 0.0, 0.0)
+        };
+        // The acceleration changes by at most max_jerk·Δt from the one the
+        // last update commanded (not the one it moved with: a move stopped
+        // by the boundary would hand on a huge one, and the camera swung).
+        let change = wanted - s.acc;
+        let most = j * dt;
+        let c = change.norm();
+        s.acc = if c > most {
+            s.acc + change * (most / c)
+        } else {
+            wanted
+        };
+        s.vel + s.acc * dt
     }
 }
 

@@ -145,6 +145,12 @@ pub struct CameraParams {
     /// It now brakes at this rate and may pass the point a little (the
     /// move is still clamped into the volume). 0 = stop dead (the thesis).
     pub max_decel: f32,
+    /// The most the camera's acceleration changes per second (units/s³,
+    /// 0 = no bound, the thesis). The velocity follows its command through
+    /// this bound, so the acceleration is continuous and the jerk (its rate
+    /// of change) never exceeds this, however the best candidate, the
+    /// brakes or the arrival change from one frame to the next.
+    pub max_jerk: f32,
     /// τ of the smoothing of the look-at point (s); 0 = look straight at the
     /// target every frame (the thesis).
     pub look_tau: f32,
@@ -278,6 +284,7 @@ impl Default for CameraParams {
             direction_tau: 0.18,
             slide: true,
             max_decel: 1000.0,
+            max_jerk: 0.0,
             look_tau: 0.08,
             near_margin: 6.4,
             field_min_clearance: 3.2,
@@ -311,6 +318,7 @@ impl CameraParams {
             direction_tau: 0.0,
             slide: false,
             max_decel: 0.0,
+            max_jerk: 0.0,
             look_tau: 0.0,
             near_margin: 0.0,
             field_min_clearance: 0.0,
@@ -359,6 +367,7 @@ impl CameraParams {
             ("early_stop", self.early_stop),
             ("direction_tau", self.direction_tau),
             ("max_decel", self.max_decel),
+            ("max_jerk", self.max_jerk),
             ("look_tau", self.look_tau),
             ("near_margin", self.near_margin),
             ("field_min_clearance", self.field_min_clearance),

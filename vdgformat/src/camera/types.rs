@@ -186,6 +186,8 @@ pub(super) struct State {
     pub(super) face: u32,
     /// Direction of motion times speed.
     pub(super) vel: V3,
+    /// The acceleration the last update commanded (units/s²).
+    pub(super) acc: V3,
     /// The step rule's speed V(c_i).
     pub(super) speed: f64,
     /// The speed f_clear rates positions by.
