@@ -305,6 +305,7 @@ fn max_jerk_bounds_the_eyes_jerk() {
     for dt in [1.0 / 60.0, 1.0 / 30.0f32] {
         let bounded = CameraParams {
             max_jerk: J,
+            accel_tau: 0.0,
             ..CameraParams::default()
         };
         let over = |r: &Run| {

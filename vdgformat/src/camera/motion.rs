@@ -194,6 +194,7 @@ impl Camera {
         } else {
             desired
         };
+        let accel_lag = self.params.accel_tau > 0.0;
         let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
         let vel = self.brake_before_the_target(scene, s, vel);
         let mut step = vel * scene.dt;
@@ -211,7 +212,26 @@ impl Camera {
             step = step * (allowed / len);
         }
         let mut len = len;
-        if self.params.max_jerk > 0.0 {
+        if accel_lag {
+            // The capped step is the velocity the camera is commanded; the
+            // acceleration that would reach it in this update is followed
+            // with the lag `accel_tau`, so it is continuous.
+            let k = lag_fraction(scene.dt, self.params.accel_tau);
+            let wanted = (step * (1.0 / scene.dt) - s.vel) * (1.0 / scene.dt);
+            s.acc = s.acc + (wanted - s.acc) * k;
+            // Never faster than the top speed (a lagged acceleration
+            // carries on a little after its command stopped).
+            let vel = s.vel + s.acc * scene.dt;
+            let top = f64::from(self.params.max_speed);
+            let speed = vel.norm();
+            let vel = if speed > top {
+                vel * (top / speed)
+            } else {
+                vel
+            };
+            step = vel * scene.dt;
+            len = step.norm();
+        } else if self.params.max_jerk > 0.0 {
             // The capped step is the velocity the camera is commanded; it
             // gets there through a continuous acceleration (and may then
             // pass the best candidate a little more).
@@ -243,7 +263,7 @@ impl Camera {
             // plus what `max_decel` allows in a frame: at the full command
             // a camera that had slowed along a wall leapt off it (a speed
             // jump of a few hundred units per second in one frame).
-            let straight = if self.params.max_jerk > 0.0 {
+            let straight = if self.params.max_jerk > 0.0 || accel_lag {
                 // No faster than the step the jerk bound let through.
                 allowed.min(len)
             } else if self.params.max_decel > 0.0 {
@@ -333,8 +353,8 @@ impl Camera {
     /// candidate, bounced off it within a frame.
     fn brake_at_walls(&self, g: &Vdg<'_>, s: &State, vel: V3, here_clear: f64, margin: f32) -> V3 {
         let a = f64::from(self.params.max_decel);
-        let room = (here_clear - f64::from(margin)).max(0.0);
         let speed2 = vel.norm2();
+        let room = (here_clear - f64::from(margin)).max(0.0);
         // Far enough from every wall to stop from this speed: nothing to do.
         if a <= 0.0 || speed2 <= 2.0 * a * room {
             return vel;
