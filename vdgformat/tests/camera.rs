@@ -342,6 +342,8 @@ fn bad_toml_is_an_error_and_parameters_round_trip() {
         "angle_sigma_deg = 200.0",
         "max_dt = 0.0",
         "heading_pitch_weight = 2.0",
+        "max_jerk = -1.0",
+        "max_jerk = 10000.0\naccel_tau = 0.05",
         "distance_muu = 3.0",
         "distance_mu = \"far\"",
     ] {

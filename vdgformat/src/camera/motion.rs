@@ -264,7 +264,8 @@ impl Camera {
             // a camera that had slowed along a wall leapt off it (a speed
             // jump of a few hundred units per second in one frame).
             let straight = if self.params.max_jerk > 0.0 || accel_lag {
-                // No faster than the step the jerk bound let through.
+                // No faster than the step the jerk bound or the
+                // acceleration's lag let through.
                 allowed.min(len)
             } else if self.params.max_decel > 0.0 {
                 allowed.min((s.vel.norm() + f64::from(self.params.max_decel) * scene.dt) * scene.dt)
@@ -312,11 +313,12 @@ impl Camera {
 impl Camera {
     /// With `max_jerk`, the velocity `vel` the step wants, reached through
     /// an acceleration that differs from the last update's by at most
-    /// `max_jerk · Δt` (and kept in the state for the next update). The acceleration asked for is the one that closes
-    /// the gap to `vel` in this update, but no more than the camera can
-    /// bring back to zero by the time the gap is closed (√(2 · max_jerk ·
-    /// gap), the arrival rule one derivative up): without it the velocity
-    /// overshot its command and swung about it.
+    /// `max_jerk · Δt` (and kept in the state for the next update). The
+    /// acceleration asked for is the one that closes the gap to `vel` in
+    /// this update, but no more than the camera can bring back to zero by
+    /// the time the gap is closed (√(2 · max_jerk · gap), the arrival rule
+    /// one derivative up): without it the velocity overshot its command
+    /// and swung about it.
     fn limit_jerk(&self, scene: &Scene, s: &mut State, vel: V3) -> V3 {
         let j = f64::from(self.params.max_jerk);
         let dt = scene.dt;
@@ -353,8 +355,8 @@ impl Camera {
     /// candidate, bounced off it within a frame.
     fn brake_at_walls(&self, g: &Vdg<'_>, s: &State, vel: V3, here_clear: f64, margin: f32) -> V3 {
         let a = f64::from(self.params.max_decel);
-        let speed2 = vel.norm2();
         let room = (here_clear - f64::from(margin)).max(0.0);
+        let speed2 = vel.norm2();
         // Far enough from every wall to stop from this speed: nothing to do.
         if a <= 0.0 || speed2 <= 2.0 * a * room {
             return vel;
