@@ -161,9 +161,9 @@ pub struct CameraParams {
     /// the best candidate, a brake or the arrival changed the command: the
     /// jerk of a camera braking as the player lands. A second lag makes the
     /// acceleration continuous; 0.05 s with `direction_tau` 0.13 keeps the
-    /// total lag of 0.18 s (on all maps together: RMS jerk 2.3 → 1.4 % of
-    /// a chase cam's at 60 Hz, 5.0 → 3.8 % at 30 Hz, visibility not lower).
-    /// Excludes `max_jerk`.
+    /// total lag of 0.18 s, and on the shared maps together the jerk fell
+    /// by about a third without losing sight of the player (the figures are
+    /// in docs/measurements/2026-12-02e-camera-jerk.md). Excludes `max_jerk`.
     pub accel_tau: f32,
     /// τ of the smoothing of the look-at point (s); 0 = look straight at the
     /// target every frame (the thesis).
