@@ -212,30 +212,16 @@ impl Camera {
             step = step * (allowed / len);
         }
         let mut len = len;
-        if accel_lag {
-            // The capped step is the velocity the camera is commanded; the
-            // acceleration that would reach it in this update is followed
-            // with the lag `accel_tau`, so it is continuous.
-            let k = lag_fraction(scene.dt, self.params.accel_tau);
-            let wanted = (step * (1.0 / scene.dt) - s.vel) * (1.0 / scene.dt);
-            s.acc = s.acc + (wanted - s.acc) * k;
-            // Never faster than the top speed (a lagged acceleration
-            // carries on a little after its command stopped).
-            let vel = s.vel + s.acc * scene.dt;
-            let top = f64::from(self.params.max_speed);
-            let speed = vel.norm();
-            let vel = if speed > top {
-                vel * (top / speed)
-            } else {
-                vel
-            };
-            step = vel * scene.dt;
-            len = step.norm();
-        } else if self.params.max_jerk > 0.0 {
+        if accel_lag || self.params.max_jerk > 0.0 {
             // The capped step is the velocity the camera is commanded; it
             // gets there through a continuous acceleration (and may then
             // pass the best candidate a little more).
-            let vel = self.limit_jerk(scene, s, step * (1.0 / scene.dt));
+            let commanded = step * (1.0 / scene.dt);
+            let vel = if accel_lag {
+                self.lag_acceleration(scene, s, commanded)
+            } else {
+                self.limit_jerk(scene, s, commanded)
+            };
             step = vel * scene.dt;
             len = step.norm();
         }
@@ -311,6 +297,25 @@ impl Camera {
 }
 
 impl Camera {
+    /// With `accel_tau`, the velocity `vel` the step wants, reached through
+    /// the acceleration that would reach it in this update, followed with
+    /// the lag `accel_tau` (kept in the state for the next update): the
+    /// acceleration is continuous. Never faster than the top speed (a
+    /// lagged acceleration carries on a little after its command stopped).
+    fn lag_acceleration(&self, scene: &Scene, s: &mut State, vel: V3) -> V3 {
+        let k = lag_fraction(scene.dt, self.params.accel_tau);
+        let wanted = (vel - s.vel) * (1.0 / scene.dt);
+        s.acc = s.acc + (wanted - s.acc) * k;
+        let vel = s.vel + s.acc * scene.dt;
+        let top = f64::from(self.params.max_speed);
+        let speed = vel.norm();
+        if speed > top {
+            vel * (top / speed)
+        } else {
+            vel
+        }
+    }
+
     /// With `max_jerk`, the velocity `vel` the step wants, reached through
     /// an acceleration that differs from the last update's by at most
     /// `max_jerk · Δt` (and kept in the state for the next update). The
