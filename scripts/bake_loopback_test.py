@@ -12,6 +12,7 @@ failed check, 77 (skip) when dask.distributed is missing.
 """
 
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -56,9 +57,14 @@ def main(argv):
     # The step function lives in scripts/bake.py, imported here as a module: the
     # scheduler and the workers import it too (run as a script, bake.py's functions
     # travel by value and workers need nothing).
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([HERE, os.environ.get("PYTHONPATH", "")]))
     procs = []
     work = tempfile.mkdtemp(prefix="bake-loopback-")
+    # The workers' private folders (bake.compile_step's temporary directories) go inside
+    # the work folder: the killed worker cannot remove its own, and removing the work
+    # folder at the end removes it.
+    env = dict(os.environ, TMPDIR=work,
+               PYTHONPATH=os.pathsep.join([HERE, os.environ.get("PYTHONPATH", "")]))
+    ok = False
     logs = open(os.path.join(work, "cluster.log"), "w")
     try:
         procs.append(subprocess.Popen(
@@ -133,6 +139,9 @@ def main(argv):
             except subprocess.TimeoutExpired:
                 p.kill()
         logs.close()
+        # A failed run keeps its folder (the cluster log is in it); a passed one leaves nothing.
+        if ok:
+            shutil.rmtree(work, ignore_errors=True)
 
 
 if __name__ == "__main__":
