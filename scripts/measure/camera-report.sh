@@ -14,11 +14,13 @@
 #   OUT/plots/MAP-SRC-dtN/     speed, occlusion and summary charts per replay
 #   OUT/summary-dtN.png        the measures per camera across all maps
 # Progress goes to the terminal.
-#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-params cam.toml] [-routes N] [-compile "OPTIONS"] [-out DIR]
+#   scripts/camera-report.sh [-dt "1/60 1/30"] [-camera LIST] [-params cam.toml] [-routes N] [-seed N] [-compile "OPTIONS"] [-out DIR]
 # -compile: bsp2vdg options for the graphs (e.g. "-sd 12 -md 4"), to compare graphs made with
 # other options on the same routes; OUT/graphs is compiled again when they change.
 # -params: camera parameters for the VDG camera (TOML, as `vdgview replay --params`), to
 # compare parameter sets on the same graphs (OUT/graphs is reused when it holds them).
+# -seed: the seed of the route choices (`vdgview replay --seed`, default 1): other routes on the
+# same maps, to check that a decision holds beyond the routes it was measured on.
 #   MAPS="a.bsp b.bsp" scripts/camera-report.sh      (only these maps)
 #   SHARED=/path/to/shared                            (default ../shared)
 #   BSP2VDG=/path/to/bsp2vdg                          (compile with another build, e.g. to
@@ -32,6 +34,7 @@ cameras=""
 params=""
 compile_opts=""
 max_routes=8
+seed=1
 out=target/camera-report
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -39,9 +42,10 @@ while [ $# -gt 0 ]; do
     -camera) cameras=$2; shift 2 ;;
     -params) params=$2; shift 2 ;;
     -routes) max_routes=$2; shift 2 ;;
+    -seed) seed=$2; shift 2 ;;
     -compile) compile_opts=$2; shift 2 ;;
     -out) out=$2; shift 2 ;;
-    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-params cam.toml] [-routes N] [-compile \"OPTIONS\"] [-out DIR]" >&2; exit 2 ;;
+    *) echo "usage: $0 [-dt \"1/60 1/30\"] [-camera LIST] [-params cam.toml] [-routes N] [-seed N] [-compile \"OPTIONS\"] [-out DIR]" >&2; exit 2 ;;
   esac
 done
 shared=${SHARED:-../shared}
@@ -104,7 +108,7 @@ for m in "${maps[@]}"; do
       key="$name-$tag-dt$dtn"
       printf '[%d/%d] %s: %s routes, dt %s ...\n' "$i" "${#maps[@]}" "$name" "$tag" "$dt" >&2
       if ! nice -n 10 "$viewer" replay "$m" "$vdg" --routes "$src" --dt "$dt" \
-          --max-routes "$max_routes" "${camera_opt[@]}" --json --plots "$out/plots/$key" \
+          --max-routes "$max_routes" --seed "$seed" "${camera_opt[@]}" --json --plots "$out/plots/$key" \
           > "$out/json/$key.json.part" 2> "$out/logs/$key.err"; then
         printf '[%d/%d] %s: replay failed: %s\n' "$i" "${#maps[@]}" "$name" "$(tail -n1 "$out/logs/$key.err")" >&2
         rm -f "$out/json/$key.json.part"

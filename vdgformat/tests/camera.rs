@@ -269,6 +269,92 @@ fn a_target_hidden_too_long_is_cut_to() {
     assert!(cut_at.is_some(), "no cut although the target stayed hidden");
 }
 
+/// The L corridor with a crawl space in its y leg that a camera cannot
+/// pass: from y = 160 to 288 the sheet dips to z = 16 and its vertices have
+/// 2 units of clearance (less than `field_min_clearance`), so the volume
+/// there is a thin slab below the sight lines between the corridor's two
+/// ends. The target walks from the x leg through it and on up the y leg,
+/// then stands at (64, 400).
+fn l_corridor_with_a_crawl_space() -> VdgFile {
+    let low = |y: f32| (160.0..=288.0).contains(&y);
+    open(&grid(
+        16,
+        16,
+        32.0,
+        |_, y| if low(y) { 16.0 } else { 64.0 },
+        |_, y| if low(y) { 2.0 } else { 48.0 },
+        |i, j| i < 4 || j < 4,
+    ))
+}
+
+/// [`l_walk`] on the sheet of [`l_corridor_with_a_crawl_space`], stopping at
+/// y = 400.
+fn crawl_walk(t: f64) -> Target {
+    let w = l_walk(t);
+    let y = w.position[1].min(400.0);
+    let z = match y {
+        y if y <= 128.0 => 64.0,
+        y if y <= 160.0 => 64.0 - (y - 128.0) * 1.5,
+        y if y <= 288.0 => 16.0,
+        y if y <= 320.0 => 16.0 + (y - 288.0) * 1.5,
+        _ => 64.0,
+    };
+    Target::new([w.position[0], y, z], w.heading, w.velocity)
+}
+
+/// The camera along [`crawl_walk`] with `params`: the frames it lost the
+/// target in, how long it had been hidden at the first cut, and the cuts.
+fn through_the_crawl_space(params: CameraParams) -> (usize, f64, usize) {
+    let file = l_corridor_with_a_crawl_space();
+    let g = file.graph();
+    let dt = 1.0 / 60.0;
+    let mut cam = Camera::new(params).unwrap();
+    cam.reset(&g, &crawl_walk(0.0));
+    let (mut lost, mut hidden, mut first_cut, mut cuts) = (0, 0.0, f64::INFINITY, 0);
+    for i in 1..240 {
+        let p = cam.update(&g, &crawl_walk(f64::from(i) * f64::from(dt)), dt);
+        if p.cut {
+            cuts += 1;
+            first_cut = first_cut.min(hidden);
+        }
+        hidden = if p.target_visible {
+            0.0
+        } else {
+            hidden + f64::from(dt)
+        };
+        lost += usize::from(!p.target_visible);
+    }
+    (lost, first_cut, cuts)
+}
+
+/// Beyond a crawl space the camera cannot pass, no motion of its own brings
+/// the target back into view: it cuts after `cut_unreachable_after`, and is
+/// beyond the crawl space when the target comes out of it. Waiting out
+/// `cut_after` instead, it stood still (every candidate rated hidden and
+/// unreachable alike) and lost the target for longer.
+#[test]
+fn a_target_out_of_reach_is_cut_to_soon() {
+    let defaults = CameraParams::default();
+    let (lost, first_cut, cuts) = through_the_crawl_space(defaults.clone());
+    assert!(
+        first_cut <= f64::from(defaults.cut_unreachable_after) + 0.1,
+        "hidden {first_cut:.3} s before the cut"
+    );
+    assert_eq!(cuts, 1, "one cut is enough");
+    let (lost_late, first_cut_late, _) = through_the_crawl_space(CameraParams {
+        cut_unreachable_after: defaults.cut_after,
+        ..defaults.clone()
+    });
+    assert!(
+        first_cut_late >= f64::from(defaults.cut_after) - 0.1 && first_cut_late.is_finite(),
+        "hidden {first_cut_late:.3} s before the cut without the early cut: the crawl space does not cut the camera off"
+    );
+    assert!(
+        lost + 30 < lost_late,
+        "target lost in {lost} frames with the early cut, {lost_late} without"
+    );
+}
+
 #[test]
 fn no_allocation_per_frame_after_warm_up() {
     let file = l_corridor();

@@ -72,6 +72,16 @@ impl Camera {
         if d.is_finite() { d } else { 1e6 }
     }
 
+    /// Whether the target is out of reach from `k` (in face `face`): the
+    /// update's distance field proves the way through the graph longer than
+    /// the camera covers in `cut_after` at its top speed, or that there is
+    /// none (a field cut short by its budget gives lower bounds, which
+    /// prove it too). Never without a field.
+    pub(super) fn unreachable(&mut self, g: &Vdg<'_>, face: u32, k: V3) -> bool {
+        let reach = f64::from(self.params.max_speed) * f64::from(self.params.cut_after);
+        self.params.distance_field && f64::from(self.field.vdistance(g, face, k.to_f32())) > reach
+    }
+
     pub(super) fn vis_cost(&self, vd: f64) -> f64 {
         if self.params.normalized_visibility {
             (1.0 + vd / f64::from(self.params.distance_sigma)).powi(2)

@@ -56,6 +56,7 @@ impl Camera {
             look,
             hidden: 0.0,
             visible: false,
+            unreachable: false,
             target_face: scene.face,
             target_prev: scene.t,
             outside_search: None,

@@ -112,6 +112,7 @@ impl Camera {
         let visible = self.sees_finally(g, s.face, s.pos, scene);
         s.hidden = if visible { 0.0 } else { s.hidden + scene.dt };
         s.visible = visible;
+        s.unreachable = !visible && self.unreachable(g, s.face, s.pos);
         s.look = self.look_at(scene, s.look);
         self.state = Some(s);
         self.debug.current = current;

@@ -89,6 +89,22 @@ pub struct CameraParams {
     /// player (a longer wait lost visibility, a shorter one multiplied the
     /// cuts for little gain; `CAMERA.md`).
     pub cut_after: f32,
+    /// Hidden this long (s) while out of the camera's reach, the camera
+    /// cuts. Out of reach: the graph's way from the camera to the target
+    /// (VDistance, through no gap narrower than `field_min_clearance`) is
+    /// longer than the camera covers in `cut_after` at `max_speed`, or there
+    /// is none. The player climbed a staircase or a ladder shaft too narrow
+    /// for the camera, dropped through a hatch or crawled into a vent: the
+    /// camera could not get him back into view before `cut_after` by its
+    /// own motion (a way of thousands of units round a whole level, or
+    /// none: then every candidate was rated hidden and unreachable alike and
+    /// the camera stood still), and only the target can end the occlusion.
+    /// So the wait is short: 0.5 s lets a player who steps behind a pillar
+    /// and out again pass without a cut (over all the shared maps' routes
+    /// 0.25 s cut more than once a minute on two route sets, 0.75 s saw
+    /// less; docs/measurements/2026-12-07-camera-reach.md). The thesis:
+    /// `cut_after` (no such cut).
+    pub cut_unreachable_after: f32,
     /// A target that moves farther than this in one update has teleported
     /// (respawn, portal, spectator switch): the camera cuts. 256 units is
     /// ten frames of running at 30 Hz.
@@ -286,6 +302,7 @@ impl Default for CameraParams {
             clearance_sigma: 0.5,
             visibility_sigma: 1.5,
             cut_after: 1.5,
+            cut_unreachable_after: 0.5,
             teleport_distance: 256.0,
             max_speed: 500.0,
             speed_tau: 0.12,
@@ -348,6 +365,7 @@ impl CameraParams {
             target_speed_floor: 0.0,
             clearance_within_target_room: false,
             sight_lead: 0.0,
+            cut_unreachable_after: CameraParams::default().cut_after,
             ..CameraParams::default()
         }
     }
@@ -380,6 +398,7 @@ impl CameraParams {
         let non_negative = [
             ("inertia_horizon", self.inertia_horizon),
             ("cut_after", self.cut_after),
+            ("cut_unreachable_after", self.cut_unreachable_after),
             ("early_stop", self.early_stop),
             ("direction_tau", self.direction_tau),
             ("max_decel", self.max_decel),

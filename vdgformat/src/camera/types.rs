@@ -97,8 +97,10 @@ pub struct Pose {
     pub pitch: f32,
     /// The face whose volume holds the eye (`None` without a graph).
     pub face: Option<u32>,
-    /// The camera cut (jumped) this frame: reset, teleported target, or the
-    /// target hidden for longer than [`CameraParams::cut_after`](super::CameraParams::cut_after).
+    /// The camera cut (jumped) this frame: reset, teleported target, the
+    /// target hidden for longer than [`CameraParams::cut_after`](super::CameraParams::cut_after), or
+    /// hidden and out of the camera's reach for longer than
+    /// [`CameraParams::cut_unreachable_after`](super::CameraParams::cut_unreachable_after).
     pub cut: bool,
     /// The graph proves a clear line from the eye to the target (to the
     /// nearest volume point towards it when [`Status::TargetOutside`]).
@@ -197,6 +199,10 @@ pub(super) struct State {
     pub(super) hidden: f64,
     /// Whether the target was visible at the end of the last update.
     pub(super) visible: bool,
+    /// Whether, at the end of the last update, the target was hidden and
+    /// out of the camera's reach (see
+    /// [`CameraParams::cut_unreachable_after`](super::CameraParams::cut_unreachable_after)).
+    pub(super) unreachable: bool,
     pub(super) target_face: u32,
     pub(super) target_prev: V3,
     /// Where the last global face search for an outside target ran.

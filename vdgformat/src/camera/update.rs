@@ -149,7 +149,8 @@ impl Camera {
         };
         let scene = self.scene(g, t, heading, state.target_face, Some(&state), dt);
         let teleported = (t - state.target_prev).norm() > f64::from(self.params.teleport_distance);
-        let lost = state.hidden > f64::from(self.params.cut_after);
+        let lost = state.hidden > f64::from(self.params.cut_after)
+            || (state.unreachable && state.hidden > f64::from(self.params.cut_unreachable_after));
         if teleported || lost {
             return self.cut(g, &scene, heading);
         }
