@@ -27,7 +27,9 @@
 //!   no permanent is computed) decides nearly every call; if it cannot, an integer stage
 //!   evaluates the determinant exactly in 128-bit arithmetic whenever the coordinate
 //!   differences are dyadic numbers of few significant bits (always true for grid-aligned
-//!   wall samples, where exact ties are the common case); otherwise Shewchuk's adaptive
+//!   wall samples, where exact ties are the common case) — for integer points close
+//!   together the float evaluation was already exact and its value, zero included, is the
+//!   answer without any further arithmetic; otherwise Shewchuk's adaptive
 //!   predicates (`robust` crate) decide, up to exact expansion arithmetic. Every decision
 //!   the algorithm takes is a sign of one of these predicates on input coordinates — no
 //!   constructed point is ever tested — so every decision is exact.
