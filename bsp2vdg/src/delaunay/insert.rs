@@ -59,8 +59,10 @@ pub(super) struct Scratch {
     local: Vec<u8>,
     /// The vertices numbered in `local`, to reset them afterwards.
     numbered: Vec<u32>,
-    /// Local numbers of each boundary facet's new cell's vertices (`q`'s slot unused).
-    facet_locals: Vec<[u8; 4]>,
+    /// Local numbers of each boundary facet's new cell's vertices, byte `k` for vertex `k`
+    /// (`q`'s byte unused). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
+    /// by byte and then read whole stalls on store-to-load forwarding.
+    facet_locals: Vec<u32>,
     /// `edges[x * EDGE_TABLE_SIDE + y]`: the packed face `(cell << 2) | index` of the new
     /// cell that sees boundary edge `x → y` (local numbers). Stale entries are never read:
     /// every directed edge read was written by the same insertion.
@@ -195,7 +197,7 @@ impl Builder<'_> {
         let mut next = 1u8;
         for b in &s.boundary {
             let v = self.cells[b.cell as usize].v;
-            let mut locals = [0u8; 4];
+            let mut locals = 0u32;
             for &(k, _, _) in &FACES_AROUND[b.facet as usize] {
                 let slot = &mut s.local[(v[k] as usize).min(infinite_slot)];
                 if *slot == 0 {
@@ -207,7 +209,7 @@ impl Builder<'_> {
                     next += 1;
                     s.numbered.push(v[k]);
                 }
-                locals[k] = *slot;
+                locals |= u32::from(*slot) << (8 * k);
             }
             s.facet_locals.push(locals);
         }
@@ -235,20 +237,25 @@ impl Builder<'_> {
             let t = self.alloc();
             s.new_cells.push(t);
         }
-        for ((b, &t), l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
+        // Local number of vertex `k` from a facet's packed numbers.
+        let local = |l: u32, k: usize| (l >> (8 * k)) as u8 as usize;
+        for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
             for &(k, x, y) in &FACES_AROUND[b.facet as usize] {
-                s.edges[l[x] as usize * W + l[y] as usize] = (t << 2) | k as u32;
+                s.edges[local(l, x) * W + local(l, y)] = (t << 2) | k as u32;
             }
         }
-        for ((b, &t), l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
+        for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
             let i = b.facet as usize;
-            let mut v = self.cells[b.cell as usize].v;
-            v[i] = q;
-            let mut n = [b.outside; 4];
+            let v = self.cells[b.cell as usize].v;
+            // Written field by field: building the cell in a local array and then copying
+            // it stalls on store-to-load forwarding (narrow stores, one wide load).
+            let new = &mut self.cells[t as usize];
+            new.v = v;
+            new.v[i] = q;
+            new.n[i] = b.outside;
             for &(k, x, y) in &FACES_AROUND[i] {
-                n[k] = s.edges[l[y] as usize * W + l[x] as usize];
+                new.n[k] = s.edges[local(l, y) * W + local(l, x)];
             }
-            self.cells[t as usize] = Cell { v, n };
             let (o, j) = (b.outside >> 2, b.outside & 3);
             let on = &mut self.cells[o as usize].n;
             on[j as usize] = (t << 2) | b.facet;
