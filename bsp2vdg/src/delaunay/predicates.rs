@@ -131,6 +131,43 @@ fn orient3d_exact(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64
     robust::orient3d(coord(a), coord(b), coord(c), coord(d))
 }
 
+/// The float filter of [`orient3d`] for the four tetrahedra made by replacing each vertex of
+/// `v` in turn by `q` (the point location's question: which facets of a cell separate it
+/// from `q`). Returns the determinants `det[i] ≈ orient3d(v with v[i] = q)` and one error
+/// bound: `det[i]`'s sign is exact when `|det[i]| > bound`, otherwise the caller asks
+/// [`orient3d`] (the bound is infinite when the filter cannot apply at all).
+///
+/// All four share the differences `v[j] − q` and their six 2×2 minors. Each determinant is
+/// the expression [`orient3d`] evaluates for the tetrahedron with `q` moved to the last
+/// place (an odd or even number of swaps, hence the signs), term for term — a minor taken
+/// with its rows swapped is its exact negation — so [`orient3d`]'s static error bound
+/// holds; it is taken over the largest of all twelve differences, which only loosens it.
+#[inline(always)]
+pub fn facet_orientations(v: [&[f64; 3]; 4], q: &[f64; 3]) -> ([f64; 4], f64) {
+    let d = v.map(|p| [p[0] - q[0], p[1] - q[1], p[2] - q[2]]);
+    let minor = |a: usize, b: usize| d[a][0] * d[b][1] - d[b][0] * d[a][1];
+    let (m01, m02, m03) = (minor(0, 1), minor(0, 2), minor(0, 3));
+    let (m12, m13, m23) = (minor(1, 2), minor(1, 3), minor(2, 3));
+    let z = |j: usize| d[j][2];
+    let det = [
+        // q in place 0: (q, v1, v2, v3) is an odd permutation of (v1, v2, v3, q).
+        -((z(1) * m23 - z(2) * m13) + z(3) * m12),
+        // q in place 1: (v0, q, v2, v3) is even.
+        (z(0) * m23 - z(2) * m03) + z(3) * m02,
+        // q in place 2: (v0, v1, q, v3) is odd.
+        -((z(0) * m13 - z(1) * m03) + z(3) * m01),
+        // q in place 3: orient3d's own form.
+        (z(0) * m12 - z(1) * m02) + z(2) * m01,
+    ];
+    let m = d.iter().flatten().fold(0.0, |m, &x| fmax(m, x.abs()));
+    let bound = if (STATIC_MIN..=STATIC_MAX).contains(&m) {
+        O3D_STATIC * (m * m * m)
+    } else {
+        f64::INFINITY
+    };
+    (det, bound)
+}
+
 /// Exact sign of the insphere determinant; `a, b, c, d` must be positively oriented.
 /// Same three stages as [`orient3d`] (integer stage: differences of at most 23 bits).
 #[inline]
@@ -735,6 +772,35 @@ mod tests {
         assert!(!small_int_points([&[0.5, 0.0, 0.0]]));
         assert!(!small_int_points([&[4_194_304.0, 0.0, 0.0]]));
         assert!(small_int_points([&[-4_194_303.0, 7.0, 0.0]]));
+    }
+
+    /// The shared-differences filter of the point location must give `orient3d`'s signs
+    /// whenever it claims certainty, and claim it on ordinary input.
+    #[test]
+    fn facet_orientations_agree_with_orient3d() {
+        let mut rng = toolbox::SplitMix64::new(77);
+        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let mut certain = 0;
+        for i in 0..20_000 {
+            let scale = [1e-3, 1.0, 3e3][i % 3];
+            let mut pt = || [unit() * scale + 100.0, unit() * scale, unit() * scale];
+            let mut v = [pt(), pt(), pt(), pt()];
+            if i % 7 == 0 {
+                v[3] = v[0]; // a degenerate cell: exact zeros must not be claimed certain
+            }
+            let q = if i % 5 == 0 { v[1] } else { pt() };
+            let (det, bound) = facet_orientations([&v[0], &v[1], &v[2], &v[3]], &q);
+            for k in 0..4 {
+                let mut w = v;
+                w[k] = q;
+                let exact = orient3d(&w[0], &w[1], &w[2], &w[3]);
+                if det[k] > bound || -det[k] > bound {
+                    certain += 1;
+                    assert_eq!(sign(det[k]), sign(exact), "{v:?} {q:?} {k}");
+                }
+            }
+        }
+        assert!(certain > 50_000, "{certain}");
     }
 
     /// The float stages (static and dynamic bounds) must agree with `robust` on nearly
