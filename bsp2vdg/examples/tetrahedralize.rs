@@ -8,7 +8,8 @@
 //!
 //! `--validate` runs the exact validity check afterwards; `--rings` also times the
 //! circumspheres and the edge-ring enumeration the Voronoi stage uses; `--repeat N`
-//! reports the fastest of N triangulations.
+//! reports the fastest of N triangulations; `--hash` prints a hash of every cell's vertices
+//! and neighbours in cell order, to check that two builds triangulate identically.
 
 use std::time::Instant;
 
@@ -47,13 +48,14 @@ fn main() -> anyhow::Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let validate = args.iter().any(|a| a == "--validate");
     let rings = args.iter().any(|a| a == "--rings");
+    let hash = args.iter().any(|a| a == "--hash");
     let Some(path) = args
         .iter()
         .enumerate()
         .find(|&(i, a)| !a.starts_with("--") && (i == 0 || args[i - 1] != "--repeat"))
         .map(|(_, a)| a)
     else {
-        bail!("usage: tetrahedralize POINTS.txt [--validate] [--rings] [--repeat N]");
+        bail!("usage: tetrahedralize POINTS.txt [--validate] [--rings] [--hash] [--repeat N]");
     };
     let pts = read_qhull_points(path)?;
     // `--repeat N`: triangulate N times and report the fastest (a noisy machine's floor).
@@ -86,6 +88,18 @@ fn main() -> anyhow::Result<()> {
             spheres.len(),
             start.elapsed().as_secs_f64()
         );
+    }
+    if hash {
+        // FNV-1a over the cells' vertex ids and neighbour ids, in cell order.
+        let mut h = 0xcbf2_9ce4_8422_2325u64;
+        for t in 0..tri.num_cells() as u32 {
+            for x in tri.cell(t).into_iter().chain(tri.neighbors(t)) {
+                for byte in x.to_le_bytes() {
+                    h = (h ^ u64::from(byte)).wrapping_mul(0x100_0000_01b3);
+                }
+            }
+        }
+        extra += &format!(", \"cells_hash\": \"{h:016x}\"");
     }
     if validate {
         let start = Instant::now();

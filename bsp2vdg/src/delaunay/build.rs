@@ -99,7 +99,7 @@ impl<'a> Builder<'a> {
             last: 0,
             walk_rng: 0x2545_F491,
             duplicates: Vec::new(),
-            scratch: Default::default(),
+            scratch: super::insert::Scratch::new(pts.len()),
             overflow: false,
         };
         // Reserve the estimate if the allocator can; otherwise grow on demand (and fail

@@ -10,14 +10,20 @@
 //! the facet, so both cells always agree (a hull facet joined to a coplanar point would
 //! otherwise make a flat cell).
 //!
-//! The new cells are glued to each other the way CGAL does it, without any table: the new
-//! cell on boundary facet `(c, i)` and its neighbour across the face `(q, x, y)` share the
-//! boundary edge `(x, y)`; turning around that edge through the (still intact) cavity cells,
-//! starting from `c`, reaches the other boundary facet containing the edge, whose new cell is
-//! found through the outside cell's back link. The cavity's cells are therefore freed only
-//! after gluing, and the new cells take the slots freed by the previous insertion (which was
-//! next door in the Hilbert order, so still in cache). All work lists are reused between
-//! insertions.
+//! The new cells are glued to each other through their boundary edges: the new cell on
+//! boundary facet `(c, i)` and its neighbour across the face `(q, x, y)` share the boundary
+//! edge `(x, y)`, which the two cells see in opposite directions (both are positively
+//! oriented, on either side of the face). The boundary's vertices get small local numbers
+//! (a byte per point, reset after each insertion), a first pass records every directed edge
+//! in a small square table indexed by the two local numbers, and a second pass reads each
+//! cell's neighbours from the reversed edges and writes the cell once, complete — the
+//! scheme of HXT's Delaunay kernel (Marot, Pellerin & Remacle 2019). Its table accesses are
+//! independent of each other, where turning around the edge through the cavity cells
+//! (CGAL's way) is a chain of dependent loads; that walk remains the fallback for cavities
+//! whose boundary has more vertices than the table has rows. The gluing does not depend on
+//! the method, so neither do the cells. The new cells take the slots freed by the previous
+//! insertion (which was next door in the Hilbert order, so still in cache). All work lists
+//! are reused between insertions.
 
 use super::INFINITE;
 use super::build::{Builder, Cell, DEAD, IN_CAVITY, NBR_MASK, TESTED};
@@ -36,14 +42,71 @@ struct BoundaryFacet {
     outside: u32,
 }
 
-/// Work lists reused across insertions.
+/// Rows (and columns) of the edge table: boundary vertices beyond this many make the
+/// insertion glue by turning around edges instead. Local number 0 means "none".
+const EDGE_TABLE_SIDE: usize = 64;
+
+/// Work lists reused across insertions. The default value holds no memory (the insertion
+/// takes the builder's lists out with `std::mem::take` while it works on them).
 #[derive(Default)]
 pub(super) struct Scratch {
     /// Cavity cells in the order found; doubles as the breadth-first search queue.
     cavity: Vec<u32>,
     boundary: Vec<BoundaryFacet>,
     new_cells: Vec<u32>,
+    /// Local number (1..EDGE_TABLE_SIDE) of every boundary vertex of the current insertion,
+    /// by vertex id, the infinite vertex's in the last slot; 0 for all other points.
+    local: Vec<u8>,
+    /// The vertices numbered in `local`, to reset them afterwards.
+    numbered: Vec<u32>,
+    /// Local numbers of each boundary facet's new cell's vertices, byte `k` for vertex `k`
+    /// (`q`'s byte unused). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
+    /// by byte and then read whole stalls on store-to-load forwarding.
+    facet_locals: Vec<u32>,
+    /// `edges[x * EDGE_TABLE_SIDE + y]`: the packed face `(cell << 2) | index` of the new
+    /// cell that sees boundary edge `x → y` (local numbers). Stale entries are never read:
+    /// every directed edge read was written by the same insertion.
+    edges: Vec<u32>,
 }
+
+impl Scratch {
+    /// Work lists for triangulating `num_points` points.
+    pub(super) fn new(num_points: usize) -> Self {
+        Scratch {
+            local: vec![0; num_points + 1],
+            edges: vec![0; EDGE_TABLE_SIDE * EDGE_TABLE_SIDE],
+            ..Default::default()
+        }
+    }
+}
+
+/// For the new cell whose vertex `i` is the new point: its three faces other than the
+/// boundary facet, as `(k, x, y)`: the face opposite vertex `k` contains the boundary edge
+/// `(x, y)`, ordered so that `(i, k, x, y)` is an even permutation. The cell then sees the
+/// edge as `x → y`, and its neighbour across that face (positively oriented too, on the
+/// other side) sees it as `y → x`.
+const FACES_AROUND: [[(usize, usize, usize); 3]; 4] = {
+    let mut t = [[(0, 0, 0); 3]; 4];
+    let mut i = 0;
+    while i < 4 {
+        let mut n = 0;
+        let mut k = 0;
+        while k < 4 {
+            if i != k {
+                let (x, y) = other_two(i, k);
+                t[i][n] = if is_even([i, k, x, y]) {
+                    (k, x, y)
+                } else {
+                    (k, y, x)
+                };
+                n += 1;
+            }
+            k += 1;
+        }
+        i += 1;
+    }
+    t
+};
 
 impl Builder<'_> {
     #[inline(never)]
@@ -111,10 +174,100 @@ impl Builder<'_> {
     }
 
     /// Create one new cell per boundary facet (the cavity cell with the facet's opposite
-    /// vertex replaced by `q`), link it with the outside cell both ways, then glue the new
-    /// cells to each other by turning around boundary edges inside the cavity.
+    /// vertex replaced by `q`), link it with the outside cell both ways, and glue the new
+    /// cells to each other: through the edge table, or by turning around boundary edges
+    /// inside the cavity when the boundary has too many vertices for the table.
     #[inline(always)]
     fn star_boundary(&mut self, q: u32, s: &mut Scratch) {
+        if self.number_boundary_vertices(s) {
+            self.star_boundary_by_table(q, s);
+        } else {
+            self.star_boundary_by_turning(q, s);
+        }
+    }
+
+    /// Give every vertex of the cavity's boundary a local number in `1..EDGE_TABLE_SIDE`
+    /// and record each boundary facet's local numbers. Returns false (with all numbers
+    /// reset) when there are too many vertices.
+    #[inline(always)]
+    fn number_boundary_vertices(&self, s: &mut Scratch) -> bool {
+        s.facet_locals.clear();
+        // The infinite vertex is numbered in the slot after the last point's.
+        let infinite_slot = s.local.len() - 1;
+        let mut next = 1u8;
+        for b in &s.boundary {
+            let v = self.cells[b.cell as usize].v;
+            let mut locals = 0u32;
+            for &(k, _, _) in &FACES_AROUND[b.facet as usize] {
+                let slot = &mut s.local[(v[k] as usize).min(infinite_slot)];
+                if *slot == 0 {
+                    if next as usize == EDGE_TABLE_SIDE {
+                        self.reset_local_numbers(s);
+                        return false;
+                    }
+                    *slot = next;
+                    next += 1;
+                    s.numbered.push(v[k]);
+                }
+                locals |= u32::from(*slot) << (8 * k);
+            }
+            s.facet_locals.push(locals);
+        }
+        true
+    }
+
+    /// Set the local numbers of this insertion's boundary vertices back to 0.
+    #[inline(always)]
+    fn reset_local_numbers(&self, s: &mut Scratch) {
+        let infinite_slot = s.local.len() - 1;
+        for &v in &s.numbered {
+            s.local[(v as usize).min(infinite_slot)] = 0;
+        }
+        s.numbered.clear();
+    }
+
+    /// [`Self::star_boundary`] through the edge table (see the module documentation):
+    /// allocate the new cells, record which face of which new cell sees each directed
+    /// boundary edge, then write every new cell once with all its neighbours.
+    #[inline(always)]
+    fn star_boundary_by_table(&mut self, q: u32, s: &mut Scratch) {
+        const W: usize = EDGE_TABLE_SIDE;
+        s.new_cells.clear();
+        for _ in 0..s.boundary.len() {
+            let t = self.alloc();
+            s.new_cells.push(t);
+        }
+        // Local number of vertex `k` from a facet's packed numbers.
+        let local = |l: u32, k: usize| (l >> (8 * k)) as u8 as usize;
+        for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
+            for &(k, x, y) in &FACES_AROUND[b.facet as usize] {
+                s.edges[local(l, x) * W + local(l, y)] = (t << 2) | k as u32;
+            }
+        }
+        for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
+            let i = b.facet as usize;
+            let v = self.cells[b.cell as usize].v;
+            // Written field by field: building the cell in a local array and then copying
+            // it stalls on store-to-load forwarding (narrow stores, one wide load).
+            let new = &mut self.cells[t as usize];
+            new.v = v;
+            new.v[i] = q;
+            new.n[i] = b.outside;
+            for &(k, x, y) in &FACES_AROUND[i] {
+                new.n[k] = s.edges[local(l, y) * W + local(l, x)];
+            }
+            let (o, j) = (b.outside >> 2, b.outside & 3);
+            let on = &mut self.cells[o as usize].n;
+            on[j as usize] = (t << 2) | b.facet;
+            on[1] &= NBR_MASK; // clear TESTED
+        }
+        self.reset_local_numbers(s);
+    }
+
+    /// [`Self::star_boundary`] by turning around boundary edges inside the cavity (CGAL's
+    /// way): the fallback for boundaries with more vertices than the edge table has rows.
+    #[inline(never)]
+    fn star_boundary_by_turning(&mut self, q: u32, s: &mut Scratch) {
         s.new_cells.clear();
         for b in &s.boundary {
             let t = self.alloc();
@@ -220,16 +373,35 @@ fn index_of(v: [u32; 4], x: u32) -> usize {
     m
 }
 
-/// The two indices of `0..4` other than `i` and `k`.
+/// Whether the permutation `p` of `0..4` is even (an even number of inversions).
+const fn is_even(p: [usize; 4]) -> bool {
+    let mut inversions = 0;
+    let mut a = 0;
+    while a < 4 {
+        let mut b = a + 1;
+        while b < 4 {
+            if p[a] > p[b] {
+                inversions += 1;
+            }
+            b += 1;
+        }
+        a += 1;
+    }
+    inversions % 2 == 0
+}
+
+/// The two indices of `0..4` other than `i` and `k`, in increasing order.
 #[inline]
-pub(super) fn other_two(i: usize, k: usize) -> (usize, usize) {
+pub(super) const fn other_two(i: usize, k: usize) -> (usize, usize) {
     let mut r = [0usize; 2];
     let mut n = 0;
-    for j in 0..4 {
+    let mut j = 0;
+    while j < 4 {
         if j != i && j != k {
             r[n] = j;
             n += 1;
         }
+        j += 1;
     }
     (r[0], r[1])
 }

@@ -15,7 +15,7 @@
 
 use super::INFINITE;
 use super::build::{Builder, DEAD};
-use super::predicates::{in_conflict, orient_ids};
+use super::predicates::{facet_orientations, in_conflict, orient_ids};
 
 /// Where a query point was found.
 pub(super) enum Location {
@@ -57,6 +57,9 @@ impl Builder<'_> {
                 continue;
             }
             let r = self.next_walk_bits();
+            // The filter for all four facets at once (they share their arithmetic); a
+            // facet it cannot decide is asked exactly, so the walk takes the same steps.
+            let (det, bound) = facet_orientations(v.map(|x| &self.pts[x as usize]), &pq);
             let mut moved = false;
             for j in 0..4 {
                 let i = (r + j) & 3;
@@ -64,9 +67,16 @@ impl Builder<'_> {
                 if n == prev {
                     continue;
                 }
-                let mut w = v;
-                w[i] = q;
-                if orient_ids_with(self.pts, w, q, &pq) < 0.0 {
+                let separates = if det[i] > bound {
+                    false
+                } else if -det[i] > bound {
+                    true
+                } else {
+                    let mut w = v;
+                    w[i] = q;
+                    orient_ids_with(self.pts, w, q, &pq) < 0.0
+                };
+                if separates {
                     prev = t;
                     t = n;
                     moved = true;

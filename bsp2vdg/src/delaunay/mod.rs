@@ -17,9 +17,11 @@
 //!   deterministic).
 //! * **Insertion** (module `insert`): Bowyer–Watson. The cavity (cells whose circumsphere contains
 //!   the point) is found by a breadth-first search with visit flags kept inside the cells,
-//!   its boundary is starred from the new point (new cells glued to each other by turning
-//!   around boundary edges inside the cavity, as CGAL does: no tables, no hashing), and the
-//!   freed slots are reused by the next insertion, which is next door.
+//!   its boundary is starred from the new point (new cells glued to each other through a
+//!   small table of the boundary's directed edges, indexed by local vertex numbers, as HXT
+//!   does; turning around the edges inside the cavity, as CGAL does, is the fallback for
+//!   very large cavities), and the freed slots are reused by the next insertion, which is
+//!   next door.
 //! * **Infinite vertex**: the convex hull is closed by cells `(hull facet, ∞)`, so every cell
 //!   has four neighbours and points outside the hull need no special case.
 //! * **Exact predicates** ([`predicates`]): `orient3d` and `insphere` in three stages. A
@@ -27,7 +29,9 @@
 //!   no permanent is computed) decides nearly every call; if it cannot, an integer stage
 //!   evaluates the determinant exactly in 128-bit arithmetic whenever the coordinate
 //!   differences are dyadic numbers of few significant bits (always true for grid-aligned
-//!   wall samples, where exact ties are the common case); otherwise Shewchuk's adaptive
+//!   wall samples, where exact ties are the common case) — for integer points close
+//!   together the float evaluation was already exact and its value, zero included, is the
+//!   answer without any further arithmetic; otherwise Shewchuk's adaptive
 //!   predicates (`robust` crate) decide, up to exact expansion arithmetic. Every decision
 //!   the algorithm takes is a sign of one of these predicates on input coordinates — no
 //!   constructed point is ever tested — so every decision is exact.
@@ -52,7 +56,8 @@
 //!   the insertion itself is sequential.
 //! * **Speed** (`scripts/peers/bench-delaunay.sh` compares with CGAL in the same run): the
 //!   insphere filter evaluates two rows per SSE2 instruction (same bits as the scalar
-//!   order), the Hilbert keys are computed without branches.
+//!   order), a walk step filters its cell's four facets with shared arithmetic, the Hilbert
+//!   keys are computed without branches.
 //!
 //! # API for the Voronoi stage
 //!

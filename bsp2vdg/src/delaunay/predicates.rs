@@ -49,8 +49,9 @@ fn fmax(a: f64, b: f64) -> f64 {
 ///
 /// Three stages: the float evaluation with Shewchuk's error bound; if that is inconclusive
 /// and all coordinate differences are exact dyadic numbers of at most 40 significant bits
-/// (always the case for grid-aligned wall samples), the determinant in 128-bit integers;
-/// otherwise `robust`'s adaptive expansion arithmetic.
+/// (always the case for grid-aligned wall samples), the determinant in 128-bit integers —
+/// or, for small-integer points close together, the float value itself, which is then
+/// exact (see [`small_int_points`]); otherwise `robust`'s adaptive expansion arithmetic.
 #[inline]
 pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
     let (adx, bdx, cdx) = (a[0] - d[0], b[0] - d[0], c[0] - d[0]);
@@ -70,12 +71,54 @@ pub fn orient3d(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
     if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
         return det;
     }
-    orient3d_slow(a, b, c, d)
+    orient3d_slow(a, b, c, d, det, m)
 }
 
+/// Largest coordinate difference for which the float evaluation of [`orient3d`] is exact
+/// on small-integer points (see [`small_int_points`]): every product and partial sum is an
+/// integer of magnitude at most `6 M³ ≤ 2^51`.
+const O3D_EXACT_M: f64 = 65536.0; // 2^16
+/// The same for [`insphere`]: magnitudes at most `72 M⁵ < 2^52`.
+const ISP_EXACT_M: f64 = 512.0; // 2^9
+
+/// Whether every coordinate of `pts` is an integer of magnitude below 2^22: then every
+/// coordinate difference is an integer below 2^23, exact in f64, and the float evaluation
+/// of a determinant is exact when no intermediate result exceeds 2^53 (see `O3D_EXACT_M`,
+/// `ISP_EXACT_M`). Grid-aligned wall samples are such points, and their exact ties are
+/// the common case of an inconclusive filter: the float value, zero included, is then
+/// already the exact answer.
+#[inline(always)]
+fn small_int_points<const P: usize>(pts: [&[f64; 3]; P]) -> bool {
+    const LIMIT: f64 = 4_194_304.0; // 2^22
+    // Adding 1.5 · 2^52 rounds any |x| < 2^51 to an integer (the sum's unit in the last
+    // place is 1) and subtracting it back is exact: `x` is an integer iff it survives.
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let mut ok = true;
+    for p in pts {
+        for x in *p {
+            // `&` rather than `&&`: no branches, the compiler pairs the lanes in SSE2.
+            ok &= (x.abs() < LIMIT) & ((x + ROUND) - ROUND == x);
+        }
+    }
+    ok
+}
+
+/// The exact stages of [`orient3d`]; `det` and `m` are the float determinant and the
+/// largest absolute coordinate difference from the filter.
 #[cold]
 #[inline(never)]
-fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
+fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], det: f64, m: f64) -> f64 {
+    if m <= O3D_EXACT_M && small_int_points([a, b, c, d]) {
+        return det;
+    }
+    orient3d_exact(a, b, c, d)
+}
+
+/// The integer, dynamic-filter and expansion stages of [`orient3d`] (kept out of
+/// [`orient3d_slow`] so the frequent exact-float answer needs no large stack frame).
+#[cold]
+#[inline(never)]
+fn orient3d_exact(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 {
     // Exact ties on grid-aligned input are the common case here: integers first, then the
     // dynamic (permanent-based) filter, tighter than the static one, then expansions.
     if let Some(v) = orient3d_int(a, b, c, d) {
@@ -88,6 +131,43 @@ fn orient3d_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3]) -> f64 
     robust::orient3d(coord(a), coord(b), coord(c), coord(d))
 }
 
+/// The float filter of [`orient3d`] for the four tetrahedra made by replacing each vertex of
+/// `v` in turn by `q` (the point location's question: which facets of a cell separate it
+/// from `q`). Returns the determinants `det[i] ≈ orient3d(v with v[i] = q)` and one error
+/// bound: `det[i]`'s sign is exact when `|det[i]| > bound`, otherwise the caller asks
+/// [`orient3d`] (the bound is infinite when the filter cannot apply at all).
+///
+/// All four share the differences `v[j] − q` and their six 2×2 minors. Each determinant is
+/// the expression [`orient3d`] evaluates for the tetrahedron with `q` moved to the last
+/// place (an odd or even number of swaps, hence the signs), term for term — a minor taken
+/// with its rows swapped is its exact negation — so [`orient3d`]'s static error bound
+/// holds; it is taken over the largest of all twelve differences, which only loosens it.
+#[inline(always)]
+pub fn facet_orientations(v: [&[f64; 3]; 4], q: &[f64; 3]) -> ([f64; 4], f64) {
+    let d = v.map(|p| [p[0] - q[0], p[1] - q[1], p[2] - q[2]]);
+    let minor = |a: usize, b: usize| d[a][0] * d[b][1] - d[b][0] * d[a][1];
+    let (m01, m02, m03) = (minor(0, 1), minor(0, 2), minor(0, 3));
+    let (m12, m13, m23) = (minor(1, 2), minor(1, 3), minor(2, 3));
+    let z = |j: usize| d[j][2];
+    let det = [
+        // q in place 0: (q, v1, v2, v3) is an odd permutation of (v1, v2, v3, q).
+        -((z(1) * m23 - z(2) * m13) + z(3) * m12),
+        // q in place 1: (v0, q, v2, v3) is even.
+        (z(0) * m23 - z(2) * m03) + z(3) * m02,
+        // q in place 2: (v0, v1, q, v3) is odd.
+        -((z(0) * m13 - z(1) * m03) + z(3) * m01),
+        // q in place 3: orient3d's own form.
+        (z(0) * m12 - z(1) * m02) + z(2) * m01,
+    ];
+    let m = d.iter().flatten().fold(0.0, |m, &x| fmax(m, x.abs()));
+    let bound = if (STATIC_MIN..=STATIC_MAX).contains(&m) {
+        O3D_STATIC * (m * m * m)
+    } else {
+        f64::INFINITY
+    };
+    (det, bound)
+}
+
 /// Exact sign of the insphere determinant; `a, b, c, d` must be positively oriented.
 /// Same three stages as [`orient3d`] (integer stage: differences of at most 23 bits).
 #[inline]
@@ -98,7 +178,7 @@ pub fn insphere(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64
     if (det > errbound || -det > errbound) && (STATIC_MIN..=STATIC_MAX).contains(&m) {
         return det;
     }
-    insphere_slow(a, b, c, d, e)
+    insphere_slow(a, b, c, d, e, det, m)
 }
 
 /// The float insphere determinant (Shewchuk's expansion order) and the largest absolute
@@ -239,7 +319,26 @@ fn insphere_det_and_max_sse2(
 
 #[cold]
 #[inline(never)]
-fn insphere_slow(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
+fn insphere_slow(
+    a: &[f64; 3],
+    b: &[f64; 3],
+    c: &[f64; 3],
+    d: &[f64; 3],
+    e: &[f64; 3],
+    det: f64,
+    m: f64,
+) -> f64 {
+    if m <= ISP_EXACT_M && small_int_points([a, b, c, d, e]) {
+        return det;
+    }
+    insphere_exact(a, b, c, d, e)
+}
+
+/// The integer, dynamic-filter and expansion stages of [`insphere`] (kept out of
+/// [`insphere_slow`] like [`orient3d_exact`]).
+#[cold]
+#[inline(never)]
+fn insphere_exact(a: &[f64; 3], b: &[f64; 3], c: &[f64; 3], d: &[f64; 3], e: &[f64; 3]) -> f64 {
     if let Some(v) = insphere_int(a, b, c, d, e) {
         return v;
     }
@@ -525,9 +624,16 @@ pub fn in_conflict(pts: &[[f64; 3]], tet: [u32; 4], q: u32) -> bool {
 /// The symbolic tie-break of [`in_conflict`] for exactly cospherical `tet` and `q`.
 #[cold]
 pub fn perturbed_in_conflict(pts: &[[f64; 3]], tet: [u32; 4], q: u32) -> bool {
-    let mut ids = [tet[0], tet[1], tet[2], tet[3], q];
-    ids.sort_unstable_by(|a, b| b.cmp(a));
-    for &m in &ids[..2] {
+    // The two largest of the five (distinct) ids, largest first.
+    let mut top = [0u32; 2];
+    for x in [tet[0], tet[1], tet[2], tet[3], q] {
+        if x > top[0] {
+            top = [x, top[0]];
+        } else if x > top[1] {
+            top[1] = x;
+        }
+    }
+    for m in top {
         if m == q {
             // Raising q's own lift pushes it outside the sphere.
             return false;
@@ -616,6 +722,85 @@ mod tests {
             )
             .is_none()
         );
+    }
+
+    /// The exact float answers (small-integer points, differences up to `ISP_EXACT_M` and
+    /// `O3D_EXACT_M`) must agree with `robust`, ties included, also at the limits: the
+    /// largest allowed differences and coordinates just below 2^22.
+    #[test]
+    fn exact_float_answers_on_small_integers_agree_with_robust() {
+        let mut rng = toolbox::SplitMix64::new(41);
+        let (mut ties, mut shortcut) = (0, 0);
+        for i in 0..40_000 {
+            // Steps making the largest difference exactly the limit (4 steps of a 5-grid).
+            let (step, limit) = if i % 2 == 0 {
+                (ISP_EXACT_M / 4.0, ISP_EXACT_M)
+            } else {
+                (O3D_EXACT_M / 4.0, O3D_EXACT_M)
+            };
+            let origin = if i % 4 < 2 {
+                -4_194_000.0
+            } else {
+                4_194_303.0 - 4.0 * step
+            };
+            let mut pick = || origin + (rng.next_u64() % 5) as f64 * step;
+            let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
+            assert!(small_int_points([&p[0], &p[1], &p[2], &p[3], &p[4]]));
+            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
+            let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
+            assert_eq!(sign(o), sign(r), "{p:?}");
+            if o > 0.0 && limit == ISP_EXACT_M {
+                let (_, m) = insphere_det_and_max(&p[0], &p[1], &p[2], &p[3], &p[4]);
+                shortcut += usize::from(m <= ISP_EXACT_M);
+                let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
+                let r = robust::insphere(
+                    coord(&p[0]),
+                    coord(&p[1]),
+                    coord(&p[2]),
+                    coord(&p[3]),
+                    coord(&p[4]),
+                );
+                assert_eq!(sign(i), sign(r), "{p:?}");
+                ties += usize::from(r == 0.0);
+            }
+        }
+        assert!(
+            ties > 10 && shortcut > 1000,
+            "{ties} ties, {shortcut} shortcuts"
+        );
+        // Not small integers: a fraction, or a coordinate beyond 2^22.
+        assert!(!small_int_points([&[0.5, 0.0, 0.0]]));
+        assert!(!small_int_points([&[4_194_304.0, 0.0, 0.0]]));
+        assert!(small_int_points([&[-4_194_303.0, 7.0, 0.0]]));
+    }
+
+    /// The shared-differences filter of the point location must give `orient3d`'s signs
+    /// whenever it claims certainty, and claim it on ordinary input.
+    #[test]
+    fn facet_orientations_agree_with_orient3d() {
+        let mut rng = toolbox::SplitMix64::new(77);
+        let mut unit = || (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let mut certain = 0;
+        for i in 0..20_000 {
+            let scale = [1e-3, 1.0, 3e3][i % 3];
+            let mut pt = || [unit() * scale + 100.0, unit() * scale, unit() * scale];
+            let mut v = [pt(), pt(), pt(), pt()];
+            if i % 7 == 0 {
+                v[3] = v[0]; // a degenerate cell: exact zeros must not be claimed certain
+            }
+            let q = if i % 5 == 0 { v[1] } else { pt() };
+            let (det, bound) = facet_orientations([&v[0], &v[1], &v[2], &v[3]], &q);
+            for k in 0..4 {
+                let mut w = v;
+                w[k] = q;
+                let exact = orient3d(&w[0], &w[1], &w[2], &w[3]);
+                if det[k] > bound || -det[k] > bound {
+                    certain += 1;
+                    assert_eq!(sign(det[k]), sign(exact), "{v:?} {q:?} {k}");
+                }
+            }
+        }
+        assert!(certain > 50_000, "{certain}");
     }
 
     /// The float stages (static and dynamic bounds) must agree with `robust` on nearly
