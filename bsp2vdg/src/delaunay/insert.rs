@@ -59,8 +59,8 @@ pub(super) struct Scratch {
     local: Vec<u8>,
     /// The vertices numbered in `local`, to reset them afterwards.
     numbered: Vec<u32>,
-    /// Local numbers of each boundary facet's new cell's vertices, byte `k` for vertex `k`
-    /// (`q`'s byte unused). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
+    /// Local numbers of each boundary facet's three vertices, byte `j` for the vertex at
+    /// position `j` of the facet's cycle ([`AROUND`]). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
     /// by byte and then read whole stalls on store-to-load forwarding.
     facet_locals: Vec<u32>,
     /// `edges[x * EDGE_TABLE_SIDE + y]`: the packed face `(cell << 2) | index` of the new
@@ -102,6 +102,30 @@ const FACES_AROUND: [[(usize, usize, usize); 3]; 4] = {
                 n += 1;
             }
             k += 1;
+        }
+        i += 1;
+    }
+    t
+};
+
+/// [`FACES_AROUND`] as a cycle: `AROUND[i] = [k0, k1, k2]`, the new cell's vertices other
+/// than `i`, ordered so that its face opposite `k0` sees the boundary edge `k1 → k2`, the
+/// face opposite `k1` sees `k2 → k0` and the face opposite `k2` sees `k0 → k1` (the three
+/// directed edges go round the boundary facet, all cells being positively oriented). With
+/// a facet's local numbers packed in this order, the edge table's indices are taken out at
+/// fixed positions (constant shifts), not at positions read from a table.
+const AROUND: [[usize; 3]; 4] = {
+    let mut t = [[0; 3]; 4];
+    let mut i = 0;
+    while i < 4 {
+        let (k0, k1, k2) = FACES_AROUND[i][0];
+        t[i] = [k0, k1, k2];
+        // The other two faces must see the other two edges of the cycle.
+        let mut n = 1;
+        while n < 3 {
+            let (k, x, y) = FACES_AROUND[i][n];
+            assert!((k == k1 && x == k2 && y == k0) || (k == k2 && x == k0 && y == k1));
+            n += 1;
         }
         i += 1;
     }
@@ -195,7 +219,7 @@ impl Builder<'_> {
         // The infinite vertex is numbered in the slot after the last point's.
         let infinite_slot = s.local.len() - 1;
         let mut locals = 0u32;
-        for &(k, _, _) in &FACES_AROUND[i] {
+        for (j, &k) in AROUND[i].iter().enumerate() {
             let slot = &mut s.local[(v[k] as usize).min(infinite_slot)];
             if *slot == 0 {
                 if next as usize == EDGE_TABLE_SIDE {
@@ -206,7 +230,7 @@ impl Builder<'_> {
                 next += 1;
                 s.numbered.push(v[k]);
             }
-            locals |= u32::from(*slot) << (8 * k);
+            locals |= u32::from(*slot) << (8 * j);
         }
         s.facet_locals.push(locals);
         Some(next)
@@ -231,13 +255,21 @@ impl Builder<'_> {
     fn star_boundary_by_table(&mut self, q: u32, s: &mut Scratch) {
         const W: usize = EDGE_TABLE_SIDE;
         s.new_cells.clear();
-        // Local number of vertex `k` from a facet's packed numbers.
-        let local = |l: u32, k: usize| (l >> (8 * k)) as u8 as usize;
+        // A slice of known length: the indices below are less than `W * W` by construction
+        // (two local numbers below `W`), so they need no bounds checks.
+        let edges = &mut s.edges[..W * W];
+        // Index of the directed edge from the vertex at cycle position `a` of a facet (see
+        // [`AROUND`]) to the one at position `b`, from the facet's packed local numbers.
+        let at = |l: u32, a: usize, b: usize| {
+            let local = |j: usize| ((l >> (8 * j)) as usize) % W;
+            local(a) * W + local(b)
+        };
         for (b, &l) in s.boundary.iter().zip(&s.facet_locals) {
             let t = self.alloc();
             s.new_cells.push(t);
-            for &(k, x, y) in &FACES_AROUND[b.facet as usize] {
-                s.edges[local(l, x) * W + local(l, y)] = (t << 2) | k as u32;
+            let ks = AROUND[b.facet as usize];
+            for j in 0..3 {
+                edges[at(l, (j + 1) % 3, (j + 2) % 3)] = (t << 2) | ks[j] as u32;
             }
         }
         for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
@@ -249,8 +281,9 @@ impl Builder<'_> {
             new.v = v;
             new.v[i] = q;
             new.n[i] = b.outside;
-            for &(k, x, y) in &FACES_AROUND[i] {
-                new.n[k] = s.edges[local(l, y) * W + local(l, x)];
+            let ks = AROUND[i];
+            for j in 0..3 {
+                new.n[ks[j] % 4] = edges[at(l, (j + 2) % 3, (j + 1) % 3)];
             }
             let (o, j) = (b.outside >> 2, b.outside & 3);
             let on = &mut self.cells[o as usize].n;
