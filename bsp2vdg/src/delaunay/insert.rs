@@ -59,8 +59,8 @@ pub(super) struct Scratch {
     local: Vec<u8>,
     /// The vertices numbered in `local`, to reset them afterwards.
     numbered: Vec<u32>,
-    /// Local numbers of each boundary facet's new cell's vertices, byte `k` for vertex `k`
-    /// (`q`'s byte unused). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
+    /// Local numbers of each boundary facet's three vertices, byte `j` for the vertex at
+    /// position `j` of the facet's cycle ([`AROUND`]). Packed in a `u32` built in a register: a `[u8; 4]` filled byte
     /// by byte and then read whole stalls on store-to-load forwarding.
     facet_locals: Vec<u32>,
     /// `edges[x * EDGE_TABLE_SIDE + y]`: the packed face `(cell << 2) | index` of the new
@@ -108,6 +108,30 @@ const FACES_AROUND: [[(usize, usize, usize); 3]; 4] = {
     t
 };
 
+/// [`FACES_AROUND`] as a cycle: `AROUND[i] = [k0, k1, k2]`, the new cell's vertices other
+/// than `i`, ordered so that its face opposite `k0` sees the boundary edge `k1 → k2`, the
+/// face opposite `k1` sees `k2 → k0` and the face opposite `k2` sees `k0 → k1` (the three
+/// directed edges go round the boundary facet, all cells being positively oriented). With
+/// a facet's local numbers packed in this order, the edge table's indices are taken out at
+/// fixed positions (constant shifts), not at positions read from a table.
+const AROUND: [[usize; 3]; 4] = {
+    let mut t = [[0; 3]; 4];
+    let mut i = 0;
+    while i < 4 {
+        let (k0, k1, k2) = FACES_AROUND[i][0];
+        t[i] = [k0, k1, k2];
+        // The other two faces must see the other two edges of the cycle.
+        let mut n = 1;
+        while n < 3 {
+            let (k, x, y) = FACES_AROUND[i][n];
+            assert!((k == k1 && x == k2 && y == k0) || (k == k2 && x == k0 && y == k1));
+            n += 1;
+        }
+        i += 1;
+    }
+    t
+};
+
 impl Builder<'_> {
     #[inline(never)]
     pub(super) fn insert_point(&mut self, q: u32) {
@@ -119,8 +143,11 @@ impl Builder<'_> {
             Location::Cell(t) => t,
         };
         let mut s = std::mem::take(&mut self.scratch);
-        self.find_cavity(q, start, &mut s);
-        self.star_boundary(q, &mut s);
+        if self.find_cavity(q, start, &mut s) {
+            self.star_boundary_by_table(q, &mut s);
+        } else {
+            self.star_boundary_by_turning(q, &mut s);
+        }
         // Recycle the cavity's slots (the next insertion reuses them first: it is next door).
         for &c in &s.cavity {
             self.cells[c as usize].v = [DEAD; 4];
@@ -134,17 +161,23 @@ impl Builder<'_> {
     /// Breadth-first search of the cells in conflict with `q` from `start` (in conflict).
     /// Cavity cells get the `IN_CAVITY` flag, cells tested and found not in conflict the
     /// `TESTED` flag (so each is tested once); every cavity facet towards a non-cavity cell
-    /// is recorded as a boundary facet.
+    /// is recorded as a boundary facet, and its vertices get their local numbers right away
+    /// ([`Self::number_facet`]): the cavity cell's vertices are at hand here, where a
+    /// separate pass would read every boundary facet's cell again. Returns whether all
+    /// boundary vertices were numbered (false: too many for the edge table; all numbers
+    /// are then reset and the gluing turns around edges instead).
     #[inline(always)]
-    fn find_cavity(&mut self, q: u32, start: u32, s: &mut Scratch) {
+    fn find_cavity(&mut self, q: u32, start: u32, s: &mut Scratch) -> bool {
         s.cavity.clear();
         s.boundary.clear();
+        s.facet_locals.clear();
+        let mut next = Some(1u8);
         self.cells[start as usize].n[0] |= IN_CAVITY;
         s.cavity.push(start);
         let mut head = 0;
         while let Some(&c) = s.cavity.get(head) {
             head += 1;
-            let cn = self.cells[c as usize].n;
+            let Cell { v: cv, n: cn } = self.cells[c as usize];
             for (i, &p) in cn.iter().enumerate() {
                 let packed = p & NBR_MASK;
                 let n = packed >> 2;
@@ -169,56 +202,43 @@ impl Builder<'_> {
                     facet: i as u32,
                     outside: packed,
                 });
+                if let Some(first_free) = next {
+                    next = Self::number_facet(cv, i, first_free, s);
+                }
             }
         }
+        next.is_some()
     }
 
-    /// Create one new cell per boundary facet (the cavity cell with the facet's opposite
-    /// vertex replaced by `q`), link it with the outside cell both ways, and glue the new
-    /// cells to each other: through the edge table, or by turning around boundary edges
-    /// inside the cavity when the boundary has too many vertices for the table.
+    /// Give the vertices of boundary facet `i` of a cavity cell with vertices `v` local
+    /// numbers (those not numbered yet get `next`, `next + 1`, ... below `EDGE_TABLE_SIDE`)
+    /// and record the facet's packed local numbers. Returns the next free number, or `None`
+    /// (with all numbers reset) when the edge table has no row left.
     #[inline(always)]
-    fn star_boundary(&mut self, q: u32, s: &mut Scratch) {
-        if self.number_boundary_vertices(s) {
-            self.star_boundary_by_table(q, s);
-        } else {
-            self.star_boundary_by_turning(q, s);
-        }
-    }
-
-    /// Give every vertex of the cavity's boundary a local number in `1..EDGE_TABLE_SIDE`
-    /// and record each boundary facet's local numbers. Returns false (with all numbers
-    /// reset) when there are too many vertices.
-    #[inline(always)]
-    fn number_boundary_vertices(&self, s: &mut Scratch) -> bool {
-        s.facet_locals.clear();
+    fn number_facet(v: [u32; 4], i: usize, mut next: u8, s: &mut Scratch) -> Option<u8> {
         // The infinite vertex is numbered in the slot after the last point's.
         let infinite_slot = s.local.len() - 1;
-        let mut next = 1u8;
-        for b in &s.boundary {
-            let v = self.cells[b.cell as usize].v;
-            let mut locals = 0u32;
-            for &(k, _, _) in &FACES_AROUND[b.facet as usize] {
-                let slot = &mut s.local[(v[k] as usize).min(infinite_slot)];
-                if *slot == 0 {
-                    if next as usize == EDGE_TABLE_SIDE {
-                        self.reset_local_numbers(s);
-                        return false;
-                    }
-                    *slot = next;
-                    next += 1;
-                    s.numbered.push(v[k]);
+        let mut locals = 0u32;
+        for (j, &k) in AROUND[i].iter().enumerate() {
+            let slot = &mut s.local[(v[k] as usize).min(infinite_slot)];
+            if *slot == 0 {
+                if next as usize == EDGE_TABLE_SIDE {
+                    Self::reset_local_numbers(s);
+                    return None;
                 }
-                locals |= u32::from(*slot) << (8 * k);
+                *slot = next;
+                next += 1;
+                s.numbered.push(v[k]);
             }
-            s.facet_locals.push(locals);
+            locals |= u32::from(*slot) << (8 * j);
         }
-        true
+        s.facet_locals.push(locals);
+        Some(next)
     }
 
     /// Set the local numbers of this insertion's boundary vertices back to 0.
     #[inline(always)]
-    fn reset_local_numbers(&self, s: &mut Scratch) {
+    fn reset_local_numbers(s: &mut Scratch) {
         let infinite_slot = s.local.len() - 1;
         for &v in &s.numbered {
             s.local[(v as usize).min(infinite_slot)] = 0;
@@ -226,22 +246,30 @@ impl Builder<'_> {
         s.numbered.clear();
     }
 
-    /// [`Self::star_boundary`] through the edge table (see the module documentation):
-    /// allocate the new cells, record which face of which new cell sees each directed
+    /// Create one new cell per boundary facet (the cavity cell with the facet's opposite
+    /// vertex replaced by `q`), link it with the outside cell both ways, and glue the new
+    /// cells to each other through the edge table (see the module documentation): allocate
+    /// the new cells while recording which face of which new cell sees each directed
     /// boundary edge, then write every new cell once with all its neighbours.
     #[inline(always)]
     fn star_boundary_by_table(&mut self, q: u32, s: &mut Scratch) {
         const W: usize = EDGE_TABLE_SIDE;
         s.new_cells.clear();
-        for _ in 0..s.boundary.len() {
+        // A slice of known length: the indices below are less than `W * W` by construction
+        // (two local numbers below `W`), so they need no bounds checks.
+        let edges = &mut s.edges[..W * W];
+        // Index of the directed edge from the vertex at cycle position `a` of a facet (see
+        // [`AROUND`]) to the one at position `b`, from the facet's packed local numbers.
+        let at = |l: u32, a: usize, b: usize| {
+            let local = |j: usize| ((l >> (8 * j)) as usize) % W;
+            local(a) * W + local(b)
+        };
+        for (b, &l) in s.boundary.iter().zip(&s.facet_locals) {
             let t = self.alloc();
             s.new_cells.push(t);
-        }
-        // Local number of vertex `k` from a facet's packed numbers.
-        let local = |l: u32, k: usize| (l >> (8 * k)) as u8 as usize;
-        for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
-            for &(k, x, y) in &FACES_AROUND[b.facet as usize] {
-                s.edges[local(l, x) * W + local(l, y)] = (t << 2) | k as u32;
+            let ks = AROUND[b.facet as usize];
+            for j in 0..3 {
+                edges[at(l, (j + 1) % 3, (j + 2) % 3)] = (t << 2) | ks[j] as u32;
             }
         }
         for ((b, &t), &l) in s.boundary.iter().zip(&s.new_cells).zip(&s.facet_locals) {
@@ -253,19 +281,21 @@ impl Builder<'_> {
             new.v = v;
             new.v[i] = q;
             new.n[i] = b.outside;
-            for &(k, x, y) in &FACES_AROUND[i] {
-                new.n[k] = s.edges[local(l, y) * W + local(l, x)];
+            let ks = AROUND[i];
+            for j in 0..3 {
+                new.n[ks[j] % 4] = edges[at(l, (j + 2) % 3, (j + 1) % 3)];
             }
             let (o, j) = (b.outside >> 2, b.outside & 3);
             let on = &mut self.cells[o as usize].n;
             on[j as usize] = (t << 2) | b.facet;
             on[1] &= NBR_MASK; // clear TESTED
         }
-        self.reset_local_numbers(s);
+        Self::reset_local_numbers(s);
     }
 
-    /// [`Self::star_boundary`] by turning around boundary edges inside the cavity (CGAL's
-    /// way): the fallback for boundaries with more vertices than the edge table has rows.
+    /// [`Self::star_boundary_by_table`] by turning around boundary edges inside the cavity
+    /// (CGAL's way): the fallback for boundaries with more vertices than the edge table has
+    /// rows.
     #[inline(never)]
     fn star_boundary_by_turning(&mut self, q: u32, s: &mut Scratch) {
         s.new_cells.clear();
