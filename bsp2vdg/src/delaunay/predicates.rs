@@ -677,6 +677,29 @@ mod tests {
         (x > 0.0) as i32 - (x < 0.0) as i32
     }
 
+    /// `orient3d` of the first four points of `p` and `robust`'s value, whose signs must
+    /// agree.
+    fn orient3d_against_robust(p: &[[f64; 3]]) -> (f64, f64) {
+        let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
+        let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
+        assert_eq!(sign(o), sign(r), "{p:?}");
+        (o, r)
+    }
+
+    /// `insphere` of the five points of `p` and `robust`'s value, whose signs must agree.
+    fn insphere_against_robust(p: &[[f64; 3]]) -> (f64, f64) {
+        let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
+        let r = robust::insphere(
+            coord(&p[0]),
+            coord(&p[1]),
+            coord(&p[2]),
+            coord(&p[3]),
+            coord(&p[4]),
+        );
+        assert_eq!(sign(i), sign(r), "{p:?}");
+        (i, r)
+    }
+
     /// The integer stage must agree with `robust` on near-degenerate dyadic inputs.
     #[test]
     fn integer_stage_agrees_with_robust() {
@@ -687,23 +710,13 @@ mod tests {
             let step = if i % 2 == 0 { 0.25 } else { 24.0 };
             let mut pick = || ((rng.next_u64() % 9) as f64 - 4.0) * step + 1024.0;
             let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
-            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
-            let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
-            assert_eq!(sign(o), sign(r), "{p:?}");
+            let (o, r) = orient3d_against_robust(&p);
             assert_eq!(
                 sign(orient3d_int(&p[0], &p[1], &p[2], &p[3]).unwrap()),
                 sign(r)
             );
             if o > 0.0 {
-                let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
-                let r = robust::insphere(
-                    coord(&p[0]),
-                    coord(&p[1]),
-                    coord(&p[2]),
-                    coord(&p[3]),
-                    coord(&p[4]),
-                );
-                assert_eq!(sign(i), sign(r), "{p:?}");
+                let (_, r) = insphere_against_robust(&p);
                 assert_eq!(
                     sign(insphere_int(&p[0], &p[1], &p[2], &p[3], &p[4]).unwrap()),
                     sign(r)
@@ -746,21 +759,11 @@ mod tests {
             let mut pick = || origin + (rng.next_u64() % 5) as f64 * step;
             let p: Vec<[f64; 3]> = (0..5).map(|_| [pick(), pick(), pick()]).collect();
             assert!(small_int_points([&p[0], &p[1], &p[2], &p[3], &p[4]]));
-            let o = orient3d(&p[0], &p[1], &p[2], &p[3]);
-            let r = robust::orient3d(coord(&p[0]), coord(&p[1]), coord(&p[2]), coord(&p[3]));
-            assert_eq!(sign(o), sign(r), "{p:?}");
+            let (o, _) = orient3d_against_robust(&p);
             if o > 0.0 && limit == ISP_EXACT_M {
                 let (_, m) = insphere_det_and_max(&p[0], &p[1], &p[2], &p[3], &p[4]);
                 shortcut += usize::from(m <= ISP_EXACT_M);
-                let i = insphere(&p[0], &p[1], &p[2], &p[3], &p[4]);
-                let r = robust::insphere(
-                    coord(&p[0]),
-                    coord(&p[1]),
-                    coord(&p[2]),
-                    coord(&p[3]),
-                    coord(&p[4]),
-                );
-                assert_eq!(sign(i), sign(r), "{p:?}");
+                let (_, r) = insphere_against_robust(&p);
                 ties += usize::from(r == 0.0);
             }
         }
