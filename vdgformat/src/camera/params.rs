@@ -100,9 +100,9 @@ pub struct CameraParams {
     /// none: then every candidate was rated hidden and unreachable alike and
     /// the camera stood still), and only the target can end the occlusion.
     /// So the wait is short: 0.5 s lets a player who steps behind a pillar
-    /// and out again pass without a cut (over all the shared maps' routes
-    /// 0.25 s cut more than once a minute on two route sets, 0.75 s saw
-    /// less; docs/measurements/2026-12-07-camera-reach.md). The thesis:
+    /// and out again pass without a cut (over all the shared maps' routes a
+    /// shorter wait cut too often and a longer one saw less; the figures are
+    /// in docs/measurements/2026-12-07-camera-reach.md). The thesis:
     /// `cut_after` (no such cut).
     pub cut_unreachable_after: f32,
     /// A target that moves farther than this in one update has teleported
