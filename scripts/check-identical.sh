@@ -86,9 +86,11 @@ for m in "${maps[@]}"; do
         [ $side = new ] && bin=$NEW
         run $side "$name-compile" "$bin/bsp2vdg" -quiet -nolog -o "$OUT/$side/$name.vdg" "$m"
         # The .err file's text is part of the behaviour too (a refused map); its first
-        # line repeats the command line, whose output path names the side.
+        # line repeats the command line, whose output path names the side, after the
+        # tool's name and build identity, which differs between any two builds.
         if [ -e "$OUT/$side/$name.err" ]; then
-            sed "s#$OUT/$side/#OUT/#g" "$OUT/$side/$name.err" >"$OUT/$side/$name-compile.err"
+            sed -e "s#$OUT/$side/#OUT/#g" -e 's/(build [0-9a-f]\{16\})/(build)/' \
+                "$OUT/$side/$name.err" >"$OUT/$side/$name-compile.err"
             rm "$OUT/$side/$name.err"
         fi
         if [ -e "$OUT/$side/$name.vdg" ]; then
