@@ -18,6 +18,15 @@ pub struct Costs {
     pub total: f32,
 }
 
+/// The longest way VDistance tells apart (units): longer ones are as far
+/// (a level is rarely more than a few thousand units across).
+pub(super) const FAR_WAY: f64 = 16_384.0;
+
+/// VDistance where there is no way: worse than any way, yet f_vis over it
+/// (about 4.7·10⁵, an f32 step of 1/128 in f_total) leaves the other terms
+/// their say among candidates that all lack a way.
+pub(super) const NO_WAY: f64 = 2.0 * FAR_WAY;
+
 impl Camera {
     /// All cost terms at `k` (in face `face` with clearance `clear`).
     #[allow(clippy::too_many_arguments)]
@@ -59,8 +68,12 @@ impl Camera {
     }
 
     /// VDistance(k, t): from the frame's distance field, or (the thesis) an
-    /// A* per call. Unreachable: a large finite value, so costs stay
-    /// comparable.
+    /// A* per call. A way longer than [`FAR_WAY`] counts as that long, and
+    /// no way at all as [`NO_WAY`]: finite, and small enough that f_total
+    /// (an f32) still tells the other terms apart. With 10⁶ for "no way"
+    /// f_vis was 4·10⁸, the totals of all hidden candidates were equal to
+    /// the bit, and the first of them (the camera's own place) won: the
+    /// camera stood still behind a target it could not reach.
     pub(super) fn vdistance(&mut self, g: &Vdg<'_>, scene: &Scene, face: u32, k: V3) -> f64 {
         let d = if self.params.distance_field {
             f64::from(self.field.vdistance(g, face, k.to_f32()))
@@ -69,7 +82,11 @@ impl Camera {
                 .path_between_faces(g, face, k.to_f32(), scene.face, scene.t.to_f32())
                 .map_or(f64::INFINITY, |p| f64::from(p.length))
         };
-        if d.is_finite() { d } else { 1e6 }
+        if d.is_finite() {
+            d.min(FAR_WAY)
+        } else {
+            NO_WAY
+        }
     }
 
     /// Whether the target is out of reach from `k` (in face `face`): the
@@ -134,5 +151,29 @@ impl Camera {
             need = need.min(scene.target_room);
         }
         (need / clearance.max(1e-3)).powi(2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::CameraParams;
+
+    /// f_total as the candidates compare it: an f32.
+    fn total(cam: &Camera, vd: f64, rest: f64) -> f32 {
+        ((cam.vis_cost(vd) + rest) / 5.0) as f32
+    }
+
+    #[test]
+    fn candidates_without_a_way_are_still_told_apart_by_the_other_terms() {
+        for params in [CameraParams::default(), CameraParams::thesis()] {
+            let cam = Camera::new(params).unwrap();
+            // Two hidden candidates, neither with a way to the target: a
+            // tenth of f_dist apart.
+            assert!(total(&cam, NO_WAY, 1.0) < total(&cam, NO_WAY, 1.1));
+            assert!(total(&cam, FAR_WAY, 1.0) < total(&cam, FAR_WAY, 1.1));
+            // No way at all is worse than the longest way, whatever the rest.
+            assert!(total(&cam, FAR_WAY, 50.0) < total(&cam, NO_WAY, 0.0));
+        }
     }
 }
