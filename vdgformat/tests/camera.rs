@@ -726,3 +726,30 @@ fn a_camera_follows_a_runner_through_a_corridor_narrower_than_its_speed_asks() {
         );
     }
 }
+
+#[test]
+fn the_camera_comes_closer_where_the_player_has_little_room() {
+    // The runner has 24 units of room in the U's legs. At the full d_μ
+    // (80 units) the camera trails him round each bend out of sight; d_μ
+    // shrunk to twice his room keeps it close enough to look round them.
+    let full_distance = CameraParams {
+        distance_room_factor: 0.0,
+        ..CameraParams::default()
+    };
+    let room = CameraParams {
+        distance_room_factor: 2.0,
+        ..CameraParams::default()
+    };
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        let (hidden, longest, dist) = through_the_u(room.clone(), dt, 265.0);
+        let (hidden_full, _, dist_full) = through_the_u(full_distance.clone(), dt, 265.0);
+        assert!(
+            dist < dist_full - 5.0,
+            "dt {dt}: mean distance {dist:.1}, at the full d_μ {dist_full:.1}"
+        );
+        assert!(
+            hidden <= hidden_full && longest == 0,
+            "dt {dt}: {hidden} frames hidden ({longest} in a row), at the full d_μ {hidden_full}"
+        );
+    }
+}

@@ -159,7 +159,7 @@ impl Camera {
         s: &State,
         margin: f32,
     ) -> (V3, f64) {
-        let d_mu = f64::from(self.params.distance_mu);
+        let d_mu = scene.d_mu;
         let early_stop = f64::from(self.params.early_stop);
         let tc = s.pos - scene.t;
         let r = tc.norm();

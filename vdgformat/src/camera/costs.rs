@@ -109,7 +109,7 @@ impl Camera {
 
     pub(super) fn dist_cost(&self, scene: &Scene, k: V3) -> f64 {
         let p = &self.params;
-        (((scene.t - k).norm() - f64::from(p.distance_mu)) / f64::from(p.distance_sigma)).powi(2)
+        (((scene.t - k).norm() - scene.d_mu) / f64::from(p.distance_sigma)).powi(2)
     }
 
     pub(super) fn angle_cost(&self, scene: &Scene, k: V3) -> f64 {

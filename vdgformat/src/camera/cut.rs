@@ -12,6 +12,11 @@ impl Camera {
     /// [`CameraParams::cut_to_ideal`](super::CameraParams::cut_to_ideal), as far towards the ideal position as
     /// the volume allows along a few directions around a_n.
     pub(super) fn cut(&mut self, g: &Vdg<'_>, scene: &Scene, heading: V3) -> Pose {
+        // A cut starts afresh: d_μ for the room where the target is now.
+        let scene = &Scene {
+            d_mu: self.distance_mu_at(scene.target_room),
+            ..*scene
+        };
         let (start, start_face, start_clear) = if self.params.cut_to_ideal {
             self.roomy_start(g, scene)
         } else {
@@ -20,7 +25,7 @@ impl Camera {
         let (mut pos, mut face) = (start, start_face);
         if self.params.cut_to_ideal {
             let margin = self.margin_at(start_clear);
-            let d_mu = f64::from(self.params.distance_mu);
+            let d_mu = scene.d_mu;
             let mut best = f64::INFINITY;
             for dir in cut_directions(scene.a_n) {
                 let goal = start + dir * d_mu;
@@ -61,6 +66,7 @@ impl Camera {
             target_prev: scene.t,
             outside_search: None,
             heading,
+            d_mu: scene.d_mu,
         });
         let visible = pos == scene.t_vis || self.sees_finally(g, face, pos, scene);
         if let Some(s) = self.state.as_mut() {

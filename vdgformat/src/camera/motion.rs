@@ -290,12 +290,71 @@ impl Camera {
         // (or it would sink a little more every frame).
         let m = f64::from(self.params.near_margin);
         if new_clear < m && new_clear < here_clear {
-            (p, f) = (s.pos, s.face);
+            (p, f) = self.keep_room(g, s, p, f, new_clear, here_clear.min(m), margin, hops);
         }
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)
     }
+
+    /// A step that ends with less room than `need` (the camera is inside
+    /// the near-plane margin and may only gain room): its end point pushed
+    /// back out along the boundary's inward normal until it has `need`, if
+    /// the straight way there is free; else the camera stays where it was.
+    /// A camera gliding along a wall at the margin ends about half its steps
+    /// a hair below its start (the step's tolerance); stopping it dead there
+    /// threw its speed from a few hundred units per second to zero in a
+    /// frame.
+    #[allow(clippy::too_many_arguments)]
+    fn keep_room(
+        &self,
+        g: &Vdg<'_>,
+        s: &State,
+        p: V3,
+        f: u32,
+        clear: f64,
+        need: f64,
+        margin: f32,
+        hops: u32,
+    ) -> (V3, u32) {
+        let stay = (s.pos, s.face);
+        let (mut q, mut f, mut c) = (p, f, clear);
+        for _ in 0..KEEP_ROOM_TRIES {
+            let Some(n) = inward_normal(g, f, q) else {
+                return stay;
+            };
+            q = V3::from_f32((q + n * (need - c + KEEP_ROOM_EXTRA)).to_f32());
+            (f, c) = g.climb(f, q, 4);
+            if c >= need {
+                break;
+            }
+        }
+        if c < need {
+            return stay;
+        }
+        let a = g.advance_tol(
+            s.face,
+            s.pos.to_f32(),
+            q.to_f32(),
+            margin,
+            &mut CoverBudget {
+                hops,
+                leaf_searches: 0,
+            },
+            CLAMP_TOL,
+            None,
+            Some(&self.faces),
+        );
+        if a.reached { (q, f) } else { stay }
+    }
 }
+
+/// Pushes [`Camera::keep_room`] makes along the inward normal before it
+/// gives up (the clearance's slope along it is about one).
+const KEEP_ROOM_TRIES: usize = 3;
+
+/// How much more room than needed (units) a pushed-back end point aims for,
+/// so that rounding to f32 does not leave it a hair short.
+const KEEP_ROOM_EXTRA: f64 = 1e-3;
 
 impl Camera {
     /// With `accel_tau`, the velocity `vel` the step wants, reached through
@@ -400,7 +459,7 @@ impl Camera {
         }
         let u = to_t * (1.0 / r);
         let closing = vel.dot(u);
-        let near = f64::from(self.params.distance_mu);
+        let near = scene.d_mu;
         let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.target_speed;
         if closing > limit {
             vel - u * (closing - limit)
@@ -417,6 +476,7 @@ fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
     s.target_face = scene.face;
     s.target_prev = scene.t;
     s.heading = heading;
+    s.d_mu = scene.d_mu;
     if scene.searched {
         s.outside_search = Some(scene.t);
     } else if scene.inside {
@@ -427,7 +487,7 @@ fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
 /// How far a quantity smoothed with time constant `tau` (s) moves towards
 /// its goal in `dt` seconds: `1 − e^(−Δt/τ)`, the same motion at any
 /// frame rate.
-fn lag_fraction(dt: f64, tau: f32) -> f64 {
+pub(super) fn lag_fraction(dt: f64, tau: f32) -> f64 {
     1.0 - (-dt / f64::from(tau)).exp()
 }
 

@@ -260,6 +260,22 @@ pub struct CameraParams {
     /// target needs its speed; it still never passes its best candidate.
     /// 0 = the thesis.
     pub target_speed_floor: f32,
+    /// d_μ is at most this many times the target's room (the graph's
+    /// clearance at the target), never below `distance_min`: where the
+    /// player has little room the camera follows closer. At the full d_μ a
+    /// camera trailing a runner through a corridor lost him at every bend
+    /// for as long as it took to cover the extra way round it (the
+    /// corridors, ducts and furniture of real maps held most of the
+    /// frames the replay's camera missed); in open ground, where the
+    /// target's room exceeds d_μ / factor, nothing changes. 0 = off (the
+    /// thesis).
+    pub distance_room_factor: f32,
+    /// The least d_μ that `distance_room_factor` brings the camera in to
+    /// (units): a little more than the player's own width from his eye.
+    pub distance_min: f32,
+    /// Seconds of lag with which d_μ follows the target's room (see
+    /// `distance_room_factor`). 0 = at once.
+    pub distance_room_tau: f32,
     /// f_clear asks for no more room than the graph gives the target
     /// itself: "room for p_σ seconds at the current speed" (about 125
     /// units when following a running player) is more than a corridor,
@@ -328,6 +344,9 @@ impl Default for CameraParams {
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
+            distance_room_factor: 2.0,
+            distance_min: 40.0,
+            distance_room_tau: 0.5,
             clearance_within_target_room: true,
             sight_lead: 0.25,
         }
@@ -363,6 +382,7 @@ impl CameraParams {
             pursuit_length: 0.0,
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
+            distance_room_factor: 0.0,
             clearance_within_target_room: false,
             sight_lead: 0.0,
             cut_unreachable_after: CameraParams::default().cut_after,
@@ -410,6 +430,9 @@ impl CameraParams {
             ("pursuit_length", self.pursuit_length),
             ("inertia_target_speed", self.inertia_target_speed),
             ("target_speed_floor", self.target_speed_floor),
+            ("distance_room_factor", self.distance_room_factor),
+            ("distance_min", self.distance_min),
+            ("distance_room_tau", self.distance_room_tau),
             ("sight_lead", self.sight_lead),
         ];
         require(&non_negative, "zero or positive", |v| {
@@ -500,6 +523,7 @@ mod tests {
             (0.0, 0.0, 0.0)
         );
         assert_eq!(t.inertia_horizon, 0.0);
+        assert_eq!((t.target_speed_floor, t.distance_room_factor), (0.0, 0.0));
         assert_eq!(
             (t.vertex_tests, t.sight_hops, t.leaf_searches),
             (0, u32::MAX, u32::MAX)

@@ -208,6 +208,8 @@ pub(super) struct State {
     /// Where the last global face search for an outside target ran.
     pub(super) outside_search: Option<V3>,
     pub(super) heading: V3,
+    /// d_μ of the last update (see [`Scene::d_mu`]).
+    pub(super) d_mu: f64,
 }
 
 /// The target as this frame sees it.
@@ -242,6 +244,11 @@ pub(super) struct Scene {
     pub(super) t_vis_in_face: bool,
     /// The graph's clearance at `t_vis`: the room the target has.
     pub(super) target_room: f64,
+    /// d_μ of this frame: `distance_mu`, or less where the target has
+    /// little room (`distance_room_factor`), followed with the lag
+    /// `distance_room_tau`.
+    pub(super) d_mu: f64,
+
     /// Where the target's motion takes it within
     /// [`CameraParams::sight_lead`](super::CameraParams::sight_lead) (in the volume), when it moves.
     pub(super) ahead: Option<Ahead>,
