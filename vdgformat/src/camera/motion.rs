@@ -5,7 +5,7 @@
 use super::sight::POSE_HINT;
 use super::{Camera, Pose, Scene, Slot, State};
 use crate::geom::V3;
-use crate::query::{CoverBudget, FaceCache};
+use crate::query::{Advance, CoverBudget, FaceCache};
 use crate::read::Vdg;
 
 /// Clearance the step may lose when the camera starts inside the
@@ -331,19 +331,7 @@ impl Camera {
         if c < need {
             return stay;
         }
-        let a = g.advance_tol(
-            s.face,
-            s.pos.to_f32(),
-            q.to_f32(),
-            margin,
-            &mut CoverBudget {
-                hops,
-                leaf_searches: 0,
-            },
-            CLAMP_TOL,
-            None,
-            Some(&self.faces),
-        );
+        let a = advance_locally(g, &self.faces, s.face, s.pos, q, margin, hops);
         if a.reached { (q, f) } else { stay }
     }
 }
@@ -518,10 +506,28 @@ fn slide(
     if along.norm() < 1e-3 {
         return (p, f);
     }
-    let b = g.advance_tol(
-        f,
-        p.to_f32(),
-        (p + along).to_f32(),
+    let b = advance_locally(g, faces, f, p, p + along, margin, hops);
+    (V3::from_f32(b.point), b.face)
+}
+
+/// The way from `from` (in face `face`) towards `to` inside the volume
+/// with `margin`, to within [`CLAMP_TOL`], crossing at most `hops` face
+/// volumes and never searching the tree's leaves: the short moves beside
+/// the step itself (a slide, a pushed-back end point, the target's way
+/// ahead), which may stop early rather than cost a search.
+pub(super) fn advance_locally(
+    g: &Vdg<'_>,
+    faces: &FaceCache,
+    face: u32,
+    from: V3,
+    to: V3,
+    margin: f32,
+    hops: u32,
+) -> Advance {
+    g.advance_tol(
+        face,
+        from.to_f32(),
+        to.to_f32(),
         margin,
         &mut CoverBudget {
             hops,
@@ -530,8 +536,7 @@ fn slide(
         CLAMP_TOL,
         None,
         Some(faces),
-    );
-    (V3::from_f32(b.point), b.face)
+    )
 }
 
 /// The direction in which face `f`'s clearance grows fastest at `p` (the

@@ -3,11 +3,10 @@
 //! visibility is judged to, the ideal direction a_n and the frame's fixed
 //! cost terms.
 
-use super::motion::{CLAMP_TOL, lag_fraction};
+use super::motion::{advance_locally, lag_fraction};
 use super::types::Ahead;
 use super::{Camera, Scene, State, Target};
 use crate::geom::V3;
-use crate::query::CoverBudget;
 use crate::read::Vdg;
 
 /// Clearance a point needs to count as inside a face volume in the camera's
@@ -153,20 +152,7 @@ impl Camera {
             return None;
         }
         let goal = t + motion * (lead / len);
-        let mut budget = CoverBudget {
-            hops: self.params.max_substeps,
-            leaf_searches: 0,
-        };
-        let a = g.advance_tol(
-            face,
-            t.to_f32(),
-            goal.to_f32(),
-            0.0,
-            &mut budget,
-            CLAMP_TOL,
-            None,
-            Some(&self.faces),
-        );
+        let a = advance_locally(g, &self.faces, face, t, goal, 0.0, self.params.max_substeps);
         let point = V3::from_f32(a.point);
         let lead = (point - t).norm();
         (lead >= 1.0).then_some(Ahead {
