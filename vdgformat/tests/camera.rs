@@ -753,3 +753,47 @@ fn the_camera_comes_closer_where_the_player_has_little_room() {
         );
     }
 }
+
+/// The largest angle (degrees) between the eye's velocities of two frames
+/// in a row, both over 100 u/s, for a camera following a runner round the
+/// U (without the hall) at `speed`.
+fn sharpest_turn(dt: f32, speed: f64) -> f64 {
+    let file = u_corridor();
+    let g = file.graph();
+    let mut cam = Camera::new(CameraParams::default()).unwrap();
+    let mut last = cam.reset(&g, &u_walk(0.0, 0.0, speed)).eye;
+    let mut vel = [0.0f64; 3];
+    let mut sharpest = 0.0f64;
+    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    for i in 1..=(7.0 / dt) as usize {
+        let t = u_walk(f64::from(i as u32) * f64::from(dt), 0.0, speed);
+        let p = cam.update(&g, &t, dt);
+        assert!(!p.cut, "frame {i}: cut");
+        let v = [0, 1, 2].map(|k| f64::from(p.eye[k] - last[k]) / f64::from(dt));
+        let (a, b) = (norm(v), norm(vel));
+        if a > 100.0 && b > 100.0 {
+            let cos = (v[0] * vel[0] + v[1] * vel[1] + v[2] * vel[2]) / (a * b);
+            sharpest = sharpest.max(cos.clamp(-1.0, 1.0).acos().to_degrees());
+        }
+        (last, vel) = (p.eye, v);
+    }
+    sharpest
+}
+
+#[test]
+fn a_camera_pressed_into_a_corner_turns_off_it_without_reversing() {
+    // At the end of each leg of the U the camera runs into the corner its
+    // smoothed course points at; its step is blocked and sliding along the
+    // wall gets it nowhere. Turning onto the straight line to its best
+    // candidate at once reversed it within a frame (turns of 92° and 108°
+    // at 1/30 s); it now turns only as far as the way is free.
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        for speed in [265.0, 320.0] {
+            let turn = sharpest_turn(dt, speed);
+            assert!(
+                turn < 90.0,
+                "dt {dt}, runner at {speed} u/s: the velocity turned by {turn:.1}° in a frame"
+            );
+        }
+    }
+}

@@ -67,6 +67,7 @@ impl Camera {
             outside_search: None,
             heading,
             d_mu: scene.d_mu,
+            brake_speed: scene.target_speed,
         });
         let visible = pos == scene.t_vis || self.sees_finally(g, face, pos, scene);
         if let Some(s) = self.state.as_mut() {

@@ -153,7 +153,7 @@ impl Camera {
         // (f_clear grows with the speed it rates) and a camera behind a
         // player standing still hunted back and forth across the ideal.
         if self.params.max_decel > 0.0 {
-            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.target_speed)
+            v.min((2.0 * f64::from(self.params.max_decel) * dist_best).sqrt() + scene.brake_speed)
         } else {
             v
         }
@@ -265,21 +265,7 @@ impl Camera {
             let slid = (p - s.pos).norm();
             let left = straight - slid;
             if left > 1e-6 && !(self.params.slide && slid >= 0.5 * len.min(straight)) {
-                let goal = s.pos + dir * straight;
-                let b = g.advance_tol(
-                    s.face,
-                    from,
-                    goal.to_f32(),
-                    margin,
-                    &mut budget.clone(),
-                    CLAMP_TOL,
-                    None,
-                    Some(&self.faces),
-                );
-                let q = V3::from_f32(b.point);
-                if (q - s.pos).norm() > (p - s.pos).norm() {
-                    (p, f) = (q, b.face);
-                }
+                (p, f) = self.turn_towards_the_line(g, s, (p, f), step, dir, straight, margin);
             }
             let _ = best_pos;
         }
@@ -333,6 +319,62 @@ impl Camera {
         }
         let a = advance_locally(g, &self.faces, s.face, s.pos, q, margin, hops);
         if a.reached { (q, f) } else { stay }
+    }
+}
+
+/// The directions between a blocked step's and the straight line's that
+/// [`Camera::turn_towards_the_line`] tries, as the straight line's share.
+const TURN_SHARES: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+
+impl Camera {
+    /// A blocked step that did not slide far: the move of length `straight`
+    /// whose direction turns least from the step's towards `dir` (the
+    /// straight line to the best candidate, free by construction) and is
+    /// free all the way; the straight line itself if none is, kept when it
+    /// carries the camera further than `blocked`. Turning onto the straight
+    /// line at once reversed a camera pressed into a corner within a frame
+    /// (a velocity change of about 200 u/s, the largest jerk on a walker
+    /// route at 1/30 s).
+    #[allow(clippy::too_many_arguments)]
+    fn turn_towards_the_line(
+        &self,
+        g: &Vdg<'_>,
+        s: &State,
+        blocked: (V3, u32),
+        step: V3,
+        dir: V3,
+        straight: f64,
+        margin: f32,
+    ) -> (V3, u32) {
+        let hops = self.params.max_substeps;
+        let len = step.norm();
+        let along = if len > 1e-9 { step * (1.0 / len) } else { dir };
+        for share in TURN_SHARES {
+            let mixed = along * (1.0 - share) + dir * share;
+            let n = mixed.norm();
+            if n < 1e-9 {
+                continue;
+            }
+            let goal = s.pos + mixed * (straight / n);
+            let b = g.advance_tol(
+                s.face,
+                s.pos.to_f32(),
+                goal.to_f32(),
+                margin,
+                &mut CoverBudget {
+                    hops,
+                    leaf_searches: u32::MAX,
+                },
+                CLAMP_TOL,
+                None,
+                Some(&self.faces),
+            );
+            let q = V3::from_f32(b.point);
+            if b.reached || (share == 1.0 && (q - s.pos).norm() > (blocked.0 - s.pos).norm()) {
+                return (q, b.face);
+            }
+        }
+        blocked
     }
 }
 
@@ -448,7 +490,7 @@ impl Camera {
         let u = to_t * (1.0 / r);
         let closing = vel.dot(u);
         let near = scene.d_mu;
-        let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.target_speed;
+        let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.brake_speed;
         if closing > limit {
             vel - u * (closing - limit)
         } else {
@@ -465,6 +507,7 @@ fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
     s.target_prev = scene.t;
     s.heading = heading;
     s.d_mu = scene.d_mu;
+    s.brake_speed = scene.brake_speed;
     if scene.searched {
         s.outside_search = Some(scene.t);
     } else if scene.inside {

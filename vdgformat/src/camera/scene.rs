@@ -98,6 +98,7 @@ impl Camera {
             t_vis,
             inside,
             target_speed,
+            brake_speed: self.brake_speed_after(target_speed, state.map(|s| s.brake_speed), dt),
             a_n,
             dt,
             c_t,
@@ -114,6 +115,19 @@ impl Camera {
             target_room: target_room.max(0.0),
             d_mu: self.distance_mu_after(target_room.max(0.0), state, dt),
             ahead,
+        }
+    }
+
+    /// This frame's [`Scene::brake_speed`]: the target's speed, or the last
+    /// update's brake speed (`last`) falling towards it with the lag
+    /// `accel_tau` when that is higher.
+    fn brake_speed_after(&self, target_speed: f64, last: Option<f64>, dt: f64) -> f64 {
+        let tau = self.params.accel_tau;
+        match last {
+            Some(last) if tau > 0.0 && last > target_speed => {
+                last + (target_speed - last) * lag_fraction(dt.max(0.0), tau)
+            }
+            _ => target_speed,
         }
     }
 
@@ -227,4 +241,31 @@ fn direction(yaw: f64, pitch: f64) -> V3 {
 /// The length of `v`'s horizontal part (x, y).
 pub(super) fn horizontal(v: V3) -> f64 {
     (v.0 * v.0 + v.1 * v.1).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Camera, CameraParams};
+
+    #[test]
+    fn the_brakes_take_a_speed_up_at_once_and_a_slow_down_with_the_cameras_lag() {
+        let cam = Camera::new(CameraParams::default()).unwrap();
+        let dt = 1.0 / 60.0;
+        // Faster than last frame, or the first frame: the target's speed.
+        assert_eq!(cam.brake_speed_after(300.0, Some(100.0), dt), 300.0);
+        assert_eq!(cam.brake_speed_after(300.0, None, dt), 300.0);
+        // A landing (300 → 140 u/s in a frame): a fraction 1 − e^(−Δt/τ)
+        // of the way down per frame, all of it after a few τ.
+        let k = 1.0 - (-dt / 0.05f64).exp();
+        let once = cam.brake_speed_after(140.0, Some(300.0), dt);
+        assert!((once - (300.0 - 160.0 * k)).abs() < 1e-4, "{once}");
+        let mut b = 300.0;
+        for _ in 0..60 {
+            b = cam.brake_speed_after(140.0, Some(b), dt);
+        }
+        assert!((b - 140.0).abs() < 1e-3, "{b}");
+        // The thesis' camera has no such lag.
+        let thesis = Camera::new(CameraParams::thesis()).unwrap();
+        assert_eq!(thesis.brake_speed_after(140.0, Some(300.0), dt), 140.0);
+    }
 }

@@ -210,6 +210,9 @@ pub(super) struct State {
     pub(super) heading: V3,
     /// d_μ of the last update (see [`Scene::d_mu`]).
     pub(super) d_mu: f64,
+    /// The target speed the brakes allowed for in the last update (see
+    /// [`Scene::brake_speed`]).
+    pub(super) brake_speed: f64,
 }
 
 /// The target as this frame sees it.
@@ -225,6 +228,12 @@ pub(super) struct Scene {
     /// The target's speed over the last update (units/s, capped at the
     /// camera's top speed; 0 on the first frame).
     pub(super) target_speed: f64,
+    /// The target's speed as the camera's brakes allow for it: it rises
+    /// with `target_speed` at once and falls with the camera's own
+    /// reaction lag (`accel_tau`). A landing player loses his falling
+    /// speed in one frame; braking for that at once threw the camera's
+    /// velocity command down by as much, the largest jerk on a playtest.
+    pub(super) brake_speed: f64,
     /// The ideal direction from the target to the camera (unit).
     pub(super) a_n: V3,
     pub(super) dt: f64,
