@@ -149,6 +149,38 @@ impl SightMemo {
 /// Edges the pursuit candidate's descent may follow (bounds its cost).
 const PURSUIT_STEPS: usize = 8;
 
+/// How close (units) a clamp must come to a vertex of the pursuit's way for
+/// the straight line from the camera to count as reaching it (the clamps
+/// stop [`CLAMP_TOL`](super::motion::CLAMP_TOL) short of the boundary).
+const PURSUIT_REACHED: f64 = 0.25;
+
+/// The farthest of the indices `0..=last` that `reaches`, asking the last
+/// first, then by bisection (the straight line from the camera that reaches a
+/// vertex of the way mostly reaches the ones before it); 0 when none is.
+fn farthest_reached(last: usize, mut reaches: impl FnMut(usize) -> bool) -> usize {
+    if last == 0 || reaches(last) {
+        return last;
+    }
+    let (mut lo, mut hi) = (0, last);
+    while hi - lo > 1 {
+        let mid = (lo + hi) / 2;
+        if reaches(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// The pursuit's way: the vertices of the distance field's descent, the
+/// first one the reachable vertex nearest the target by VDistance.
+#[derive(Clone, Copy)]
+struct Pursuit {
+    points: [V3; PURSUIT_STEPS + 1],
+    n: usize,
+}
+
 impl Camera {
     /// Builds, clamps, recombines and rates the candidates (thesis 5.2,
     /// 5.3); returns the best position and its cost.
@@ -176,14 +208,23 @@ impl Camera {
             (CandidateKind::Clear, Some(k_clear)),
             (CandidateKind::Vis, Some(k_vis)),
             (CandidateKind::Neighb, Some(k_neighb)),
-            (CandidateKind::Path, k_path),
+            // The pursuit's point is found when its turn comes (it costs
+            // clamps, which an early stop spares).
+            (CandidateKind::Path, None),
         ];
         let mut n = 0;
         let mut rated = [Rated::default(); 8];
         let mut memo = SightMemo::default();
         let mut stop = false;
         for (kind, k) in wanted {
-            let Some(k) = k else { continue };
+            let k = match (kind, k) {
+                (_, Some(k)) => k,
+                (CandidateKind::Path, None) => match &k_path {
+                    Some(way) => self.pursuit_point(g, s, way, margin, n),
+                    None => continue,
+                },
+                _ => continue,
+            };
             rated[n] = self.rate(g, scene, s, kind, k, margin, n, &mut memo);
             n += 1;
             if rated[n - 1].total < early_stop {
@@ -407,7 +448,7 @@ impl Camera {
         g: &Vdg<'_>,
         scene: &Scene,
         s: &State,
-    ) -> (V3, V3, V3, Option<V3>, u32) {
+    ) -> (V3, V3, V3, Option<Pursuit>, u32) {
         let mut sc = std::mem::take(&mut self.scratch);
         sc.reach.clear();
         // The thesis' exact Reachable, or (ours) the vertices reachable
@@ -511,13 +552,17 @@ impl Camera {
         )
     }
 
-    /// The point [`CameraParams::pursuit_length`](super::CameraParams::pursuit_length) along the distance
+    /// The way [`CameraParams::pursuit_length`](super::CameraParams::pursuit_length) along the distance
     /// field's descent from vertex `from` towards the target: each step to
     /// the settled neighbour through which the target is nearest, never to
     /// a vertex with less clearance than the near-plane margin (the camera
     /// could not pass it). Bounded by [`PURSUIT_STEPS`] edges.
-    fn descend(&mut self, g: &Vdg<'_>, from: u32) -> V3 {
+    fn descend(&mut self, g: &Vdg<'_>, from: u32) -> Pursuit {
         let min_clear = self.params.near_margin + MARGIN_SLACK as f32;
+        let mut way = Pursuit {
+            points: [g.pos(from); PURSUIT_STEPS + 1],
+            n: 1,
+        };
         let mut v = from;
         let mut walked = 0.0f64;
         for _ in 0..PURSUIT_STEPS {
@@ -541,12 +586,35 @@ impl Camera {
             }
             let Some((_, u, edge)) = next else { break };
             v = u;
+            way.points[way.n] = g.pos(v);
+            way.n += 1;
             walked += edge;
             if walked >= f64::from(self.params.pursuit_length) {
                 break;
             }
         }
-        g.pos(v)
+        way
+    }
+
+    /// Where the pursuit candidate wants the camera: the farthest vertex of
+    /// `way` that the straight line from the camera reaches (a binary search,
+    /// the end first). Clamping the way's end alone stopped it at the first
+    /// wall when the way turned a corner, next to the camera, where it
+    /// promised nothing: the camera dithered between the local candidates
+    /// for a second while the player climbed a stair round that corner.
+    fn pursuit_point(
+        &mut self,
+        g: &Vdg<'_>,
+        s: &State,
+        way: &Pursuit,
+        margin: f32,
+        slot: usize,
+    ) -> V3 {
+        let at = farthest_reached(way.n - 1, |i| {
+            let (q, _, _) = self.clamp(g, s, way.points[i], margin, slot);
+            (q - way.points[i]).norm() <= PURSUIT_REACHED
+        });
+        way.points[at]
     }
 
     /// Visible(P(v), t) for the `i`-th reachable vertex: asked once per
@@ -629,5 +697,23 @@ mod tests {
         let opposite = slerp(u, V3(-1.0, 0.0, 0.0), 0.25);
         assert!((opposite.norm() - 1.0).abs() < 1e-12);
         assert!((opposite.0 - (std::f64::consts::FRAC_PI_4).cos()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_pursuit_takes_the_farthest_vertex_of_its_way_in_reach() {
+        // A way of nine vertices of which the camera reaches the first k.
+        for k in 1..=9 {
+            let mut asked = 0;
+            let at = farthest_reached(8, |i| {
+                asked += 1;
+                i < k
+            });
+            assert_eq!(at, k - 1, "reaching {k}");
+            // The end first, then a bisection: at most 1 + 3 clamps.
+            assert!(asked <= 4, "reaching {k}: {asked} clamps");
+        }
+        // None reached: the way's first vertex (the nearest reachable one).
+        assert_eq!(farthest_reached(8, |_| false), 0);
+        assert_eq!(farthest_reached(0, |_| false), 0);
     }
 }
