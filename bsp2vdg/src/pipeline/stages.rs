@@ -358,7 +358,7 @@ pub fn guard_volume(cx: &mut Context, graph: Graph, space: &MapSpace) -> Graph {
     let (graph, guard) = guard::guard_with(
         graph,
         space,
-        cx.options.min_clearance,
+        guard::KEEP_CLEARANCE.min(cx.options.min_clearance),
         GuardMode::Bound,
         cx.progress,
     );
