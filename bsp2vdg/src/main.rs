@@ -52,8 +52,9 @@ struct Cli {
     #[arg(long = "rc", value_enum, value_name = "COST", default_value_t = ReductionCostArg::of(defaults::REDUCTION_COST))]
     reduction_cost: ReductionCostArg,
     /// Minimum clearance of the unreduced graph: Voronoi vertices with less are dropped
-    /// before the reduction (thesis 4.1). The reduction then lowers the clearances of the
-    /// vertices it keeps (condition A), so the written graph may hold smaller ones.
+    /// before the reduction (thesis 4.1). The interpolation guard (down to 8 units, so
+    /// doorways stay joined) and the reduction (condition A) then lower the clearances of
+    /// the vertices they keep, so the written graph may hold smaller ones.
     #[arg(long = "md", value_name = "N", default_value_t = defaults::MIN_CLEARANCE)]
     min_clearance: f64,
     /// Smallest leaf box of the face tree in the .vdg.
