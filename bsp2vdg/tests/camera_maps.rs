@@ -9,7 +9,6 @@
 mod common;
 
 use std::path::PathBuf;
-use std::process::Command;
 
 use mapgen::world::World;
 use vdgformat::VdgFile;
@@ -27,16 +26,7 @@ fn compiled_with(name: &str, args: &[&str]) -> (VdgFile, World) {
     let dir = toolbox::ScratchDir::new(&format!("bsp2vdg-camera-{name}")).unwrap();
     let map: PathBuf = dir.join(format!("{name}.bsp"));
     std::fs::copy(maps.join(format!("{name}.bsp")), &map).unwrap();
-    let out = dir.join(format!("{name}.vdg"));
-    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
-        .args(args)
-        .args(["-quiet", "-o"])
-        .arg(&out)
-        .arg(&map)
-        .output()
-        .expect("bsp2vdg runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let file = VdgFile::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
+    let file = common::compile(&map, &dir.join(format!("{name}.vdg")), args);
     let json = std::fs::read_to_string(maps.join(format!("{name}.json"))).unwrap();
     (file, World::from_manifest_json(&json).unwrap())
 }

@@ -5,10 +5,7 @@
 
 mod common;
 
-use std::process::Command;
-
 use toolbox::ScratchDir;
-use vdgformat::VdgFile;
 
 /// Compiles `map` (a path under ../shared/testmaps) unreduced and asks for a path
 /// between each pair of points; `None` when the shared maps are absent.
@@ -20,17 +17,9 @@ fn paths(map: &str, pairs: &[([f32; 3], [f32; 3])]) -> Option<Vec<Option<f32>>> 
         return None;
     }
     let dir = ScratchDir::new("bsp2vdg-connectivity").unwrap();
-    let out = dir.join("out.vdg");
     // Unreduced (`-rl 1.0`): the pieces come from the stages before the reduction,
     // which keeps the components it is given.
-    let o = Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
-        .args(["-quiet", "-rl", "1.0", "-o"])
-        .arg(&out)
-        .arg(&bsp)
-        .output()
-        .expect("bsp2vdg runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let file = VdgFile::from_bytes(&std::fs::read(&out).unwrap()).unwrap();
+    let file = common::compile(&bsp, &dir.join("out.vdg"), &["-rl", "1.0"]);
     let g = file.graph();
     Some(
         pairs

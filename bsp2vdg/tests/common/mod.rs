@@ -7,6 +7,20 @@ pub fn repo_root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// Compiles `map` into `out` with the bsp2vdg of this build, `-quiet` and `args`,
+/// failing the test with the compiler's message if it fails, and returns the graph.
+pub fn compile(map: &Path, out: &Path, args: &[&str]) -> vdgformat::VdgFile {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_bsp2vdg"))
+        .args(args)
+        .args(["-quiet", "-o"])
+        .arg(out)
+        .arg(map)
+        .output()
+        .expect("bsp2vdg runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    vdgformat::VdgFile::from_bytes(&std::fs::read(out).unwrap()).unwrap()
+}
+
 /// The real maps of ../shared/testmaps in the given subfolders, or `None` (with a
 /// message) when that folder is absent, e.g. on a fresh clone.
 pub fn shared_maps(subdirs: &[&str]) -> Option<Vec<PathBuf>> {

@@ -217,13 +217,11 @@ impl Camera {
         let mut memo = SightMemo::default();
         let mut stop = false;
         for (kind, k) in wanted {
-            let k = match (kind, k) {
-                (_, Some(k)) => k,
-                (CandidateKind::Path, None) => match &k_path {
-                    Some(way) => self.pursuit_point(g, s, way, margin, n),
-                    None => continue,
-                },
-                _ => continue,
+            // Only the pursuit is `None` here: its point, if it has a way.
+            let k = match (k, &k_path) {
+                (Some(k), _) => k,
+                (None, Some(way)) => self.pursuit_point(g, s, way, margin, n),
+                (None, None) => continue,
             };
             rated[n] = self.rate(g, scene, s, kind, k, margin, n, &mut memo);
             n += 1;
