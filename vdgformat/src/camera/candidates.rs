@@ -431,7 +431,7 @@ impl Camera {
             self.clamp_leaf_searches = budget.leaf_searches;
             (V3::from_f32(a.point), a.face)
         };
-        (p, f, g.fc(f, p))
+        (p, f, self.faces.fc(g, f, p))
     }
 
     /// k_clear, k_vis and k_neighb: the best vertices of
@@ -453,7 +453,11 @@ impl Camera {
         // within one face volume: the candidates are clamped into the free
         // volume anyway, and the exact set costs most of an update.
         let exact = self.params.exact_reachable;
-        g.for_each_local_vertex(s.pos.to_f32(), s.face, exact, |v| sc.reach.push(v));
+        if exact {
+            g.for_each_local_vertex(s.pos.to_f32(), s.face, true, |v| sc.reach.push(v));
+        } else {
+            g.local_vertices_cached(&self.faces, s.pos.to_f32(), s.face, &mut sc.reach);
+        }
         let n = sc.reach.len();
         if n == 0 {
             self.scratch = sc;

@@ -20,7 +20,11 @@ impl Camera {
         let (start, start_face, start_clear) = if self.params.cut_to_ideal {
             self.roomy_start(g, scene)
         } else {
-            (scene.t_vis, scene.face, g.fc(scene.face, scene.t_vis))
+            (
+                scene.t_vis,
+                scene.face,
+                self.faces.fc(g, scene.face, scene.t_vis),
+            )
         };
         let (mut pos, mut face) = (start, start_face);
         if self.params.cut_to_ideal {
@@ -93,7 +97,11 @@ impl Camera {
     /// near plane in the wall until the camera had climbed out.
     /// Returns the start, its face and its clearance.
     fn roomy_start(&self, g: &Vdg<'_>, scene: &Scene) -> (V3, u32, f64) {
-        let here = (scene.t_vis, scene.face, g.fc(scene.face, scene.t_vis));
+        let here = (
+            scene.t_vis,
+            scene.face,
+            self.faces.fc(g, scene.face, scene.t_vis),
+        );
         let need = f64::from(self.params.near_margin) + MARGIN_SLACK;
         if here.2 >= need || self.params.near_margin <= 0.0 {
             return here;
@@ -140,7 +148,7 @@ impl Camera {
         let p = g.pos(v);
         let mut best: Option<(u32, f64)> = None;
         for f in g.vertex_faces(v) {
-            let c = g.fc(f, p);
+            let c = self.faces.fc(g, f, p);
             if best.is_none_or(|b| c > b.1) {
                 best = Some((f, c));
             }

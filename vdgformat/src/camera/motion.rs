@@ -50,7 +50,7 @@ impl Camera {
         if self.params.distance_field {
             self.steer_field(g, scene, &s);
         }
-        let here_clear = g.fc(s.face, s.pos);
+        let here_clear = self.faces.fc(g, s.face, s.pos);
         let margin = self.margin_at(here_clear);
         // The current position's visibility: last update's answer (the
         // target moved a few units since) in our variant, a trace in the
@@ -270,7 +270,7 @@ impl Camera {
             let _ = best_pos;
         }
         // GetClosestFace: the face of largest clearance near the new point.
-        let (mut f, new_clear) = g.climb(f, p, 4);
+        let (mut f, new_clear) = g.climb_cached(&self.faces, f, p, 4);
         // Inside the near-plane margin the camera may only gain room: the
         // relaxed margin lets a segment dip a little, never the end point
         // (or it would sink a little more every frame).
@@ -305,11 +305,11 @@ impl Camera {
         let stay = (s.pos, s.face);
         let (mut q, mut f, mut c) = (p, f, clear);
         for _ in 0..KEEP_ROOM_TRIES {
-            let Some(n) = inward_normal(g, f, q) else {
+            let Some(n) = inward_normal(g, &self.faces, f, q) else {
                 return stay;
             };
             q = V3::from_f32((q + n * (need - c + KEEP_ROOM_EXTRA)).to_f32());
-            (f, c) = g.climb(f, q, 4);
+            (f, c) = g.climb_cached(&self.faces, f, q, 4);
             if c >= need {
                 break;
             }
@@ -456,7 +456,7 @@ impl Camera {
         if a <= 0.0 || speed2 <= 2.0 * a * room {
             return vel;
         }
-        let Some(n) = inward_normal(g, s.face, s.pos) else {
+        let Some(n) = inward_normal(g, &self.faces, s.face, s.pos) else {
             return vel;
         };
         let towards = -vel.dot(n);
@@ -538,7 +538,7 @@ fn slide(
     hops: u32,
 ) -> (V3, u32) {
     let rest = goal - p;
-    let Some(n) = inward_normal(g, f, p) else {
+    let Some(n) = inward_normal(g, faces, f, p) else {
         return (p, f);
     };
     let into = rest.dot(n);
@@ -585,9 +585,9 @@ pub(super) fn advance_locally(
 /// The direction in which face `f`'s clearance grows fastest at `p` (the
 /// volume boundary's inward normal near the boundary), by central
 /// differences; `None` where it is flat.
-fn inward_normal(g: &Vdg<'_>, f: u32, p: V3) -> Option<V3> {
+fn inward_normal(g: &Vdg<'_>, faces: &FaceCache, f: u32, p: V3) -> Option<V3> {
     const H: f64 = 0.25;
-    let d = |e: V3| g.fc(f, p + e) - g.fc(f, p - e);
+    let d = |e: V3| faces.fc(g, f, p + e) - faces.fc(g, f, p - e);
     let n = V3(d(V3(H, 0.0, 0.0)), d(V3(0.0, H, 0.0)), d(V3(0.0, 0.0, H)));
     let len = n.norm();
     (len > 1e-9).then(|| n * (1.0 / len))

@@ -75,14 +75,14 @@ impl Camera {
         let inertia_scale = inertia_reach * f64::from(p.inertia_sigma);
         let v_sigma = f64::from(p.visibility_sigma);
         let novis = (v_sigma / (v_sigma + hidden)).powi(2);
-        let in_face = g.fc(face, t_vis);
+        let in_face = self.faces.fc(g, face, t_vis);
         // The target's room is the graph's clearance at him, the largest of
         // the faces there: the face he keeps from frame to frame may hold
         // him only by a sliver (9 units of room in a hall of 48). One round
         // over that face and its neighbours: four rounds added about 5 µs
         // to an update's median (`camera_bench`), one adds about 2.
         let target_room = if in_face > INSIDE {
-            g.climb(face, t_vis, 1).1
+            g.climb_cached(&self.faces, face, t_vis, 1).1
         } else {
             in_face
         };
@@ -192,10 +192,10 @@ impl Camera {
             // Our variant keeps last frame's face while it holds the target
             // (any face holding it serves as the field's entry and the
             // visibility anchor); the thesis climbs to ρ(t)'s face.
-            if !self.params.exact_reachable && g.fc(hint, t) > INSIDE {
+            if !self.params.exact_reachable && self.faces.fc(g, hint, t) > INSIDE {
                 return (hint, true, false);
             }
-            let (f, c) = g.climb(hint, t, 32);
+            let (f, c) = g.climb_cached(&self.faces, hint, t, 32);
             if c > 0.0 {
                 return (f, true, false);
             }

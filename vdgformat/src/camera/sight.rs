@@ -86,7 +86,7 @@ impl Camera {
         scene: &Scene,
         slot: Option<Slot>,
     ) -> bool {
-        if scene.t_vis_in_face && g.fc(scene.face, k) > INSIDE {
+        if scene.t_vis_in_face && self.faces.fc(g, scene.face, k) > INSIDE {
             return true;
         }
         self.debug.visibility_tests += 1;
@@ -116,7 +116,9 @@ impl Camera {
         ahead: &Ahead,
         slot: usize,
     ) -> bool {
-        if g.fc(ahead.face, k) > INSIDE && g.fc(ahead.face, ahead.point) > INSIDE {
+        if self.faces.fc(g, ahead.face, k) > INSIDE
+            && self.faces.fc(g, ahead.face, ahead.point) > INSIDE
+        {
             return true;
         }
         self.debug.visibility_tests += 1;

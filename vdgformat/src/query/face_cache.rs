@@ -97,6 +97,30 @@ impl FaceCache {
         }
     }
 
+    /// Clearance of `p` for face `f` ([`Vdg::fc`], the same value), the
+    /// face set up from the memo when it holds it.
+    #[inline]
+    pub(crate) fn fc(&self, g: &Vdg<'_>, f: u32, p: V3) -> f64 {
+        self.face_eval(g, f).eval(p)
+    }
+
+    /// Minus the distance of `p` to face `f`'s stored box when `p` lies
+    /// outside it, an upper bound of the face's clearance at `p` (the
+    /// stored box holds the exact one); `None` inside.
+    #[inline]
+    pub(crate) fn box_bound(&self, f: u32, p: V3) -> Option<f64> {
+        let b = &self.boxes[f as usize];
+        let mut d2 = 0.0;
+        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
+            let (lo, hi) = (f64::from(b[i]), f64::from(b[i + 3]));
+            let e = if lo - q > q - hi { lo - q } else { q - hi };
+            if e > 0.0 {
+                d2 += e * e;
+            }
+        }
+        (d2 > 0.0).then(|| -d2.sqrt())
+    }
+
     /// Whether face `f`'s box may hold the probe's point: `false` proves the
     /// point is outside the face's volume. NaN anywhere answers `false`.
     #[inline]
@@ -239,6 +263,49 @@ mod tests {
         assert!(
             seen > 300 && blocked > 300,
             "seen {seen}, blocked {blocked}"
+        );
+    }
+
+    #[test]
+    fn the_cached_climb_and_local_vertices_answer_as_the_plain_ones() {
+        let bytes = two_sheets(16);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
+        let mut rng = SplitMix64::new(11);
+        let (mut moved, mut outside, mut some_left_out) = (0, 0, 0);
+        let mut local = Vec::new();
+        for _ in 0..3000 {
+            let f = rng.below(g.face_count()) as u32;
+            let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
+            let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
+            let p = a + (b - a) * u + (c - a) * w + V3(0.0, 0.0, rng.range(-20.0, 20.0));
+            for rounds in [1, 4, 32] {
+                let plain = g.climb(f, p, rounds);
+                let cached = g.climb_cached(&cache, f, p, rounds);
+                assert_eq!(
+                    (plain.0, plain.1.to_bits()),
+                    (cached.0, cached.1.to_bits()),
+                    "{p:?}"
+                );
+                moved += usize::from(plain.0 != f);
+                outside += usize::from(plain.1 <= 0.0);
+            }
+            let q = p.to_f32();
+            let mut expected = Vec::new();
+            g.for_each_local_vertex(q, f, false, |v| expected.push(v));
+            local.clear();
+            g.local_vertices_cached(&cache, q, f, &mut local);
+            assert_eq!(expected, local, "{p:?} in face {f}");
+            let mut all = 0;
+            g.for_each_local_vertex(q, f, true, |_| all += 1);
+            some_left_out += usize::from(local.len() < all);
+        }
+        // The climbs move and fail, and the cheap local set is not all of Reachable.
+        assert!(
+            moved > 300 && outside > 300 && some_left_out > 100,
+            "{moved} {outside} {some_left_out}"
         );
     }
 

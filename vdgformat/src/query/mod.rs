@@ -512,6 +512,51 @@ impl<'a> Vdg<'a> {
         cur
     }
 
+    /// [`Self::climb`] for a caller with a [`FaceCache`] (a camera): the
+    /// stored boxes cull, the memo sets faces up, and a neighbour met again
+    /// through a second shared vertex is skipped. The same answer as
+    /// `climb`: a culled face's clearance is at most minus its distance to
+    /// the stored box, which holds the exact one, so it could not beat the
+    /// best; and a face met again cannot beat the best it already lost to
+    /// (or became).
+    pub(crate) fn climb_cached(
+        &self,
+        cache: &FaceCache,
+        hint: u32,
+        q: V3,
+        rounds: usize,
+    ) -> (u32, f64) {
+        let mut cur = (hint, cache.face_eval(self, hint).eval(q));
+        for _ in 0..rounds {
+            let mut best = cur;
+            let mut visit = |f: u32| {
+                if cache.box_bound(f, q).is_some_and(|b| b <= best.1) {
+                    return;
+                }
+                let c = cache.face_eval(self, f).eval(q);
+                if c > best.1 {
+                    best = (f, c);
+                }
+            };
+            visit(cur.0);
+            let corners = self.faces.get(cur.0);
+            for (i, &v) in corners.iter().enumerate() {
+                for g in self.vertex_faces(v) {
+                    // Met before through an earlier corner (it shares an edge).
+                    if g == cur.0 || self.faces.get(g).iter().any(|u| corners[..i].contains(u)) {
+                        continue;
+                    }
+                    visit(g);
+                }
+            }
+            if best.0 == cur.0 {
+                break;
+            }
+            cur = best;
+        }
+        cur
+    }
+
     /// Whether `p` lies in Volume(VDG) (some face clearance > 0). Always one
     /// tree leaf, however far `p` is from the volume — use this rather than
     /// `clearance(p) > 0` for membership tests of arbitrary points (the

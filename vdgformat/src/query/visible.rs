@@ -798,6 +798,55 @@ impl<'a> Vdg<'a> {
         }
     }
 
+    /// The vertices [`Self::for_each_local_vertex`] visits without `exact`,
+    /// appended to `out` in ascending order, for a caller with a
+    /// [`FaceCache`] (a camera). A neighbour of the face's corners is
+    /// visited when a face of the region (the faces sharing a vertex with
+    /// `face`) that holds it also holds `p`, and every vertex of a region
+    /// face is a corner or a corner's neighbour: so the answer is the
+    /// corners and the vertices of the region faces that hold `p`, each
+    /// region face tested once (a neighbour's test asked the same faces up
+    /// to three times) with the stored boxes culling and the memo setting
+    /// faces up.
+    pub(crate) fn local_vertices_cached(
+        &self,
+        cache: &FaceCache,
+        p: [f32; 3],
+        face: u32,
+        out: &mut Vec<u32>,
+    ) {
+        let start = V3::from_f32(p);
+        let first = out.len();
+        let corners = self.faces.get(face);
+        out.extend(corners);
+        let test = |g: u32, out: &mut Vec<u32>| {
+            let holds = cache.box_bound(g, start).is_none()
+                && cache.face_eval(self, g).eval(start) > INSIDE_EPS;
+            if holds {
+                out.extend(self.faces.get(g));
+            }
+        };
+        test(face, out);
+        for (i, &v) in corners.iter().enumerate() {
+            for g in self.vertex_faces(v) {
+                // Met before through an earlier corner (it shares an edge).
+                if g == face || self.faces.get(g).iter().any(|u| corners[..i].contains(u)) {
+                    continue;
+                }
+                test(g, out);
+            }
+        }
+        out[first..].sort_unstable();
+        let mut kept = first;
+        for i in first..out.len() {
+            if i == first || out[i] != out[kept - 1] {
+                out[kept] = out[i];
+                kept += 1;
+            }
+        }
+        out.truncate(kept);
+    }
+
     /// Whether some face of `v` that belongs to the region of `face` (shares
     /// a vertex with it) holds `p` with clearance above the certificate's
     /// margin.
