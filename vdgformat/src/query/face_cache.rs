@@ -33,6 +33,10 @@ const EVAL_SLOTS: usize = 512;
 pub(crate) struct FaceCache {
     boxes: Vec<[f32; 6]>,
     evals: Vec<Cell<Option<(u32, FaceEval)>>>,
+    /// Per vertex, the number of the last vertex set that took it (see
+    /// [`FaceCache::new_vertex_set`]): a set without a sort to dedupe it.
+    taken: Vec<Cell<u32>>,
+    set: Cell<u32>,
 }
 
 /// A point as the box test sees it: widened by the same relative slack as
@@ -61,6 +65,9 @@ impl FaceCache {
         // The memo names faces of the old graph.
         self.evals.clear();
         self.evals.resize(EVAL_SLOTS, Cell::new(None));
+        self.taken.clear();
+        self.taken.resize(g.vertex_count(), Cell::new(0));
+        self.set.set(0);
         self.boxes.clear();
         self.boxes.reserve(g.faces.len());
         for (fi, f) in g.faces.iter().enumerate() {
@@ -95,6 +102,27 @@ impl FaceCache {
                 fe
             }
         }
+    }
+
+    /// Starts a new set of vertices for [`FaceCache::take`] (an empty one).
+    #[inline]
+    pub(crate) fn new_vertex_set(&self) {
+        let next = self.set.get().wrapping_add(1);
+        if next == 0 {
+            // After 2³² sets the numbers come round: forget them all.
+            self.taken.iter().for_each(|t| t.set(0));
+            self.set.set(1);
+        } else {
+            self.set.set(next);
+        }
+    }
+
+    /// Puts vertex `v` into the current set: `true` if it was not in it.
+    #[inline]
+    pub(crate) fn take(&self, v: u32) -> bool {
+        let t = &self.taken[v as usize];
+        let set = self.set.get();
+        t.replace(set) != set
     }
 
     /// Clearance of `p` for face `f` ([`Vdg::fc`], the same value), the

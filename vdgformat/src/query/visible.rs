@@ -320,10 +320,31 @@ impl<'a> Vdg<'a> {
         cache: Option<&FaceCache>,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
-        if self.fc(face, seg.s) <= INSIDE_EPS {
+        // The face once, from the memo when there is one.
+        let fe = match cache {
+            Some(c) => c.face_eval(self, face),
+            None => self.face_eval(face),
+        };
+        let g_start = fe.eval(seg.s);
+        if g_start <= INSIDE_EPS {
             return false;
         }
-        let t = self.exit_param(face, &seg, 0.0, INSIDE_EPS);
+        // `exit_param` from 0, whose point is the start (to the bit, but
+        // for the sign of a zero).
+        let at0 = seg.at(0.0);
+        let same = [(at0.0, seg.s.0), (at0.1, seg.s.1), (at0.2, seg.s.2)]
+            .iter()
+            .all(|(a, b)| a.to_bits() == b.to_bits());
+        let g0 = if same { g_start } else { fe.eval(at0) };
+        let t = exit_with(
+            &fe,
+            &seg,
+            0.0,
+            g0 - INSIDE_EPS,
+            self.reach_bound(face, &seg),
+            INSIDE_EPS,
+            BISECT_TOL,
+        );
         if t >= 1.0 {
             if let Some(h) = hint {
                 h.restart(face);
@@ -807,7 +828,7 @@ impl<'a> Vdg<'a> {
     /// corners and the vertices of the region faces that hold `p`, each
     /// region face tested once (a neighbour's test asked the same faces up
     /// to three times) with the stored boxes culling and the memo setting
-    /// faces up.
+    /// faces up; the cache's vertex set keeps each vertex once.
     pub(crate) fn local_vertices_cached(
         &self,
         cache: &FaceCache,
@@ -818,14 +839,15 @@ impl<'a> Vdg<'a> {
         let start = V3::from_f32(p);
         let first = out.len();
         let corners = self.faces.get(face);
-        out.extend(corners);
+        cache.new_vertex_set();
         let test = |g: u32, out: &mut Vec<u32>| {
             let holds = cache.box_bound(g, start).is_none()
                 && cache.face_eval(self, g).eval(start) > INSIDE_EPS;
             if holds {
-                out.extend(self.faces.get(g));
+                out.extend(self.faces.get(g).into_iter().filter(|&v| cache.take(v)));
             }
         };
+        out.extend(corners.into_iter().filter(|&v| cache.take(v)));
         test(face, out);
         for (i, &v) in corners.iter().enumerate() {
             for g in self.vertex_faces(v) {
@@ -837,14 +859,6 @@ impl<'a> Vdg<'a> {
             }
         }
         out[first..].sort_unstable();
-        let mut kept = first;
-        for i in first..out.len() {
-            if i == first || out[i] != out[kept - 1] {
-                out[kept] = out[i];
-                kept += 1;
-            }
-        }
-        out.truncate(kept);
     }
 
     /// Whether some face of `v` that belongs to the region of `face` (shares
