@@ -32,6 +32,9 @@ const EVAL_SLOTS: usize = 512;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct FaceCache {
     boxes: Vec<[f32; 6]>,
+    /// Per face, a ball holding its volume, `[x, y, z, radius]` (see
+    /// [`FaceCache::reach_below`]).
+    spheres: Vec<[f32; 4]>,
     evals: Vec<Cell<Option<(u32, FaceEval)>>>,
     /// Per vertex, the number of the last vertex set that took it (see
     /// [`FaceCache::new_vertex_set`]): a set without a sort to dedupe it.
@@ -86,6 +89,26 @@ impl FaceCache {
             }
             self.boxes.push(b);
         }
+        self.spheres.clear();
+        self.spheres.reserve(g.faces.len());
+        for fi in 0..g.faces.len() as u32 {
+            self.spheres.push(volume_sphere(g, fi));
+        }
+    }
+
+    /// Whether face `f`'s clearance at `p` is certainly below `floor`
+    /// (its computed value too, rounding included): `p` lies farther than
+    /// `R − floor` from the centre of the face's stored ball (see
+    /// [`volume_sphere`]).
+    #[inline]
+    pub(crate) fn reach_below(&self, f: u32, p: V3, floor: f64) -> bool {
+        let [x, y, z, r] = self.spheres[f as usize];
+        let room = f64::from(r) - floor;
+        if room <= 0.0 {
+            return true;
+        }
+        let d = p - V3(f64::from(x), f64::from(y), f64::from(z));
+        d.norm2() > room * room
     }
 
     /// Face `f`'s clearance function, from the memo when it holds it.
@@ -161,6 +184,27 @@ impl FaceCache {
             && b[2] <= p.hi[2]
             && b[5] >= p.lo[2]
     }
+}
+
+/// A ball `[x, y, z, R]` around face `f` with clearance `≤ R − |p − centre|`
+/// everywhere. With `c` the triangle's centroid, `r(q) − |p − q| ≤ r(q) + |q − c|
+/// − |p − c|` for every point `q` of the triangle, and `r(q) + |q − c|` is
+/// convex, so largest at a corner: `R = max (r_i + |v_i − c|)`. The centre is
+/// stored rounded to f32 and `R` rounded up, widened by that rounding and by a
+/// thousandth of a unit, far more than an evaluation's rounding: a face this
+/// rules out could not have beaten the floor even as computed.
+fn volume_sphere(g: &Vdg<'_>, f: u32) -> [f32; 4] {
+    let corners = g.faces.get(f).map(|v| g.pos(v));
+    let radii = g.face_radii(f).map(f64::from);
+    let c = (corners[0] + corners[1] + corners[2]) * (1.0 / 3.0);
+    let mut reach = f64::NEG_INFINITY;
+    for (v, r) in corners.iter().zip(radii) {
+        reach = reach.max(r + (*v - c).norm());
+    }
+    let stored = c.to_f32();
+    let moved = (V3::from_f32(stored) - c).norm();
+    let slack = moved + 1e-3 + 1e-6 * reach.abs();
+    [stored[0], stored[1], stored[2], round_up_f32(reach + slack)]
 }
 
 /// `x` rounded to an f32 no smaller than it (NaN stays NaN).

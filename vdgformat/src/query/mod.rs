@@ -513,10 +513,11 @@ impl<'a> Vdg<'a> {
     }
 
     /// [`Self::climb`] for a caller with a [`FaceCache`] (a camera): the
-    /// stored boxes cull, the memo sets faces up, and a neighbour met again
+    /// stored boxes and balls cull, the memo sets faces up, and a neighbour met again
     /// through a second shared vertex is skipped. The same answer as
     /// `climb`: a culled face's clearance is at most minus its distance to
-    /// the stored box, which holds the exact one, so it could not beat the
+    /// the stored box, which holds the exact one, or below the best by the
+    /// stored ball ([`FaceCache::reach_below`]), so it could not beat the
     /// best; and a face met again cannot beat the best it already lost to
     /// (or became).
     pub(crate) fn climb_cached(
@@ -530,7 +531,9 @@ impl<'a> Vdg<'a> {
         for _ in 0..rounds {
             let mut best = cur;
             let mut visit = |f: u32| {
-                if cache.box_bound(f, q).is_some_and(|b| b <= best.1) {
+                if cache.box_bound(f, q).is_some_and(|b| b <= best.1)
+                    || cache.reach_below(f, q, best.1)
+                {
                     return;
                 }
                 let c = cache.face_eval(self, f).eval(q);
