@@ -375,6 +375,25 @@ impl<'a> Vdg<'a> {
         eps: f64,
         cache: Option<&FaceCache>,
     ) -> Option<(u32, f64)> {
+        self.best_cover_step_where(candidates, skip, seg, t, eps, cache, |_| true)
+    }
+
+    /// [`Self::best_cover_step`] that passes over the candidates `may_hold`
+    /// proves do not hold `at(t)` (their stored box misses it) without
+    /// bounding or sorting them: they could never have won, and they still
+    /// count towards the sorted buffer, so the others are taken in the same
+    /// order and the answer is the same.
+    #[allow(clippy::too_many_arguments)]
+    fn best_cover_step_where(
+        &self,
+        candidates: impl Iterator<Item = u32>,
+        skip: Option<u32>,
+        seg: &Seg,
+        t: f64,
+        eps: f64,
+        cache: Option<&FaceCache>,
+        may_hold: impl Fn(u32) -> bool,
+    ) -> Option<(u32, f64)> {
         // Candidates by their reach bound, best first: the first exact exit
         // search usually settles the step and the bound cuts off the rest.
         // Each candidate is one integer — the bound rounded up to f32 (still
@@ -385,10 +404,15 @@ impl<'a> Vdg<'a> {
         // (More candidates than the buffer holds are taken unsorted after.)
         let mut buf = [0u64; SORTED_CANDIDATES];
         let mut n = 0;
+        let mut taken = 0;
         let mut rest = candidates.peekable();
-        while n < SORTED_CANDIDATES {
+        while taken < SORTED_CANDIDATES {
             let Some(f) = rest.next() else { break };
             if Some(f) == skip {
+                continue;
+            }
+            taken += 1;
+            if !may_hold(f) {
                 continue;
             }
             let ub = self.reach_bound(f, seg);
@@ -418,6 +442,9 @@ impl<'a> Vdg<'a> {
             let reach = best.map_or(t, |b| b.1);
             if reach >= 1.0 {
                 break;
+            }
+            if !may_hold(f) {
+                continue;
             }
             let ub = self.reach_bound(f, seg);
             if ub > reach && Some(f) != skip {
@@ -515,8 +542,20 @@ impl<'a> Vdg<'a> {
                 if old.is_some() {
                     budget.hops = budget.hops.saturating_sub(UNGUIDED_STEP_HOPS - 1);
                 }
+                // With a cache, faces whose stored box misses `here` are
+                // passed over unbounded (most of an open map's big
+                // neighbourhoods).
+                let probe = BoxProbe::at(here);
                 step = self
-                    .best_cover_step(self.neighbourhood(cur), Some(cur), seg, t, eps, cache)
+                    .best_cover_step_where(
+                        self.neighbourhood(cur),
+                        Some(cur),
+                        seg,
+                        t,
+                        eps,
+                        cache,
+                        |f| cache.is_none_or(|c| c.holds(f, &probe)),
+                    )
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
             }
             let dead_end = old.and_then(|o| o.dead_end.filter(|_| o.dead_end_near(here)));
