@@ -161,14 +161,7 @@ impl FaceCache {
     #[inline]
     pub(crate) fn box_bound(&self, f: u32, p: V3) -> Option<f64> {
         let b = &self.boxes[f as usize];
-        let mut d2 = 0.0;
-        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
-            let (lo, hi) = (f64::from(b[i]), f64::from(b[i + 3]));
-            let e = if lo - q > q - hi { lo - q } else { q - hi };
-            if e > 0.0 {
-                d2 += e * e;
-            }
-        }
+        let d2 = super::outside_box_d2(p, |i| (f64::from(b[i]), f64::from(b[i + 3])));
         (d2 > 0.0).then(|| -d2.sqrt())
     }
 

@@ -205,14 +205,7 @@ impl<'a> Vdg<'a> {
     pub(crate) fn box_bound(&self, f: u32, p: V3, floor: f64) -> Option<f64> {
         let corners = self.faces.get(f).map(|v| self.vertices[v as usize].pos);
         let radii = self.face_radii(f);
-        let mut d2 = 0.0;
-        for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
-            let (lo, hi) = ball_box_axis(&corners, &radii, i);
-            let e = if lo - q > q - hi { lo - q } else { q - hi };
-            if e > 0.0 {
-                d2 += e * e;
-            }
-        }
+        let d2 = outside_box_d2(p, |i| ball_box_axis(&corners, &radii, i));
         let bound = -d2.sqrt();
         (bound <= floor && d2 > 0.0).then_some(bound)
     }
@@ -261,6 +254,22 @@ impl<'a> Vdg<'a> {
         }
     }
 
+    /// [`Self::for_face_and_neighbours`] visiting each face once: a face
+    /// sharing an edge with `f`, met again through its second shared
+    /// corner, is skipped.
+    #[inline]
+    pub(crate) fn for_face_and_neighbours_once(&self, f: u32, mut visit: impl FnMut(u32)) {
+        visit(f);
+        let corners = self.faces.get(f);
+        for (i, &v) in corners.iter().enumerate() {
+            for g in self.vertex_faces(v) {
+                if g != f && !self.faces.get(g).iter().any(|u| corners[..i].contains(u)) {
+                    visit(g);
+                }
+            }
+        }
+    }
+
     fn root_cell(&self) -> Aabb {
         Aabb {
             min: self.info.volume_min,
@@ -289,6 +298,21 @@ impl<'a> Vdg<'a> {
             };
         }
     }
+}
+
+/// The squared distance of `p` to the box whose extent along axis `i` is
+/// `axis(i)` (0 inside).
+#[inline]
+pub(crate) fn outside_box_d2(p: V3, axis: impl Fn(usize) -> (f64, f64)) -> f64 {
+    let mut d2 = 0.0;
+    for (i, q) in [p.0, p.1, p.2].into_iter().enumerate() {
+        let (lo, hi) = axis(i);
+        let e = if lo - q > q - hi { lo - q } else { q - hi };
+        if e > 0.0 {
+            d2 += e * e;
+        }
+    }
+    d2
 }
 
 /// The extent along axis `i` of three vertex balls, in f64 (exact for the
@@ -530,7 +554,7 @@ impl<'a> Vdg<'a> {
         let mut cur = (hint, cache.face_eval(self, hint).eval(q));
         for _ in 0..rounds {
             let mut best = cur;
-            let mut visit = |f: u32| {
+            self.for_face_and_neighbours_once(cur.0, |f| {
                 if cache.box_bound(f, q).is_some_and(|b| b <= best.1)
                     || cache.reach_below(f, q, best.1)
                 {
@@ -540,18 +564,7 @@ impl<'a> Vdg<'a> {
                 if c > best.1 {
                     best = (f, c);
                 }
-            };
-            visit(cur.0);
-            let corners = self.faces.get(cur.0);
-            for (i, &v) in corners.iter().enumerate() {
-                for g in self.vertex_faces(v) {
-                    // Met before through an earlier corner (it shares an edge).
-                    if g == cur.0 || self.faces.get(g).iter().any(|u| corners[..i].contains(u)) {
-                        continue;
-                    }
-                    visit(g);
-                }
-            }
+            });
             if best.0 == cur.0 {
                 break;
             }

@@ -877,26 +877,15 @@ impl<'a> Vdg<'a> {
     ) {
         let start = V3::from_f32(p);
         let first = out.len();
-        let corners = self.faces.get(face);
         cache.new_vertex_set();
-        let test = |g: u32, out: &mut Vec<u32>| {
+        out.extend(self.faces.get(face).into_iter().filter(|&v| cache.take(v)));
+        self.for_face_and_neighbours_once(face, |g| {
             let holds = cache.box_bound(g, start).is_none()
                 && cache.face_eval(self, g).eval(start) > INSIDE_EPS;
             if holds {
                 out.extend(self.faces.get(g).into_iter().filter(|&v| cache.take(v)));
             }
-        };
-        out.extend(corners.into_iter().filter(|&v| cache.take(v)));
-        test(face, out);
-        for (i, &v) in corners.iter().enumerate() {
-            for g in self.vertex_faces(v) {
-                // Met before through an earlier corner (it shares an edge).
-                if g == face || self.faces.get(g).iter().any(|u| corners[..i].contains(u)) {
-                    continue;
-                }
-                test(g, out);
-            }
-        }
+        });
         out[first..].sort_unstable();
     }
 
