@@ -215,7 +215,7 @@ fn round_down_f32(x: f64) -> f32 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::query::{CoverBudget, CoverHint};
     use toolbox::SplitMix64;
@@ -257,7 +257,7 @@ mod tests {
     /// second one 18 units above it whose volume overlaps the first, so
     /// that leaf searches find faces of the other sheet (sharing no vertex
     /// with the current one).
-    fn two_sheets(n: usize) -> Vec<u8> {
+    pub(crate) fn two_sheets(n: usize) -> Vec<u8> {
         let mut b = crate::VdgBuilder::new();
         for layer in 0..2 {
             let z0 = 18.0 * layer as f32;

@@ -99,6 +99,11 @@ const HINT_LEN: usize = 32;
 /// just moved behind a wall) do three times the work of a guided one.
 const UNGUIDED_STEP_HOPS: u32 = 3;
 
+/// How many faces of the old way a hinted cover step tries, nearest first,
+/// before it searches the neighbourhood: the next one, and where the cover
+/// strayed from the old way, the ones after it that may take it back.
+const REJOIN_TRIES: usize = 3;
+
 /// Where a sight line blocked last time counts as blocked again without a
 /// tree-leaf search while the new blocking point is this close (units).
 const DEAD_END_RADIUS: f64 = 4.0;
@@ -139,10 +144,14 @@ impl CoverHint {
         }
     }
 
-    /// The face the earlier cover took after `f`.
-    fn after(&self, f: u32) -> Option<u32> {
-        let i = self.chain[..self.len].iter().position(|&g| g == f)?;
-        self.chain[..self.len].get(i + 1).copied()
+    /// The faces the earlier cover took after `f`, nearest first, when `f`
+    /// is on its way; else the ones after `from`, the place on the way the
+    /// cover last matched: a cover that left the old way for a face of its
+    /// own usually meets it again a face or two later.
+    fn ahead_of(&self, f: u32, from: usize) -> (usize, &[u32]) {
+        let way = &self.chain[..self.len];
+        let at = way.iter().position(|&g| g == f).unwrap_or(from);
+        (at + 1, way.get(at + 1..).unwrap_or(&[]))
     }
 
     fn dead_end_near(&self, p: V3) -> bool {
@@ -531,13 +540,24 @@ impl<'a> Vdg<'a> {
         if let Some(h) = hint.as_deref_mut() {
             h.restart(cur);
         }
+        // Where on the old way the cover last was (an index into its faces).
+        let mut on_way = 0;
         while budget.hops > 0 {
             budget.hops -= 1;
             let here = seg.at(t);
-            let mut step = old
-                .and_then(|o| o.after(cur))
-                .and_then(|f| self.hinted_step(f, seg, t, here, eps, cache))
-                .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
+            let mut step = None;
+            if let Some(o) = old.as_ref() {
+                let (first, ahead) = o.ahead_of(cur, on_way);
+                for (i, &f) in ahead.iter().enumerate().take(REJOIN_TRIES) {
+                    step = self
+                        .hinted_step(f, seg, t, here, eps, cache)
+                        .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
+                    if step.is_some() {
+                        on_way = first + i;
+                        break;
+                    }
+                }
+            }
             if step.is_none() {
                 if old.is_some() {
                     budget.hops = budget.hops.saturating_sub(UNGUIDED_STEP_HOPS - 1);
@@ -1062,4 +1082,74 @@ pub struct Advance {
     pub reached: bool,
     /// Whether the point moved at all.
     pub moved: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::query::face_cache::tests::two_sheets;
+    use toolbox::SplitMix64;
+
+    /// A sight line tested again with its hint, where the hint's way has a
+    /// stray face after the first one (as when last frame's cover took a
+    /// face of its own there): the cover skips it and follows the rest of
+    /// the old way, guided, spending the hops the true way costs and giving
+    /// the same answer. Taking the stray face's place as the end of the
+    /// guidance would cost an unguided search of the neighbourhood (three
+    /// hops) and every step after it.
+    #[test]
+    fn a_hinted_cover_that_strays_from_the_old_way_rejoins_it() {
+        let bytes = two_sheets(16);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut rng = SplitMix64::new(13);
+        let mut rejoined = 0;
+        for _ in 0..3000 {
+            let f = rng.below(g.face_count()) as u32;
+            let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
+            let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
+            let s = (a + (b - a) * u + (c - a) * w).to_f32();
+            let e = [
+                rng.range(0.0, 240.0) as f32,
+                rng.range(0.0, 240.0) as f32,
+                rng.range(-10.0, 50.0) as f32,
+            ];
+            let start = CoverBudget {
+                hops: 64,
+                leaf_searches: 4,
+            };
+            let mut hint = CoverHint::default();
+            let mut unbounded = CoverBudget::UNBOUNDED;
+            g.visible_hinted(f, s, e, &mut unbounded, Some(&mut hint));
+            if hint.len < 3 || hint.len == HINT_LEN {
+                continue;
+            }
+            // A face whose box is far from the whole segment: it never
+            // continues the line.
+            let stray = (0..g.face_count() as u32)
+                .map(|k| (f + 97 * k + 1) % g.face_count() as u32)
+                .find(|&k| {
+                    [0.0, 0.25, 0.5, 0.75, 1.0].iter().all(|&t| {
+                        let p = V3::from_f32(s) + (V3::from_f32(e) - V3::from_f32(s)) * t;
+                        !g.box_holds(k, p)
+                    }) && !hint.chain[..hint.len].contains(&k)
+                });
+            let Some(stray) = stray else { continue };
+            let mut strayed = hint;
+            strayed.chain.copy_within(1..hint.len, 2);
+            strayed.chain[1] = stray;
+            strayed.len += 1;
+            let (mut guided, mut rejoining) = (start, start);
+            let mut h1 = hint;
+            let a1 = g.visible_hinted(f, s, e, &mut guided, Some(&mut h1));
+            let a2 = g.visible_hinted(f, s, e, &mut rejoining, Some(&mut strayed));
+            assert_eq!(a1, a2, "{s:?} -> {e:?}");
+            assert_eq!(guided, rejoining, "{s:?} -> {e:?}: hops spent differ");
+            rejoined += 1;
+        }
+        assert!(
+            rejoined > 300,
+            "only {rejoined} covers of three faces or more"
+        );
+    }
 }
