@@ -107,6 +107,8 @@ fn f64p(p: [f32; 3]) -> [f64; 3] {
 struct Run {
     poses: Vec<Pose>,
     targets: Vec<Target>,
+    /// Per pose, whether the volume's boundary changed its step.
+    blocked: Vec<bool>,
 }
 
 fn run(g: &vdgformat::Vdg<'_>, walk: &Walk, params: CameraParams, dt: f32) -> Run {
@@ -116,11 +118,13 @@ fn run(g: &vdgformat::Vdg<'_>, walk: &Walk, params: CameraParams, dt: f32) -> Ru
     let mut run = Run {
         poses: Vec::with_capacity(frames),
         targets: Vec::with_capacity(frames),
+        blocked: Vec::with_capacity(frames),
     };
     for i in 1..=frames {
         let t = walk.at(i as f64 * f64::from(dt));
         run.poses.push(cam.update(g, &t, dt));
         run.targets.push(t);
+        run.blocked.push(cam.debug().blocked);
     }
     run
 }
@@ -280,10 +284,11 @@ fn jerks(r: &Run, dt: f32) -> Vec<f64> {
 
 /// With `max_jerk` the acceleration changes by at most that much per
 /// second wherever the move is not stopped by the boundary: in the pillar
-/// hall (open floor, the camera does not touch a wall on this route) the
-/// eye's jerk stays under the bound in every frame, where the default
-/// camera's exceeds it in a fifth of them; the camera still never leaves
-/// free space or enters the near-plane margin.
+/// hall (open floor, the camera rarely touches the volume's boundary on
+/// this route) the eye's jerk stays under the bound in every frame whose
+/// moves the boundary left alone, where the default camera's exceeds it
+/// in a fifth of them; the camera still never leaves free space or enters
+/// the near-plane margin.
 #[test]
 fn max_jerk_bounds_the_eyes_jerk() {
     let (file, world) = compiled("pillar_hall");
@@ -298,8 +303,14 @@ fn max_jerk_bounds_the_eyes_jerk() {
             accel_tau: 0.0,
             ..CameraParams::default()
         };
+        // The frames (windows of four poses) whose moves the boundary left alone.
         let over = |r: &Run| {
-            let j = jerks(r, dt);
+            let j: Vec<f64> = jerks(r, dt)
+                .into_iter()
+                .enumerate()
+                .filter(|&(i, _)| !r.blocked[i..i + 4].iter().any(|&b| b))
+                .map(|(_, x)| x)
+                .collect();
             let n = j.iter().filter(|&&x| x > f64::from(J) * 1.01).count();
             (
                 n as f64 / j.len() as f64,
@@ -307,6 +318,13 @@ fn max_jerk_bounds_the_eyes_jerk() {
             )
         };
         let r = run(&g, &walk, bounded, dt);
+        // The bound must be tested on nearly the whole route.
+        let blocked = r.blocked.iter().filter(|&&b| b).count();
+        assert!(
+            blocked * 20 < r.blocked.len(),
+            "dt {dt}: the boundary changed {blocked} of {} steps",
+            r.blocked.len()
+        );
         for (i, p) in r.poses.iter().enumerate() {
             let eye = f64p(p.eye);
             assert!(

@@ -242,6 +242,7 @@ impl Camera {
             Some(&self.faces),
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
+        self.debug.blocked = !a.reached;
         if !a.reached && self.params.slide {
             (p, f) = slide(g, &self.faces, p, f, s.pos + step, margin, hops);
         }
@@ -277,6 +278,7 @@ impl Camera {
         let m = f64::from(self.params.near_margin);
         if new_clear < m && new_clear < here_clear {
             (p, f) = self.keep_room(g, s, p, f, new_clear, here_clear.min(m), margin, hops);
+            self.debug.blocked = true;
         }
         s.vel = (p - s.pos) * (1.0 / scene.dt);
         (p, f)

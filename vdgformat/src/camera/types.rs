@@ -144,6 +144,11 @@ pub struct FrameDebug {
     /// The commanded speed (units/s) and the distance actually moved.
     pub speed: f32,
     pub moved: f32,
+    /// Whether the volume's boundary changed the step: stopped or turned
+    /// it, or pushed its end back out of the near-plane margin. The
+    /// motion's smoothness bounds (`max_jerk`, the lags) hold for the moves
+    /// it left alone.
+    pub blocked: bool,
     /// Line-of-sight tests made (the dominant cost of an update).
     pub visibility_tests: u32,
     /// Vertices the distance field settled for this update's VDistances.
