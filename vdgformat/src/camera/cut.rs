@@ -72,6 +72,7 @@ impl Camera {
             heading,
             d_mu: scene.d_mu,
             brake_speed: scene.target_speed,
+            goal: pos,
         });
         let visible = pos == scene.t_vis || self.sees_finally(g, face, pos, scene);
         if let Some(s) = self.state.as_mut() {

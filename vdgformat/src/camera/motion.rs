@@ -37,6 +37,7 @@ impl Camera {
 
     /// One regular frame: candidates, choice, step, face update.
     pub(super) fn step(&mut self, g: &Vdg<'_>, scene: &Scene, mut s: State, heading: V3) -> Pose {
+        let target_moved = scene.t - s.target_prev;
         remember_target(&mut s, scene, heading);
         if scene.dt <= 0.0 {
             // Re-aim only.
@@ -76,7 +77,9 @@ impl Camera {
             self.hidden_ahead(g, scene, s.face, s.pos, ahead, &mut current);
         }
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
-        let to_best = best_pos - s.pos;
+        s.goal = self.goal_after(scene.dt, s.goal, target_moved, best_pos);
+        let goal = s.goal;
+        let to_best = goal - s.pos;
         let dist_best = to_best.norm();
         let v = self.speed(scene, &s, f64::from(current.total), dist_best);
         let dir = if dist_best > 1e-9 {
@@ -133,6 +136,19 @@ impl Camera {
             .set_min_clearance(self.params.field_min_clearance);
         self.field
             .reset_towards(g, scene.face, scene.t.to_f32(), near, radius);
+    }
+
+    /// The point the camera heads for after an update of `dt` seconds:
+    /// with `goal_tau`, last update's point `goal` moved on by the target's
+    /// own motion (`target_moved`) and then drawn towards the best
+    /// candidate with that lag, else the best candidate itself.
+    pub(super) fn goal_after(&self, dt: f64, goal: V3, target_moved: V3, best_pos: V3) -> V3 {
+        if self.params.goal_tau > 0.0 {
+            let carried = goal + target_moved;
+            carried + (best_pos - carried) * lag_fraction(dt, self.params.goal_tau)
+        } else {
+            best_pos
+        }
     }
 
     /// The step rule (thesis 5.3): the speed follows the command with
@@ -593,4 +609,58 @@ fn inward_normal(g: &Vdg<'_>, faces: &FaceCache, f: u32, p: V3) -> Option<V3> {
     let n = V3(d(V3(H, 0.0, 0.0)), d(V3(0.0, H, 0.0)), d(V3(0.0, 0.0, H)));
     let len = n.norm();
     (len > 1e-9).then(|| n * (1.0 / len))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{Camera, CameraParams};
+    use crate::geom::V3;
+
+    /// The best candidate alternates between two points on either side of
+    /// a target walking along x at 250 u/s (their costs are close): the
+    /// camera heading for each in turn would turn round every frame. The
+    /// point it heads for keeps to the middle and moves with the target;
+    /// without `goal_tau` it is the alternating candidate itself.
+    #[test]
+    fn the_point_the_camera_heads_for_keeps_its_side_and_moves_with_the_target() {
+        let dt = 1.0 / 60.0;
+        let step = V3(250.0 * dt, 0.0, 0.0);
+        let side = V3(0.0, 40.0, 0.0);
+        for (params, smoothed) in [
+            (CameraParams::default(), true),
+            (CameraParams::thesis(), false),
+        ] {
+            let cam = Camera::new(params).unwrap();
+            let mut target = V3(0.0, 0.0, 0.0);
+            let mut goal = target + V3(-80.0, 0.0, 0.0);
+            for frame in 1..=120 {
+                target = target + step;
+                let behind = target + V3(-80.0, 0.0, 0.0);
+                let best = if frame % 2 == 0 {
+                    behind + side
+                } else {
+                    behind - side
+                };
+                let before = goal;
+                goal = cam.goal_after(dt, goal, step, best);
+                if frame < 30 {
+                    continue;
+                }
+                let sideways = goal.1.abs();
+                let advance = goal.0 - before.0;
+                if smoothed {
+                    assert!(
+                        sideways < 0.3 * side.1,
+                        "frame {frame}: {sideways} off the middle"
+                    );
+                    assert!(
+                        (advance - step.0).abs() < 0.01 * step.0,
+                        "frame {frame}: advanced {advance}"
+                    );
+                } else {
+                    assert_eq!(goal, best);
+                }
+            }
+        }
+    }
 }

@@ -142,6 +142,18 @@ pub struct CameraParams {
     /// thesis' 1 + VDistance: unitless like the other costs, so a hidden
     /// target still dominates but the speed rule's √f_total stays sane.
     pub normalized_visibility: bool,
+    /// τ of the smoothing of the point the camera heads for (s): the best
+    /// candidate's position, carried along with the target's own motion
+    /// and followed with this lag. The best candidate jumps between
+    /// candidates on either side of the camera from one frame to the next
+    /// (their costs are close); heading for each in turn, the smoothed
+    /// velocity averaged opposite directions, and a camera that should
+    /// have kept pace with a walking player slowed to a crawl beside him
+    /// and fell behind at the next corner. The smoothed point keeps the
+    /// side it was on until the new one has won for a while, and it moves
+    /// with the target, so the camera keeps pace. 0 = the best candidate
+    /// itself (the thesis).
+    pub goal_tau: f32,
     /// τ of the smoothing of the camera's velocity (s): the best candidate
     /// changes from frame to frame and the camera turns towards each with
     /// this lag. 0.13, with `accel_tau`'s 0.05 a total lag of 0.18 (one
@@ -328,6 +340,7 @@ impl Default for CameraParams {
             max_substeps: 16,
             distance_field: true,
             normalized_visibility: true,
+            goal_tau: 0.08,
             direction_tau: 0.13,
             slide: true,
             max_decel: 1000.0,
@@ -366,6 +379,7 @@ impl CameraParams {
             max_substeps: 0,
             distance_field: false,
             normalized_visibility: false,
+            goal_tau: 0.0,
             direction_tau: 0.0,
             slide: false,
             max_decel: 0.0,
@@ -420,6 +434,7 @@ impl CameraParams {
             ("cut_after", self.cut_after),
             ("cut_unreachable_after", self.cut_unreachable_after),
             ("early_stop", self.early_stop),
+            ("goal_tau", self.goal_tau),
             ("direction_tau", self.direction_tau),
             ("max_decel", self.max_decel),
             ("max_jerk", self.max_jerk),
@@ -519,8 +534,8 @@ mod tests {
         assert_eq!(t.max_substeps, 0);
         assert!(!t.distance_field && !t.normalized_visibility && !t.cut_to_ideal);
         assert_eq!(
-            (t.direction_tau, t.look_tau, t.near_margin),
-            (0.0, 0.0, 0.0)
+            (t.goal_tau, t.direction_tau, t.look_tau, t.near_margin),
+            (0.0, 0.0, 0.0, 0.0)
         );
         assert_eq!(t.inertia_horizon, 0.0);
         assert_eq!((t.target_speed_floor, t.distance_room_factor), (0.0, 0.0));

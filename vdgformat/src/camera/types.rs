@@ -218,6 +218,9 @@ pub(super) struct State {
     /// The target speed the brakes allowed for in the last update (see
     /// [`Scene::brake_speed`]).
     pub(super) brake_speed: f64,
+    /// The point the camera headed for in the last update (see
+    /// [`CameraParams::goal_tau`](super::CameraParams::goal_tau)).
+    pub(super) goal: V3,
 }
 
 /// The target as this frame sees it.
