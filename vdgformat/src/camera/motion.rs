@@ -77,7 +77,12 @@ impl Camera {
             self.hidden_ahead(g, scene, s.face, s.pos, ahead, &mut current);
         }
         let (best_pos, best_cost) = self.choose(g, scene, &s, margin);
-        s.goal = self.goal_after(scene.dt, s.goal, target_moved, best_pos);
+        // Smoothed only while the camera sees the target (see `goal_tau`).
+        s.goal = if s.visible {
+            self.goal_after(scene.dt, s.goal, target_moved, best_pos)
+        } else {
+            best_pos
+        };
         let goal = s.goal;
         let to_best = goal - s.pos;
         let dist_best = to_best.norm();

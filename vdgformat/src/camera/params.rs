@@ -151,8 +151,12 @@ pub struct CameraParams {
     /// have kept pace with a walking player slowed to a crawl beside him
     /// and fell behind at the next corner. The smoothed point keeps the
     /// side it was on until the new one has won for a while, and it moves
-    /// with the target, so the camera keeps pace. 0 = the best candidate
-    /// itself (the thesis).
+    /// with the target, so the camera keeps pace. Only while the camera
+    /// saw the target at its last update: once it is hidden, the costs are
+    /// no longer close (the visible candidates win by far) and the camera
+    /// must commit to the best one; averaged with the hidden ones, the
+    /// point lay between them and the camera stayed hidden for up to 1.3 s.
+    /// 0 = the best candidate itself (the thesis).
     pub goal_tau: f32,
     /// τ of the smoothing of the camera's velocity (s): the best candidate
     /// changes from frame to frame and the camera turns towards each with
