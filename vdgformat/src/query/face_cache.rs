@@ -282,6 +282,29 @@ pub(crate) mod tests {
         b.to_bytes().unwrap()
     }
 
+    /// A random sight line over [`two_sheets`]: a face, a start near it
+    /// (up to `lift` units off its plane; 0 draws no offset) and an end
+    /// anywhere over the sheets.
+    pub(crate) fn random_sight_line(
+        g: &crate::Vdg<'_>,
+        rng: &mut SplitMix64,
+        lift: f64,
+    ) -> (u32, [f32; 3], [f32; 3]) {
+        let f = rng.below(g.face_count()) as u32;
+        let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
+        let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
+        let mut s = a + (b - a) * u + (c - a) * w;
+        if lift > 0.0 {
+            s = s + V3(0.0, 0.0, rng.range(-lift, lift));
+        }
+        let e = [
+            rng.range(0.0, 240.0) as f32,
+            rng.range(0.0, 240.0) as f32,
+            rng.range(-10.0, 50.0) as f32,
+        ];
+        (f, s.to_f32(), e)
+    }
+
     #[test]
     fn sight_lines_and_advances_answer_the_same_with_the_camera_s_face_cache() {
         let bytes = two_sheets(16);
@@ -292,15 +315,7 @@ pub(crate) mod tests {
         let mut rng = SplitMix64::new(9);
         let (mut seen, mut blocked) = (0, 0);
         for _ in 0..3000 {
-            let f = rng.below(g.face_count()) as u32;
-            let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
-            let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
-            let s = (a + (b - a) * u + (c - a) * w + V3(0.0, 0.0, rng.range(-2.0, 2.0))).to_f32();
-            let e = [
-                rng.range(0.0, 240.0) as f32,
-                rng.range(0.0, 240.0) as f32,
-                rng.range(-10.0, 50.0) as f32,
-            ];
+            let (f, s, e) = random_sight_line(&g, &mut rng, 2.0);
             let start = CoverBudget {
                 hops: 64,
                 leaf_searches: 4,

@@ -1087,7 +1087,7 @@ pub struct Advance {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::query::face_cache::tests::two_sheets;
+    use crate::query::face_cache::tests::{random_sight_line, two_sheets};
     use toolbox::SplitMix64;
 
     /// A sight line tested again with its hint, where the hint's way has a
@@ -1105,15 +1105,7 @@ mod tests {
         let mut rng = SplitMix64::new(13);
         let mut rejoined = 0;
         for _ in 0..3000 {
-            let f = rng.below(g.face_count()) as u32;
-            let [a, b, c] = g.faces.get(f).map(|v| g.pos(v));
-            let (u, w) = (rng.range(0.0, 0.5), rng.range(0.0, 0.5));
-            let s = (a + (b - a) * u + (c - a) * w).to_f32();
-            let e = [
-                rng.range(0.0, 240.0) as f32,
-                rng.range(0.0, 240.0) as f32,
-                rng.range(-10.0, 50.0) as f32,
-            ];
+            let (f, s, e) = random_sight_line(&g, &mut rng, 0.0);
             let start = CoverBudget {
                 hops: 64,
                 leaf_searches: 4,
