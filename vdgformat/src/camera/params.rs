@@ -236,8 +236,10 @@ pub struct CameraParams {
     /// every test long and failing, and without a bound such frames cost
     /// many times the median. A test cut short counts as "hidden", which
     /// only makes that candidate look worse. The test of the pose itself
-    /// (`target_visible`, the cut clock) has its own 48. The thesis: no
-    /// bound (4294967295).
+    /// (`target_visible`, the cut clock) has its own 48. What one hop
+    /// costs is bounded too: a step that searches a face's neighbourhood
+    /// evaluates at most 128 faces (where hundreds of face volumes overlap,
+    /// in a big open room). The thesis: no bound (4294967295).
     pub sight_hops: u32,
     /// Tree-leaf searches those tests may make per update. A leaf search
     /// bridges the rare gap where no face sharing a vertex with the current

@@ -43,6 +43,41 @@ const EXIT_BACKOFF: f64 = 1e-6;
 /// A visibility trace gives up (answers "not visible") after this many hops.
 const MAX_HOPS: usize = 4096;
 
+/// The exact evaluations a cover step made, and how many it may make.
+struct Evals {
+    made: u32,
+    limit: u32,
+}
+
+impl Evals {
+    fn unlimited() -> Evals {
+        Evals {
+            made: 0,
+            limit: u32::MAX,
+        }
+    }
+
+    /// The limit of a searching step: [`STEP_EVALS`] in the camera's
+    /// covers (those given its face cache), none in the plain queries.
+    fn per_step(camera: bool) -> Evals {
+        Evals {
+            made: 0,
+            limit: if camera { STEP_EVALS } else { u32::MAX },
+        }
+    }
+
+    /// Counts one evaluation; `false` when the limit is reached (the
+    /// evaluation must not be made).
+    #[inline]
+    fn take(&mut self) -> bool {
+        if self.made >= self.limit {
+            return false;
+        }
+        self.made += 1;
+        true
+    }
+}
+
 #[derive(Clone, Copy)]
 struct Seg {
     s: V3,
@@ -98,6 +133,20 @@ const HINT_LEN: usize = 32;
 /// a camera update whose sight lines had all lost their way (the target
 /// just moved behind a wall) do three times the work of a guided one.
 const UNGUIDED_STEP_HOPS: u32 = 3;
+
+/// Most exact candidate evaluations (a face's exit search, the dear part
+/// of a cover step) one searching step of the camera's covers makes (its
+/// sight lines, clamps and moves: the covers given a [`FaceCache`]). The
+/// camera's hop budgets bound how many steps an update takes, not what a
+/// step costs: in a big open room of a small map, where hundreds of face
+/// volumes overlap, one step of a failing sight line evaluated up to 439
+/// faces, and an update cost 20 times the median's work. Elsewhere on
+/// the shared maps 99.9 % of the camera's searching steps make fewer than
+/// 70 (de_rats' most, 135), and this limit changes no pose of the camera
+/// replay there. A step that reaches it takes the farthest certified
+/// step found so far (or none: the line counts as blocked), so an answer
+/// can only turn into a false "not visible", never a false "visible".
+const STEP_EVALS: u32 = 128;
 
 /// How many faces of the old way a hinted cover step tries, nearest first,
 /// before it searches the neighbourhood: the next one, and where the cover
@@ -259,7 +308,8 @@ impl<'a> Vdg<'a> {
     pub fn visible(&self, s: [f32; 3], e: [f32; 3]) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         let start = self.leaf_faces_at(seg.s);
-        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS, None) {
+        let mut evals = Evals::unlimited();
+        match self.best_cover_step(start.iter(), None, &seg, 0.0, INSIDE_EPS, None, &mut evals) {
             Some((f, t)) => {
                 let mut budget = CoverBudget::UNBOUNDED;
                 t >= 1.0 || self.cover(f, &seg, t, INSIDE_EPS, &mut budget).1 >= 1.0
@@ -375,6 +425,7 @@ impl<'a> Vdg<'a> {
     /// cover): searching it again would only find `t` once more. `cache`,
     /// when given, saves setting up the clearance functions of faces
     /// evaluated recently.
+    #[allow(clippy::too_many_arguments)]
     fn best_cover_step(
         &self,
         candidates: impl Iterator<Item = u32>,
@@ -383,15 +434,17 @@ impl<'a> Vdg<'a> {
         t: f64,
         eps: f64,
         cache: Option<&FaceCache>,
+        evals: &mut Evals,
     ) -> Option<(u32, f64)> {
-        self.best_cover_step_where(candidates, skip, seg, t, eps, cache, |_| true)
+        self.best_cover_step_where(candidates, skip, seg, t, eps, cache, evals, |_| true)
     }
 
     /// [`Self::best_cover_step`] that passes over the candidates `may_hold`
     /// proves do not hold `at(t)` (their stored box misses it) without
     /// bounding or sorting them: they could never have won, and they still
     /// count towards the sorted buffer, so the others are taken in the same
-    /// order and the answer is the same.
+    /// order and the answer is the same. `evals` counts the exact
+    /// evaluations and ends the search at its limit (see [`Evals`]).
     #[allow(clippy::too_many_arguments)]
     fn best_cover_step_where(
         &self,
@@ -401,6 +454,7 @@ impl<'a> Vdg<'a> {
         t: f64,
         eps: f64,
         cache: Option<&FaceCache>,
+        evals: &mut Evals,
         may_hold: impl Fn(u32) -> bool,
     ) -> Option<(u32, f64)> {
         // Candidates by their reach bound, best first: the first exact exit
@@ -445,6 +499,9 @@ impl<'a> Vdg<'a> {
                 // Sorted: no later candidate can reach farther.
                 break;
             }
+            if !evals.take() {
+                return best;
+            }
             self.try_cover_candidate(!(key as u32), ub, seg, t, here, eps, cache, &mut best);
         }
         for f in rest {
@@ -457,6 +514,9 @@ impl<'a> Vdg<'a> {
             }
             let ub = self.reach_bound(f, seg);
             if ub > reach && Some(f) != skip {
+                if !evals.take() {
+                    break;
+                }
                 self.try_cover_candidate(f, ub, seg, t, here, eps, cache, &mut best);
             }
         }
@@ -566,6 +626,7 @@ impl<'a> Vdg<'a> {
                 // passed over unbounded (most of an open map's big
                 // neighbourhoods).
                 let probe = BoxProbe::at(here);
+                let mut evals = Evals::per_step(cache.is_some());
                 step = self
                     .best_cover_step_where(
                         self.neighbourhood(cur),
@@ -574,6 +635,7 @@ impl<'a> Vdg<'a> {
                         t,
                         eps,
                         cache,
+                        &mut evals,
                         |f| cache.is_none_or(|c| c.holds(f, &probe)),
                     )
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
@@ -604,8 +666,9 @@ impl<'a> Vdg<'a> {
                     };
                     in_box && !self.faces.get(f).iter().any(|v| corners.contains(v))
                 });
+                let mut evals = Evals::per_step(cache.is_some());
                 step = self
-                    .best_cover_step(holding, Some(cur), seg, t, eps, cache)
+                    .best_cover_step(holding, Some(cur), seg, t, eps, cache, &mut evals)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -927,7 +990,15 @@ impl<'a> Vdg<'a> {
         let mut t = 0.0;
         for _ in 0..MAX_HOPS {
             match self
-                .best_cover_step(self.neighbourhood(face), None, &seg, t, INSIDE_EPS, None)
+                .best_cover_step(
+                    self.neighbourhood(face),
+                    None,
+                    &seg,
+                    t,
+                    INSIDE_EPS,
+                    None,
+                    &mut Evals::unlimited(),
+                )
                 .filter(|&(_, r)| r > t || r >= 1.0)
             {
                 Some((_, r)) if r >= 1.0 => return true,
@@ -1089,6 +1160,86 @@ mod tests {
     use super::*;
     use crate::query::face_cache::tests::{random_sight_line, two_sheets};
     use toolbox::SplitMix64;
+
+    /// A fan of hundreds of faces around one vertex, all reaching about as
+    /// far (a big open room: every face volume overlaps every other): a
+    /// sight line out of it makes a neighbourhood search evaluate far more
+    /// faces than [`STEP_EVALS`] allows. The limited search stops there,
+    /// and what it returns is still a certified step of the cover.
+    #[test]
+    fn a_searching_step_of_the_camera_s_covers_evaluates_at_most_step_evals_faces() {
+        let mut b = crate::VdgBuilder::new();
+        let n = 400;
+        let centre = b.add_vertex([0.0, 0.0, 0.0], 120.0);
+        let mut rng = SplitMix64::new(5);
+        let ring: Vec<u32> = (0..n)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / n as f64;
+                let r = rng.range(40.0, 60.0);
+                let z = rng.range(-8.0, 8.0);
+                b.add_vertex(
+                    [(r * a.cos()) as f32, (r * a.sin()) as f32, z as f32],
+                    rng.range(100.0, 120.0) as f32,
+                )
+            })
+            .collect();
+        for i in 0..n {
+            b.add_face([centre, ring[i], ring[(i + 1) % n]]);
+        }
+        let bytes = b.to_bytes().unwrap();
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut most = 0;
+        let mut limited = 0;
+        for k in 0..200 {
+            let a = k as f64 * 0.37;
+            let seg = Seg::new(
+                V3(1.0, 2.0, 3.0),
+                V3(900.0 * a.cos(), 900.0 * a.sin(), rng.range(-400.0, 400.0)),
+            );
+            let cur = 0;
+            let mut free = Evals::unlimited();
+            let full = g.best_cover_step(
+                g.neighbourhood(cur),
+                Some(cur),
+                &seg,
+                0.0,
+                INSIDE_EPS,
+                None,
+                &mut free,
+            );
+            let mut capped = Evals::per_step(true);
+            let step = g.best_cover_step(
+                g.neighbourhood(cur),
+                Some(cur),
+                &seg,
+                0.0,
+                INSIDE_EPS,
+                None,
+                &mut capped,
+            );
+            most = most.max(free.made);
+            assert!(capped.made <= STEP_EVALS, "{} evaluations", capped.made);
+            if free.made > STEP_EVALS {
+                limited += 1;
+            } else {
+                assert_eq!(step, full, "a search under the limit must not change");
+            }
+            // Whatever it returns, the step's face holds the segment from
+            // its start to the reach it claims.
+            if let Some((f, r)) = step {
+                let fe = g.face_eval(f);
+                for i in 0..=20 {
+                    let p = seg.at(r.min(1.0) * f64::from(i) / 20.0);
+                    assert!(fe.eval(p) > 0.0, "face {f} does not hold {p:?}");
+                }
+            }
+        }
+        assert!(
+            limited > 10,
+            "only {limited} searches over the limit (at most {most} evaluations): the fan shows nothing"
+        );
+    }
 
     /// A sight line tested again with its hint, where the hint's way has a
     /// stray face after the first one (as when last frame's cover took a
