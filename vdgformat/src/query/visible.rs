@@ -1197,27 +1197,21 @@ mod tests {
                 V3(1.0, 2.0, 3.0),
                 V3(900.0 * a.cos(), 900.0 * a.sin(), rng.range(-400.0, 400.0)),
             );
-            let cur = 0;
+            let search = |evals: &mut Evals| {
+                g.best_cover_step(
+                    g.neighbourhood(0),
+                    Some(0),
+                    &seg,
+                    0.0,
+                    INSIDE_EPS,
+                    None,
+                    evals,
+                )
+            };
             let mut free = Evals::unlimited();
-            let full = g.best_cover_step(
-                g.neighbourhood(cur),
-                Some(cur),
-                &seg,
-                0.0,
-                INSIDE_EPS,
-                None,
-                &mut free,
-            );
+            let full = search(&mut free);
             let mut capped = Evals::per_step(true);
-            let step = g.best_cover_step(
-                g.neighbourhood(cur),
-                Some(cur),
-                &seg,
-                0.0,
-                INSIDE_EPS,
-                None,
-                &mut capped,
-            );
+            let step = search(&mut capped);
             most = most.max(free.made);
             assert!(capped.made <= STEP_EVALS, "{} evaluations", capped.made);
             if free.made > STEP_EVALS {
