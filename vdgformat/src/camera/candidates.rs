@@ -5,6 +5,7 @@
 //! k_comb, and the cheapest chosen.
 
 use super::motion::{CLAMP_TOL, MARGIN_SLACK};
+use super::sight::STEP_EVALS;
 use super::types::Ahead;
 use super::{Camera, CandidateDebug, Costs, Scene, Slot, State};
 use crate::geom::V3;
@@ -427,6 +428,7 @@ impl Camera {
                 CLAMP_TOL,
                 Some(&mut self.clamp_hints[slot]),
                 Some(&self.faces),
+                STEP_EVALS,
             );
             self.clamp_leaf_searches = budget.leaf_searches;
             (V3::from_f32(a.point), a.face)

@@ -2,6 +2,7 @@
 //! teleported target, a target hidden too long).
 
 use super::motion::{CLAMP_TOL, MARGIN_SLACK};
+use super::sight::STEP_EVALS;
 use super::{Camera, Pose, Scene, State};
 use crate::geom::V3;
 use crate::query::CoverBudget;
@@ -45,6 +46,7 @@ impl Camera {
                     CLAMP_TOL,
                     None,
                     Some(&self.faces),
+                    STEP_EVALS,
                 );
                 let p = V3::from_f32(a.point);
                 let cost = self.dist_cost(scene, p) + self.angle_cost(scene, p);

@@ -2,7 +2,7 @@
 //! move across face volumes (sliding along the boundary where it is
 //! blocked) and the smoothed look-at point.
 
-use super::sight::POSE_HINT;
+use super::sight::{POSE_HINT, STEP_EVALS};
 use super::{Camera, Pose, Scene, Slot, State};
 use crate::geom::V3;
 use crate::query::{Advance, CoverBudget, FaceCache};
@@ -270,6 +270,7 @@ impl Camera {
             CLAMP_TOL,
             None,
             Some(&self.faces),
+            STEP_EVALS,
         );
         let (mut p, mut f) = (V3::from_f32(a.point), a.face);
         self.debug.blocked = !a.reached;
@@ -399,6 +400,7 @@ impl Camera {
                 CLAMP_TOL,
                 None,
                 Some(&self.faces),
+                STEP_EVALS,
             );
             let q = V3::from_f32(b.point);
             if b.reached || (share == 1.0 && (q - s.pos).norm() > (blocked.0 - s.pos).norm()) {
@@ -610,6 +612,7 @@ pub(super) fn advance_locally(
         CLAMP_TOL,
         None,
         Some(faces),
+        STEP_EVALS,
     )
 }
 

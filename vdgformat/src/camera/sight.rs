@@ -62,6 +62,15 @@ impl VertexHints {
 /// of an update).
 pub(super) const VISIBILITY_HOPS: u32 = 48;
 
+/// Most exact face evaluations one searching step of the camera's sight
+/// lines, clamps and moves makes (the covers' `step_evals`). The hop budgets
+/// bound how many steps an update takes, not what a step costs: in a big
+/// open room, where hundreds of face volumes overlap, one step of a failing
+/// sight line tried hundreds of faces. Set above what the steps on the
+/// shared maps make, so it only bounds such rooms
+/// (docs/measurements/2026-12-07h-camera-step-limit.md).
+pub(super) const STEP_EVALS: u32 = 128;
+
 /// The hint slot of the pose's own sight line (after the 7 candidates').
 pub(super) const POSE_HINT: usize = 8;
 
@@ -177,6 +186,7 @@ fn charged_sight(
         &mut budget,
         hint,
         Some(faces),
+        STEP_EVALS,
     );
     allowance.hops -= hops - budget.hops;
     allowance.leaf_searches = budget.leaf_searches;

@@ -322,8 +322,9 @@ pub(crate) mod tests {
             };
             let (mut b1, mut b2) = (start, start);
             let (mut h1, mut h2) = (CoverHint::default(), CoverHint::default());
-            let plain = g.visible_hinted_cached(f, s, e, &mut b1, Some(&mut h1), None);
-            let cached = g.visible_hinted_cached(f, s, e, &mut b2, Some(&mut h2), Some(&cache));
+            let plain = g.visible_hinted_cached(f, s, e, &mut b1, Some(&mut h1), None, u32::MAX);
+            let cached =
+                g.visible_hinted_cached(f, s, e, &mut b2, Some(&mut h2), Some(&cache), u32::MAX);
             assert_eq!(plain, cached, "{s:?} -> {e:?}");
             assert_eq!(b1, b2, "budgets spent differently for {s:?} -> {e:?}");
             if plain {
@@ -332,8 +333,8 @@ pub(crate) mod tests {
                 blocked += 1
             }
             let (mut b1, mut b2) = (start, start);
-            let a1 = g.advance_tol(f, s, e, 2.0, &mut b1, 0.125, None, None);
-            let a2 = g.advance_tol(f, s, e, 2.0, &mut b2, 0.125, None, Some(&cache));
+            let a1 = g.advance_tol(f, s, e, 2.0, &mut b1, 0.125, None, None, u32::MAX);
+            let a2 = g.advance_tol(f, s, e, 2.0, &mut b2, 0.125, None, Some(&cache), u32::MAX);
             assert_eq!(
                 (a1.point, a1.face, a1.reached),
                 (a2.point, a2.face, a2.reached)

@@ -51,19 +51,11 @@ struct Evals {
 
 impl Evals {
     fn unlimited() -> Evals {
-        Evals {
-            made: 0,
-            limit: u32::MAX,
-        }
+        Evals::at_most(u32::MAX)
     }
 
-    /// The limit of a searching step: [`STEP_EVALS`] in the camera's
-    /// covers (those given its face cache), none in the plain queries.
-    fn per_step(camera: bool) -> Evals {
-        Evals {
-            made: 0,
-            limit: if camera { STEP_EVALS } else { u32::MAX },
-        }
+    fn at_most(limit: u32) -> Evals {
+        Evals { made: 0, limit }
     }
 
     /// Counts one evaluation; `false` when the limit is reached (the
@@ -133,20 +125,6 @@ const HINT_LEN: usize = 32;
 /// a camera update whose sight lines had all lost their way (the target
 /// just moved behind a wall) do three times the work of a guided one.
 const UNGUIDED_STEP_HOPS: u32 = 3;
-
-/// Most exact candidate evaluations (a face's exit search, the dear part
-/// of a cover step) one searching step of the camera's covers makes (its
-/// sight lines, clamps and moves: the covers given a [`FaceCache`]). The
-/// camera's hop budgets bound how many steps an update takes, not what a
-/// step costs: in a big open room of a small map, where hundreds of face
-/// volumes overlap, one step of a failing sight line evaluated up to 439
-/// faces, and an update cost 20 times the median's work. Elsewhere on
-/// the shared maps 99.9 % of the camera's searching steps make fewer than
-/// 70 (de_rats' most, 135), and this limit changes no pose of the camera
-/// replay there. A step that reaches it takes the farthest certified
-/// step found so far (or none: the line counts as blocked), so an answer
-/// can only turn into a false "not visible", never a false "visible".
-const STEP_EVALS: u32 = 128;
 
 /// How many faces of the old way a hinted cover step tries, nearest first,
 /// before it searches the neighbourhood: the next one, and where the cover
@@ -363,12 +341,14 @@ impl<'a> Vdg<'a> {
         budget: &mut CoverBudget,
         hint: Option<&mut CoverHint>,
     ) -> bool {
-        self.visible_hinted_cached(face, s, e, budget, hint, None)
+        self.visible_hinted_cached(face, s, e, budget, hint, None, u32::MAX)
     }
 
     /// [`Self::visible_hinted`] with a caller's [`FaceCache`] of the graph
     /// (a camera's): cheaper tree-leaf searches and face set-ups, the same
-    /// answers.
+    /// answers; a searching step makes at most `step_evals` exact
+    /// evaluations (see [`Self::cover_hinted`]; `u32::MAX`: no limit).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn visible_hinted_cached(
         &self,
         face: u32,
@@ -377,6 +357,7 @@ impl<'a> Vdg<'a> {
         budget: &mut CoverBudget,
         hint: Option<&mut CoverHint>,
         cache: Option<&FaceCache>,
+        step_evals: u32,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
         // The face once, from the memo when there is one.
@@ -410,7 +391,7 @@ impl<'a> Vdg<'a> {
             }
             return true;
         }
-        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, cache)
+        self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, cache, step_evals)
             .1
             >= 1.0
     }
@@ -571,7 +552,7 @@ impl<'a> Vdg<'a> {
     /// searches and hops count `budget` down; the cover stops when it is
     /// spent.
     fn cover(&self, cur: u32, seg: &Seg, t: f64, eps: f64, budget: &mut CoverBudget) -> (u32, f64) {
-        self.cover_hinted(cur, seg, t, eps, budget, None, None)
+        self.cover_hinted(cur, seg, t, eps, budget, None, None, u32::MAX)
     }
 
     /// [`Self::cover`] that first tries the way a similar earlier cover
@@ -581,7 +562,14 @@ impl<'a> Vdg<'a> {
     /// as the farthest-reaching one. A leaf search is skipped where the
     /// hinted cover already found no way on (a camera's sight line blocked
     /// at the same place frame after frame). `cache`, when given, makes
-    /// leaf searches and face set-ups cheap.
+    /// leaf searches and face set-ups cheap. A step that searches for a way
+    /// on makes at most `step_evals` exact evaluations and then takes the
+    /// farthest step it has proved, or none: the hop budget bounds how many
+    /// steps a cover takes, this what one step costs where hundreds of face
+    /// volumes overlap. A limited cover can only end short, so a sight line
+    /// can only turn "not visible", never "visible". (Only faces actually
+    /// evaluated count: with a cache, those whose box misses the point are
+    /// passed over free, so a limit binds later than without one.)
     #[allow(clippy::too_many_arguments)]
     fn cover_hinted(
         &self,
@@ -592,6 +580,7 @@ impl<'a> Vdg<'a> {
         budget: &mut CoverBudget,
         mut hint: Option<&mut CoverHint>,
         cache: Option<&FaceCache>,
+        step_evals: u32,
     ) -> (u32, f64) {
         // A hop must gain at least this much (a thousandth of a unit), so
         // the hop limit bounds the work; smaller gains end the cover.
@@ -626,7 +615,7 @@ impl<'a> Vdg<'a> {
                 // passed over unbounded (most of an open map's big
                 // neighbourhoods).
                 let probe = BoxProbe::at(here);
-                let mut evals = Evals::per_step(cache.is_some());
+                let mut evals = Evals::at_most(step_evals);
                 step = self
                     .best_cover_step_where(
                         self.neighbourhood(cur),
@@ -666,7 +655,7 @@ impl<'a> Vdg<'a> {
                     };
                     in_box && !self.faces.get(f).iter().any(|v| corners.contains(v))
                 });
-                let mut evals = Evals::per_step(cache.is_some());
+                let mut evals = Evals::at_most(step_evals);
                 step = self
                     .best_cover_step(holding, Some(cur), seg, t, eps, cache, &mut evals)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
@@ -768,7 +757,17 @@ impl<'a> Vdg<'a> {
             hops: max_hops,
             leaf_searches: u32::MAX,
         };
-        self.advance_tol(face, from, to, margin, &mut budget, BISECT_TOL, None, None)
+        self.advance_tol(
+            face,
+            from,
+            to,
+            margin,
+            &mut budget,
+            BISECT_TOL,
+            None,
+            None,
+            u32::MAX,
+        )
     }
 
     /// [`Self::advance`] stopping within `tol` units of the boundary (the
@@ -787,6 +786,7 @@ impl<'a> Vdg<'a> {
         tol: f64,
         hint: Option<&mut CoverHint>,
         cache: Option<&FaceCache>,
+        step_evals: u32,
     ) -> Advance {
         let eps = f64::from(margin).max(0.0) + TRACE_MARGIN;
         let seg = Seg::new(V3::from_f32(from), V3::from_f32(to));
@@ -806,7 +806,7 @@ impl<'a> Vdg<'a> {
         if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
-            let (f, r) = self.cover_hinted(face, &seg, t, eps, budget, hint, cache);
+            let (f, r) = self.cover_hinted(face, &seg, t, eps, budget, hint, cache, step_evals);
             if f != face {
                 t0 = t;
             }
@@ -1164,10 +1164,11 @@ mod tests {
     /// A fan of hundreds of faces around one vertex, all reaching about as
     /// far (a big open room: every face volume overlaps every other): a
     /// sight line out of it makes a neighbourhood search evaluate far more
-    /// faces than [`STEP_EVALS`] allows. The limited search stops there,
+    /// faces than the camera's limit (128) allows. The limited search stops there,
     /// and what it returns is still a certified step of the cover.
     #[test]
-    fn a_searching_step_of_the_camera_s_covers_evaluates_at_most_step_evals_faces() {
+    fn a_searching_step_with_a_limit_evaluates_at_most_that_many_faces() {
+        const LIMIT: u32 = 128;
         let mut b = crate::VdgBuilder::new();
         let n = 400;
         let centre = b.add_vertex([0.0, 0.0, 0.0], 120.0);
@@ -1210,11 +1211,11 @@ mod tests {
             };
             let mut free = Evals::unlimited();
             let full = search(&mut free);
-            let mut capped = Evals::per_step(true);
+            let mut capped = Evals::at_most(LIMIT);
             let step = search(&mut capped);
             most = most.max(free.made);
-            assert!(capped.made <= STEP_EVALS, "{} evaluations", capped.made);
-            if free.made > STEP_EVALS {
+            assert!(capped.made <= LIMIT, "{} evaluations", capped.made);
+            if free.made > LIMIT {
                 limited += 1;
             } else {
                 assert_eq!(step, full, "a search under the limit must not change");
