@@ -199,13 +199,8 @@ impl Camera {
             if c > 0.0 {
                 return (f, true, false);
             }
-            let leaf = g
-                .leaf_faces_at(t)
-                .iter()
-                .map(|f| (f, g.fc_above(f, t, 0.0)))
-                .fold((f, c), |a, b| if b.1 > a.1 { b } else { a });
-            if leaf.1 > 0.0 {
-                return (leaf.0, true, false);
+            if let Some((leaf_face, _)) = g.leaf_face_holding(&self.faces, t) {
+                return (leaf_face, true, false);
             }
             if let Some(s) = state.and_then(|s| s.outside_search)
                 && (s - t).norm() < 32.0
@@ -213,7 +208,7 @@ impl Camera {
                 return (f, false, false);
             }
         }
-        match g.nearest_face_f64(t) {
+        match g.nearest_face_cached(&self.faces, t) {
             Some((f, c)) => (f, c > 0.0, true),
             None => (0, false, true),
         }

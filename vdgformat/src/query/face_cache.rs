@@ -347,6 +347,35 @@ pub(crate) mod tests {
         );
     }
 
+    /// A camera placed anew finds the target's face through its cache: the
+    /// same face and clearance as the plain search, inside the volume (where
+    /// the cache passes over the faces whose box misses the point) and
+    /// outside (where it falls back to the plain search).
+    #[test]
+    fn the_cached_nearest_face_is_the_plain_one() {
+        let bytes = two_sheets(16);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
+        let mut rng = SplitMix64::new(13);
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..3000 {
+            let (_, s, _) = random_sight_line(&g, &mut rng, 30.0);
+            let p = V3::from_f32(s);
+            let plain = g.nearest_face_f64(p);
+            assert_eq!(g.nearest_face_cached(&cache, p), plain, "{p:?}");
+            match plain {
+                Some((_, c)) if c > 0.0 => inside += 1,
+                _ => outside += 1,
+            }
+        }
+        assert!(
+            inside > 300 && outside > 300,
+            "inside {inside}, outside {outside}"
+        );
+    }
+
     #[test]
     fn the_cached_climb_and_local_vertices_answer_as_the_plain_ones() {
         let bytes = two_sheets(16);

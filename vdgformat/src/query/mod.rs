@@ -380,6 +380,35 @@ impl<'a> Vdg<'a> {
             })
     }
 
+    /// [`Self::nearest_face_f64`] for a caller with a [`FaceCache`] (a
+    /// camera placed anew): the same answer, its first look (`p`'s leaf)
+    /// made by [`Self::leaf_face_holding`].
+    pub(crate) fn nearest_face_cached(&self, cache: &FaceCache, p: V3) -> Option<(u32, f64)> {
+        self.leaf_face_holding(cache, p)
+            .or_else(|| self.nearest_face_f64(p))
+    }
+
+    /// The face of `p`'s tree leaf whose volume holds `p` deepest (the
+    /// first in the leaf's order among equals), with that clearance; `None`
+    /// when none holds it. Faces whose stored box misses `p` are passed over
+    /// with one box test (their clearance there is negative), where the
+    /// plain search bounds each from its vertices: in a big room the leaf
+    /// lists thousands of faces and few hold the point.
+    pub(crate) fn leaf_face_holding(&self, cache: &FaceCache, p: V3) -> Option<(u32, f64)> {
+        let probe = BoxProbe::at(p);
+        let mut best = (u32::MAX, 0.0);
+        for f in self.leaf_faces_at(p).iter() {
+            if !cache.holds(f, &probe) {
+                continue;
+            }
+            let c = cache.fc(self, f, p);
+            if c > best.1 {
+                best = (f, c);
+            }
+        }
+        (best.1 > 0.0).then_some(best)
+    }
+
     pub(crate) fn nearest_face_f64(&self, p: V3) -> Option<(u32, f64)> {
         if self.faces.is_empty() {
             return None;
