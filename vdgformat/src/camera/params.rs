@@ -160,10 +160,10 @@ pub struct CameraParams {
     pub goal_tau: f32,
     /// τ of the smoothing of the camera's velocity (s): the best candidate
     /// changes from frame to frame and the camera turns towards each with
-    /// this lag. 0.13, with `accel_tau`'s 0.05 a total lag of 0.18 (one
-    /// lag of 0.18 alone kept the jerk far below a chase cam's; a shorter
-    /// total lag jerks markedly more) for a little visibility. 0 = none
-    /// (the thesis jumps to the best candidate's direction every frame).
+    /// this lag. 0.13, chosen with `accel_tau` 0.05 as the split of one lag
+    /// of 0.18 (which alone kept the jerk far below a chase cam's; a shorter
+    /// lag jerks markedly more) for a little visibility. 0 = none (the
+    /// thesis jumps to the best candidate's direction every frame).
     pub direction_tau: f32,
     /// A move blocked by the volume's boundary slides along it (the rest
     /// of the step without its part into the wall) instead of stopping:
@@ -192,10 +192,15 @@ pub struct CameraParams {
     /// (the velocity's, `direction_tau`) the acceleration jumped whenever
     /// the best candidate, a brake or the arrival changed the command: the
     /// jerk of a camera braking as the player lands. A second lag makes the
-    /// acceleration continuous; 0.05 s with `direction_tau` 0.13 keeps the
-    /// total lag of 0.18 s, and on the shared maps together the jerk fell
-    /// by about a third without losing sight of the player (the figures are
-    /// in docs/measurements/2026-12-02e-camera-jerk.md). Excludes `max_jerk`.
+    /// acceleration continuous; with 0.05 s and `direction_tau` 0.13, on the
+    /// shared maps together the jerk fell by about a third without losing
+    /// sight of the player (docs/measurements/2026-12-02e-camera-jerk.md).
+    /// The acceleration aims at the command in one frame, so the velocity
+    /// behaves as a spring of damping ratio ½·√(Δt/τ): it lags the command
+    /// by about a frame whatever τ and overshoots a step in it. The camera's
+    /// seen share rests on that overshoot: a critically damped follow lost
+    /// sight of the player on several maps
+    /// (docs/measurements/2026-12-07i-camera-cut-cost.md). Excludes `max_jerk`.
     pub accel_tau: f32,
     /// τ of the smoothing of the look-at point (s); 0 = look straight at the
     /// target every frame (the thesis).
