@@ -336,7 +336,7 @@ pub fn extract_voronoi(
         vs.voronoi_faces, vs.inner_faces, vs.triangulated
     ));
     log.info(format!(
-        "Exact wall distance as clearance; removed {} vertices with C <= m = {:.2} or clearance below {}",
+        "Exact wall distance as clearance; removed {} vertices with C <= m = {:.2} and clearance below m/2, or clearance below {}",
         vs.removed_low_clearance, samples.spacing, cx.options.min_clearance
     ));
     log.info(format!(

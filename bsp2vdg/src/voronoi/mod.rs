@@ -14,9 +14,13 @@
 //! holds only where the nearest wall point is interior to a face sampled at m — not near
 //! convex edges, nor at sky faces sampled at 2m (measured: up to 30 units too large on
 //! the demo map). We know the walls exactly, so each vertex gets its exact distance to
-//! the nearest obstacle face instead (never more than C). Vertices with `C ≤ m` (spurious
-//! vertices between neighbouring samples) or with less than the minimum clearance are
-//! removed with their faces.
+//! the nearest obstacle face instead (never more than C). Vertices with less than the
+//! minimum clearance are removed with their faces, and so are the spurious vertices
+//! between neighbouring samples of a wall: nearer to a sample than the spacing
+//! (`C ≤ m`) *and* nearer to the wall than half of it. The thesis removed every vertex
+//! with `C ≤ m`, which its estimate `sqrt(C² − m²)` needed; with exact distances that
+//! also removed the true vertices in the middle of every passage narrower than about
+//! `2m` (a 40-unit drop shaft at the default spacing of 24), which then had no graph.
 //!
 //! Free space comes in through [`FreeSpace`], so this stage can be tested against
 //! analytic worlds as well as run against a map's BSP.
@@ -53,7 +57,7 @@ pub struct VoronoiStats {
     pub inner_faces: usize,
     /// Triangles from the inner faces.
     pub triangulated: usize,
-    /// Vertices removed by the clearance correction (`C ≤ m`) or by `-md`.
+    /// Vertices removed as spurious (`C ≤ m` and clearance below `m / 2`) or by `-md`.
     pub removed_low_clearance: usize,
     /// Final vertex and face counts.
     pub vertices: usize,
@@ -214,9 +218,9 @@ fn merge_vertices(
     (vertex_of_cell, grid.points().to_vec(), radii)
 }
 
-/// Gives every vertex its exact wall distance, removes vertices with `C ≤ m` or below
-/// the minimum clearance with their faces, and renumbers the vertices still used in
-/// order of first use.
+/// Gives every vertex its exact wall distance, removes the spurious vertices (`C ≤ m`
+/// and clearance below `m / 2`) and those below the minimum clearance with their faces,
+/// and renumbers the vertices still used in order of first use.
 fn correct_and_compact(
     positions: &[[f64; 3]],
     radii: &[f64],
@@ -233,12 +237,10 @@ fn correct_and_compact(
             || ticker.local(),
             |done, (&p, &r)| {
                 done.tick();
-                if r <= options.spacing {
-                    return None;
-                }
                 // Samples lie on the walls, so the exact distance never exceeds C.
                 let c = space.wall_distance_within(p, r).unwrap_or(r);
-                (c >= options.min_clearance).then_some(c)
+                let spurious = r <= options.spacing && c < 0.5 * options.spacing;
+                (c >= options.min_clearance && !spurious).then_some(c)
             },
         )
         .collect();

@@ -99,7 +99,7 @@ fn box_room_graph_lies_inside_with_conservative_clearance() {
         stats.inner_vertices > 0 && stats.inner_faces > 0,
         "{stats:?}"
     );
-    // Vertices close to the walls (C ≤ m) are removed.
+    // Spurious vertices close to the walls (C ≤ m, clearance below m / 2) are removed.
     assert!(stats.removed_low_clearance > 0, "{stats:?}");
     assert!(g.faces.len() > 100, "{stats:?}");
     let mut worst_gap = 0.0f64;
@@ -511,4 +511,42 @@ fn every_costly_stage_stops_inside_itself_when_the_map_is_out_of_time() {
     // With no budget the same work runs to its end.
     let unbudgeted = crate::progress::NoProgress;
     assert!(Triangulation::new_reporting(&points, &unbudgeted).is_ok());
+}
+
+/// A shaft 40 units wide sampled at 24 (a drop hole of a Counter-Strike map at the
+/// default spacing): its middle has a clearance of 20, so the Voronoi vertices there
+/// lie nearer to a sample than the spacing. They are true free-space vertices and stay
+/// (with the minimum clearance 16): the middle of the shaft is in the graph's volume.
+/// The thesis' rule, which dropped every vertex with `C ≤ m`, left it out.
+#[test]
+fn a_shaft_narrower_than_twice_the_spacing_keeps_its_middle() {
+    let size = [40.0, 160.0, 320.0];
+    let m = 24.0;
+    let tri = Triangulation::new(&box_samples(size, m)).unwrap();
+    let (g, _) = extract(
+        &tri,
+        &BoxRoom(size),
+        &VoronoiOptions {
+            spacing: m,
+            min_clearance: 16.0,
+        },
+    );
+    // Points of the middle plane away from the ends, each in some vertex's ball.
+    let (mut inside, mut total) = (0, 0);
+    for y in (40..=120).step_by(8) {
+        for z in (40..=280).step_by(8) {
+            let p = [20.0, f64::from(y), f64::from(z)];
+            total += 1;
+            let held = g.vertices.iter().zip(&g.clearance).any(|(v, &c)| {
+                let d2 = (0..3).map(|i| (v[i] - p[i]).powi(2)).sum::<f64>();
+                d2 < c * c
+            });
+            inside += usize::from(held);
+        }
+    }
+    assert!(
+        inside == total,
+        "{inside} of {total} points of the shaft's middle in a vertex ball ({} vertices)",
+        g.vertices.len()
+    );
 }
