@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
     version = concat!(env!("CARGO_PKG_VERSION"), " (build ", env!("BSP2VDG_BUILD"), ")"),
     about = "Compile a BSP map into a Voronoi Distance Graph (.vdg)",
     allow_negative_numbers = true,
-    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -rc relative -md 20 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
+    after_help = "Every long option works with one dash too, as in the compile tools: -sd 16 -ms 100000 -rl 0.05 -rv 1000 -rc relative -md 16 -bb 256 -savesamples -subset -threads 2 -verbose -quiet -low -nolog -estimate -chart.\nExit status: 0 success, 1 a map failed (MAP.err beside the output says why), 2 bad command line."
 )]
 struct Cli {
     /// The map(s) to compile; several maps are compiled in parallel (batch mode).

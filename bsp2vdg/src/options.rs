@@ -28,7 +28,10 @@ pub mod defaults {
     /// along the walls last, where sight lines along them run.
     pub const REDUCTION_COST: ReductionCost = ReductionCost::Relative;
     /// `-md`: Voronoi vertices with less clearance are dropped before the reduction.
-    pub const MIN_CLEARANCE: f64 = 20.0;
+    /// 16, not the thesis' 20: a passage a player fits through crouching (a vent, a
+    /// crawl space, a 40-unit drop hole) has about 16–20 units at its middle, and at
+    /// 20 the graph lost it, and the camera its way to a player inside.
+    pub const MIN_CLEARANCE: f64 = 16.0;
     /// `-bb`: the smallest leaf box of the `.vdg`'s face tree (the runtime's own
     /// default, so a graph built without the compiler gets the same tree).
     pub const TREE_LEAF_SIZE: f64 = vdgformat::DEFAULT_LEAF_SIZE as f64;

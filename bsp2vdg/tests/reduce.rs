@@ -328,8 +328,9 @@ fn compile_json(map: &str, tag: &str, args: &[&str]) -> (Vec<u8>, serde_json::Va
 fn seam_phase_reaches_a_limit_the_thesis_cases_miss() {
     let map = "sky_room";
     let rl = 0.021;
-    let (full, _) = compile_json(map, "full", &["-rl", "1.0"]);
-    let (red, stats) = compile_json(map, "a-seam", &["-rl", &rl.to_string()]);
+    // The premise is about this graph: pinned to `-md 20`, whatever the default.
+    let (full, _) = compile_json(map, "full", &["-rl", "1.0", "-md", "20"]);
+    let (red, stats) = compile_json(map, "a-seam", &["-rl", &rl.to_string(), "-md", "20"]);
     let (full, red) = (
         VdgFile::from_bytes(&full).unwrap(),
         VdgFile::from_bytes(&red).unwrap(),
