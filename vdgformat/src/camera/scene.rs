@@ -207,11 +207,19 @@ impl Camera {
             {
                 return (f, false, false);
             }
+            // The leaf was looked at just above.
+            return searched(g.nearest_face_by_tree(t));
         }
-        match g.nearest_face_cached(&self.faces, t) {
-            Some((f, c)) => (f, c > 0.0, true),
-            None => (0, false, true),
-        }
+        searched(g.nearest_face_cached(&self.faces, t))
+    }
+}
+
+/// [`Camera::locate`]'s answer after a global search: the face found, whether
+/// it holds the target, and that a search was made.
+fn searched(hit: Option<(u32, f64)>) -> (u32, bool, bool) {
+    match hit {
+        Some((f, c)) => (f, c > 0.0, true),
+        None => (0, false, true),
     }
 }
 

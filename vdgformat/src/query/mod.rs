@@ -385,7 +385,7 @@ impl<'a> Vdg<'a> {
     /// made by [`Self::leaf_face_holding`].
     pub(crate) fn nearest_face_cached(&self, cache: &FaceCache, p: V3) -> Option<(u32, f64)> {
         self.leaf_face_holding(cache, p)
-            .or_else(|| self.nearest_face_f64(p))
+            .or_else(|| self.nearest_face_by_tree(p))
     }
 
     /// The face of `p`'s tree leaf whose volume holds `p` deepest (the
@@ -426,6 +426,19 @@ impl<'a> Vdg<'a> {
         if best.1 > 0.0 {
             return Some(best);
         }
+        // Nothing was taken (a taken value is above 0): `best` is as it began.
+        self.nearest_face_by_tree(p)
+    }
+
+    /// The face maximising the clearance of `p`, by a search of the whole
+    /// tree: what [`Self::nearest_face_f64`] does once no face of `p`'s leaf
+    /// holds `p` (callers that already looked at the leaf skip that look).
+    /// `None` only for a graph without faces.
+    pub(crate) fn nearest_face_by_tree(&self, p: V3) -> Option<(u32, f64)> {
+        if self.faces.is_empty() {
+            return None;
+        }
+        let mut best = (u32::MAX, f64::NEG_INFINITY);
         // Best-first over tree nodes by an upper bound on the clearance of
         // any face listed below them: the smaller of minus the distance to
         // the node's cell (a face's volume box is covered by the cells
