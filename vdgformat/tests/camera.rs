@@ -752,8 +752,10 @@ fn the_camera_comes_closer_where_the_player_has_little_room() {
     for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
         let (hidden, longest, dist) = through_the_u(room.clone(), dt, 265.0);
         let (hidden_full, _, dist_full) = through_the_u(full_distance.clone(), dt, 265.0);
+        // At least 5 % closer on average (the runner's bends are a small
+        // part of the walk).
         assert!(
-            dist < dist_full - 5.0,
+            dist < 0.95 * dist_full,
             "dt {dt}: mean distance {dist:.1}, at the full d_μ {dist_full:.1}"
         );
         assert!(

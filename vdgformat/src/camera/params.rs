@@ -176,7 +176,10 @@ pub struct CameraParams {
     /// candidate is suddenly near (the ideal distance reached, another
     /// criterion winning) stopped dead in one frame: most of its jerk.
     /// It now brakes at this rate and may pass the point a little (the
-    /// move is still clamped into the volume). 0 = stop dead (the thesis).
+    /// move is still clamped into the volume). The same rate bounds its
+    /// speed towards the nearest wall and towards the wall straight ahead,
+    /// so that it can always stop before either. 0 = stop dead, and no
+    /// braking before walls (the thesis).
     pub max_decel: f32,
     /// The most the camera's acceleration changes per second (units/s³,
     /// 0 = no bound, the thesis). The velocity follows its command through
