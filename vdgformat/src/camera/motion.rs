@@ -227,7 +227,7 @@ impl Camera {
         };
         let accel_lag = self.params.accel_tau > 0.0;
         let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
-        let vel = self.brake_before_the_wall_ahead(g, scene, s, vel, margin);
+        let vel = self.brake_before_the_wall_ahead(g, s.pos, s.face, vel, scene.dt, margin);
         let vel = self.brake_before_the_target(scene, s, vel);
         let mut step = vel * scene.dt;
         let len = step.norm();
@@ -514,12 +514,14 @@ impl Camera {
     /// the move was cut short there and the camera lost 300 units/s in two
     /// frames (four times `max_decel`, the largest jerk of a spawn route at
     /// 1/30 s).
+    /// The camera stands at `pos` in face `face`; `dt` is the frame time.
     fn brake_before_the_wall_ahead(
         &self,
         g: &Vdg<'_>,
-        scene: &Scene,
-        s: &State,
+        pos: V3,
+        face: u32,
         vel: V3,
+        dt: f64,
         margin: f32,
     ) -> V3 {
         let a = f64::from(self.params.max_decel);
@@ -527,11 +529,11 @@ impl Camera {
         if a <= 0.0 || speed < 1e-6 {
             return vel;
         }
-        let look = speed * speed / (2.0 * a) + speed * scene.dt;
-        let ahead = s.pos + vel * (look / speed);
+        let look = speed * speed / (2.0 * a) + speed * dt;
+        let ahead = pos + vel * (look / speed);
         let moved = g.advance_tol(
-            s.face,
-            s.pos.to_f32(),
+            face,
+            pos.to_f32(),
             ahead.to_f32(),
             margin,
             &mut CoverBudget {
@@ -546,7 +548,7 @@ impl Camera {
         if moved.reached {
             return vel;
         }
-        let way = (V3::from_f32(moved.point) - s.pos).norm();
+        let way = (V3::from_f32(moved.point) - pos).norm();
         let limit = (2.0 * a * way).sqrt();
         if speed > limit {
             vel * (limit / speed)
@@ -683,8 +685,63 @@ fn inward_normal(g: &Vdg<'_>, faces: &FaceCache, f: u32, p: V3) -> Option<V3> {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{Camera, CameraParams};
+    use super::super::{Camera, CameraParams, Target};
     use crate::geom::V3;
+
+    /// A corridor along x from 0 to 400 (vertices of clearance 30 every 40
+    /// units on two rows 40 apart): its volume ends at x = 430.
+    fn corridor() -> crate::VdgFile {
+        let mut b = crate::VdgBuilder::new();
+        let row = |b: &mut crate::VdgBuilder, y: f32| -> Vec<u32> {
+            (0..=10)
+                .map(|i| b.add_vertex([i as f32 * 40.0, y, 0.0], 30.0))
+                .collect()
+        };
+        let (low, high) = (row(&mut b, 0.0), row(&mut b, 40.0));
+        for i in 0..10 {
+            b.add_face([low[i], low[i + 1], high[i]]);
+            b.add_face([low[i + 1], high[i + 1], high[i]]);
+        }
+        crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap()
+    }
+
+    #[test]
+    fn the_camera_can_always_stop_before_the_wall_ahead() {
+        let file = corridor();
+        let g = file.graph();
+        let params = CameraParams::default();
+        let (a, margin) = (f64::from(params.max_decel), params.near_margin);
+        let mut cam = Camera::new(params).unwrap();
+        cam.reset(
+            &g,
+            &Target::new([20.0, 20.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
+        );
+        let vel = V3(400.0, 0.0, 0.0);
+        for x in [100.0f32, 300.0, 350.0, 380.0] {
+            let p = [x, 20.0, 0.0];
+            let face = g.nearest_face(p).unwrap().face;
+            let braked =
+                cam.brake_before_the_wall_ahead(&g, V3::from_f32(p), face, vel, 1.0 / 30.0, margin);
+            // The way left: to the end of the volume (the hull of the last
+            // two vertices' balls, 30 units beyond x = 400) less the margin.
+            let way = 430.0 - f64::from(margin) - f64::from(x);
+            let limit = (2.0 * a * way).sqrt();
+            let speed = braked.norm();
+            assert!(braked.1.abs() < 1e-9 && braked.2.abs() < 1e-9, "{braked:?}");
+            if limit >= 400.0 {
+                assert_eq!(
+                    speed, 400.0,
+                    "x = {x}: braked to {speed} with {way} units left"
+                );
+            } else {
+                // Within the step's tolerance of the exact way.
+                assert!(
+                    speed <= limit * 1.01 && speed >= limit * 0.95,
+                    "x = {x}: {speed} with {way} units left (at most {limit})"
+                );
+            }
+        }
+    }
 
     /// The best candidate alternates between two points on either side of
     /// a target walking along x at 250 u/s (their costs are close): the

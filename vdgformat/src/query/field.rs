@@ -500,7 +500,9 @@ mod tests {
         };
         for round in 0..20 {
             let src_face = (round * 7) % g.face_count() as u32;
-            let src = g.vertices()[g.face(src_face)[0] as usize].pos.map(|c| c + 1.0);
+            let src = g.vertices()[g.face(src_face)[0] as usize]
+                .pos
+                .map(|c| c + 1.0);
             let near = [next() * 4000.0, next() * 40.0, 0.0];
             let (mut fast, mut all) = (DistanceField::new(), DistanceField::new());
             fast.reset_towards(&g, src_face, src, near, 48.0);
@@ -509,7 +511,11 @@ mod tests {
                 let f = (next() * g.face_count() as f32) as u32 % g.face_count() as u32;
                 let [a, b, c] = g.face(f).map(|v| g.vertices()[v as usize].pos);
                 let (s, t) = (next(), next());
-                let (s, t) = if s + t > 1.0 { (1.0 - s, 1.0 - t) } else { (s, t) };
+                let (s, t) = if s + t > 1.0 {
+                    (1.0 - s, 1.0 - t)
+                } else {
+                    (s, t)
+                };
                 let p = [0, 1, 2].map(|i| a[i] + (b[i] - a[i]) * s + (c[i] - a[i]) * t);
                 let (x, y) = (fast.vdistance(&g, f, p), every_corner(&mut all, &g, f, p));
                 assert_eq!(x.to_bits(), y.to_bits(), "face {f}: {x} vs {y}");
@@ -543,7 +549,10 @@ mod tests {
         let (mut fast, mut all) = (DistanceField::new(), DistanceField::new());
         fast.reset(&g, 4, src);
         all.reset(&g, 4, src);
-        let (x, y) = (fast.vdistance(&g, long, p), every_corner(&mut all, &g, long, p));
+        let (x, y) = (
+            fast.vdistance(&g, long, p),
+            every_corner(&mut all, &g, long, p),
+        );
         assert_eq!(x.to_bits(), y.to_bits(), "{x} vs {y}");
         assert!(
             fast.settled() * 2 < all.settled(),
