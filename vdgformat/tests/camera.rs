@@ -808,3 +808,54 @@ fn a_camera_pressed_into_a_corner_turns_off_it_without_reversing() {
         }
     }
 }
+
+/// A hairpin: two corridors along x (y 0–96 and 192–288, clearance 24) joined
+/// only at their far ends (x 800–896), with a wall 48 units thick between
+/// them. From one corridor to a point 192 units across in the other the way
+/// round is about 1 600 units: out of the camera's reach.
+fn hairpin() -> VdgFile {
+    open(&grid(
+        28,
+        9,
+        32.0,
+        |_, _| 64.0,
+        |_, _| 24.0,
+        |i, j| !(3..6).contains(&j) || i >= 25,
+    ))
+}
+
+#[test]
+fn a_camera_waits_near_a_target_it_cannot_reach_rather_than_running_the_way_round() {
+    // The target stands in the upper corridor, then drops across the wall
+    // into the lower one (192 units: not a teleport) and stands there. The
+    // way to him runs round the hairpin; following it took the camera off
+    // along the corridor at top speed until the cut brought it back. It now
+    // stays near the target, whom it cannot see, until the cut.
+    let file = hairpin();
+    let g = file.graph();
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        let mut cam = Camera::new(CameraParams::default()).unwrap();
+        let above = Target::new([160.0, 240.0, 64.0], [-1.0, 0.0, 0.0], [0.0; 3]);
+        cam.reset(&g, &above);
+        for _ in 0..(1.0 / dt) as usize {
+            cam.update(&g, &above, dt);
+        }
+        let below = Target::new([160.0, 48.0, 64.0], [-1.0, 0.0, 0.0], [0.0; 3]);
+        let mut cut_after = None;
+        let mut farthest = 0.0f32;
+        for i in 1..=(1.0 / dt) as usize {
+            let p = cam.update(&g, &below, dt);
+            if p.cut {
+                cut_after = Some(i as f32 * dt);
+                break;
+            }
+            farthest = farthest.max((p.eye[0] - below.position[0]).abs());
+        }
+        let cut_after = cut_after.expect("a cut to the target out of reach");
+        assert!(cut_after < 0.7, "dt {dt}: cut after {cut_after} s");
+        assert!(
+            farthest < 96.0,
+            "dt {dt}: the camera went {farthest} units along the corridor before the cut"
+        );
+    }
+}

@@ -13,9 +13,11 @@ impl Camera {
     /// [`CameraParams::cut_to_ideal`](super::CameraParams::cut_to_ideal), as far towards the ideal position as
     /// the volume allows along a few directions around a_n.
     pub(super) fn cut(&mut self, g: &Vdg<'_>, scene: &Scene, heading: V3) -> Pose {
-        // A cut starts afresh: d_μ for the room where the target is now.
+        // A cut starts afresh: d_μ for the room where the target is now,
+        // and the way to him measured again.
         let scene = &Scene {
             d_mu: self.distance_mu_at(scene.target_room),
+            out_of_reach: false,
             ..*scene
         };
         let (start, start_face, start_clear) = if self.params.cut_to_ideal {

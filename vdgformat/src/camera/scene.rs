@@ -114,6 +114,7 @@ impl Camera {
             t_vis_in_face: in_face > INSIDE,
             target_room: target_room.max(0.0),
             d_mu: self.distance_mu_after(target_room.max(0.0), state, dt),
+            out_of_reach: state.is_some_and(|s| s.unreachable),
             ahead,
         }
     }

@@ -265,6 +265,12 @@ pub(super) struct Scene {
     /// little room (`distance_room_factor`), followed with the lag
     /// `distance_room_tau`.
     pub(super) d_mu: f64,
+    /// At the end of the last update the target was hidden and the
+    /// distance field proved it out of the camera's reach (see
+    /// [`State::unreachable`]): hidden places are then rated by their
+    /// straight distance to the target, not by the way (see
+    /// `Camera::vdistance`).
+    pub(super) out_of_reach: bool,
 
     /// Where the target's motion takes it within
     /// [`CameraParams::sight_lead`](super::CameraParams::sight_lead) (in the volume), when it moves.
