@@ -77,12 +77,12 @@ impl Camera {
     ///
     /// While the target is out of reach ([`Scene::out_of_reach`]) the
     /// straight distance to it instead: the way then runs round a detour
-    /// longer than the camera covers before the cut (a vent whose entrance
-    /// the graph does not hold, a floor between two levels), and following
-    /// it ran the camera off at top speed from a target 50–100 units away,
-    /// only for the cut to bring it back half a second later (cs_siege's
-    /// nav routes, four cuts in 214 s). Near the target it sees him again
-    /// as soon as he comes out.
+    /// longer than the camera covers before the cut (a low passage the
+    /// graph joins to the camera's side only far away, a floor between two
+    /// levels), and following it ran the camera off at top speed from a
+    /// target 50–100 units away, only for the cut to bring it back half a
+    /// second later. Near the target it sees him again as soon as he comes
+    /// out.
     pub(super) fn vdistance(&mut self, g: &Vdg<'_>, scene: &Scene, face: u32, k: V3) -> f64 {
         if scene.out_of_reach {
             return (k - scene.t).norm().min(FAR_WAY);
