@@ -491,13 +491,8 @@ mod tests {
         let bytes = strip(160);
         let file = crate::VdgFile::from_bytes(&bytes).unwrap();
         let g = file.graph();
-        let mut rng = 0x9e37_79b9_u32;
-        let mut next = move || {
-            rng ^= rng << 13;
-            rng ^= rng >> 17;
-            rng ^= rng << 5;
-            rng as f32 / u32::MAX as f32
-        };
+        let mut rng = toolbox::SplitMix64::new(17);
+        let mut next = move || rng.next_f32();
         for round in 0..20 {
             let src_face = (round * 7) % g.face_count() as u32;
             let src = g.vertices()[g.face(src_face)[0] as usize]
