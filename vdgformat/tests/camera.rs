@@ -859,3 +859,66 @@ fn a_camera_waits_near_a_target_it_cannot_reach_rather_than_running_the_way_roun
         );
     }
 }
+
+/// The fastest the eye moved (units/s) in a frame whose update began and
+/// ended with the target in view, for a camera following a target that
+/// walks at `speed` along x across an open field for 4 s and back for 4 s
+/// (it swings round him when he turns).
+fn fastest_while_seen(params: CameraParams, dt: f32, speed: f64) -> f64 {
+    let file = open(&grid(40, 40, 32.0, |_, _| 64.0, |_, _| 64.0, |_, _| true));
+    let g = file.graph();
+    let walk = |t: f64| {
+        let (x, dir) = if t < 4.0 {
+            (300.0 + speed * t, 1.0f32)
+        } else {
+            (300.0 + speed * (8.0 - t), -1.0)
+        };
+        Target::new(
+            [x as f32, 640.0, 64.0],
+            [dir, 0.0, 0.0],
+            [dir * speed as f32, 0.0, 0.0],
+        )
+    };
+    let mut cam = Camera::new(params).unwrap();
+    let mut last = cam.reset(&g, &walk(0.0));
+    let mut fastest = 0.0f64;
+    for i in 1..=(8.0 / dt) as usize {
+        let p = cam.update(&g, &walk(f64::from(i as u32) * f64::from(dt)), dt);
+        assert!(!p.cut, "frame {i}: cut");
+        if p.target_visible && last.target_visible {
+            let d: f64 = (0..3)
+                .map(|k| f64::from(p.eye[k] - last.eye[k]).powi(2))
+                .sum();
+            fastest = fastest.max(d.sqrt() / f64::from(dt));
+        }
+        last = p;
+    }
+    fastest
+}
+
+#[test]
+fn a_camera_that_sees_its_target_never_outruns_him_by_more_than_twice() {
+    // A slow target (a crouching player, 96 units/s, or slower) who turns
+    // round: the camera swings round him, and while it sees him it moves at
+    // most twice his recent top speed, that speed taken as at least
+    // `seen_speed_floor`. Without the bound the swing ran at up to 257
+    // units/s.
+    let bound = |speed: f64| 2.0 * speed.max(96.0);
+    let free = CameraParams {
+        seen_speed_factor: 0.0,
+        ..CameraParams::default()
+    };
+    assert!(
+        fastest_while_seen(free, 1.0 / 60.0, 96.0) > 1.1 * bound(96.0),
+        "the unbounded camera stays slow here: the test shows nothing"
+    );
+    for dt in [1.0f32 / 60.0, 1.0 / 30.0] {
+        for speed in [60.0, 96.0, 200.0] {
+            let fastest = fastest_while_seen(CameraParams::default(), dt, speed);
+            assert!(
+                fastest <= 1.01 * bound(speed),
+                "dt {dt}, target at {speed} units/s: the camera moved at {fastest:.0}"
+            );
+        }
+    }
+}

@@ -77,6 +77,7 @@ impl Camera {
             d_mu: scene.d_mu,
             brake_speed: scene.target_speed,
             goal: pos,
+            recent_target_speed: scene.target_speed,
         });
         let visible = pos == scene.t_vis || self.sees_finally(g, face, pos, scene);
         if let Some(s) = self.state.as_mut() {

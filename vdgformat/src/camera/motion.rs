@@ -22,6 +22,11 @@ const FIELD_RADIUS: f32 = 48.0;
 /// the volume they are certified in.
 pub(super) const CLAMP_TOL: f64 = 0.125;
 
+/// How long (s) the camera remembers the target's top speed for
+/// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor): the time constant with
+/// which it is forgotten.
+pub(super) const SEEN_SPEED_MEMORY: f64 = 1.0;
+
 impl Camera {
     /// The margin the camera keeps from the volume's boundary at `pos`:
     /// the near-plane margin, or a little less than the current clearance
@@ -83,6 +88,17 @@ impl Camera {
         let to_goal = s.goal - s.pos;
         let dist_goal = to_goal.norm();
         let v = self.speed(scene, &s, f64::from(current.total), dist_goal);
+        s.recent_target_speed = scene
+            .target_speed
+            .max(s.recent_target_speed * (-scene.dt / SEEN_SPEED_MEMORY).exp());
+        let v = if self.params.seen_speed_factor > 0.0 && s.visible && current.vis == 0.0 {
+            let allowed = s
+                .recent_target_speed
+                .max(f64::from(self.params.seen_speed_floor));
+            v.min(f64::from(self.params.seen_speed_factor) * allowed)
+        } else {
+            v
+        };
         let dir = if dist_goal > 1e-9 {
             to_goal * (1.0 / dist_goal)
         } else {

@@ -286,6 +286,19 @@ pub struct CameraParams {
     /// target needs its speed; it still never passes its best candidate.
     /// 0 = the thesis.
     pub target_speed_floor: f32,
+    /// While the camera sees the target (at its last update, and now
+    /// where it stands and where the target is heading), it moves no faster
+    /// than this many times the target's recent top speed (the fastest it
+    /// moved, forgotten with a time constant of one second), and that speed
+    /// is taken as at least `seen_speed_floor`. A camera that sees its
+    /// player has no need to outrun him; held up at a narrow spot behind a
+    /// crouching player (96 units/s) one caught up at 284 units/s. While
+    /// the target is hidden the camera may still hurry. 0 = no bound (the
+    /// thesis).
+    pub seen_speed_factor: f32,
+    /// The least target speed (units/s) [`Self::seen_speed_factor`] allows
+    /// for: a player who stands still can still be walked round.
+    pub seen_speed_floor: f32,
     /// d_μ is at most this many times the target's room (the graph's
     /// clearance at the target), never below `distance_min`: where the
     /// player has little room the camera follows closer. At the full d_μ a
@@ -371,6 +384,8 @@ impl Default for CameraParams {
             pursuit_length: 128.0,
             inertia_target_speed: 1.0,
             target_speed_floor: 1.0,
+            seen_speed_factor: 2.0,
+            seen_speed_floor: 96.0,
             distance_room_factor: 2.0,
             distance_min: 40.0,
             distance_room_tau: 0.5,
@@ -410,6 +425,8 @@ impl CameraParams {
             pursuit_length: 0.0,
             inertia_target_speed: 0.0,
             target_speed_floor: 0.0,
+            seen_speed_factor: 0.0,
+            seen_speed_floor: 0.0,
             distance_room_factor: 0.0,
             clearance_within_target_room: false,
             sight_lead: 0.0,
@@ -459,6 +476,8 @@ impl CameraParams {
             ("pursuit_length", self.pursuit_length),
             ("inertia_target_speed", self.inertia_target_speed),
             ("target_speed_floor", self.target_speed_floor),
+            ("seen_speed_factor", self.seen_speed_factor),
+            ("seen_speed_floor", self.seen_speed_floor),
             ("distance_room_factor", self.distance_room_factor),
             ("distance_min", self.distance_min),
             ("distance_room_tau", self.distance_room_tau),

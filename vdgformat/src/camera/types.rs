@@ -221,6 +221,10 @@ pub(super) struct State {
     /// The point the camera headed for in the last update (see
     /// [`CameraParams::goal_tau`](super::CameraParams::goal_tau)).
     pub(super) goal: V3,
+    /// The fastest the target moved lately (units/s), forgotten with
+    /// [`SEEN_SPEED_MEMORY`](super::motion::SEEN_SPEED_MEMORY) (see
+    /// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor)).
+    pub(super) recent_target_speed: f64,
 }
 
 /// The target as this frame sees it.
