@@ -527,9 +527,10 @@ impl Camera {
     /// one frame). [`Self::brake_at_walls`] sees only the nearest wall,
     /// which is seldom the one ahead: a camera swinging round a player in
     /// a narrow room ran at 400 units/s into a wall a little further off,
-    /// the move was cut short there and the camera lost 300 units/s in two
-    /// frames (four times `max_decel`, the largest jerk of a spawn route at
-    /// 1/30 s).
+    /// the move was cut short there and the camera lost 300 units/s in
+    /// three frames (four times `max_decel`, the largest jerk of a spawn
+    /// route at 1/30 s).
+    ///
     /// The camera stands at `pos` in face `face`; `dt` is the frame time.
     fn brake_before_the_wall_ahead(
         &self,
