@@ -22,11 +22,6 @@ const FIELD_RADIUS: f32 = 48.0;
 /// the volume they are certified in.
 pub(super) const CLAMP_TOL: f64 = 0.125;
 
-/// How long (s) the camera remembers the target's top speed for
-/// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor): the time constant with
-/// which it is forgotten.
-pub(super) const SEEN_SPEED_MEMORY: f64 = 1.0;
-
 impl Camera {
     /// The margin the camera keeps from the volume's boundary at `pos`:
     /// the near-plane margin, or a little less than the current clearance
@@ -87,18 +82,10 @@ impl Camera {
         s.goal = self.goal_after(scene.dt, s.goal, target_moved, best_pos, s.visible);
         let to_goal = s.goal - s.pos;
         let dist_goal = to_goal.norm();
-        let v = self.speed(scene, &s, f64::from(current.total), dist_goal);
-        s.recent_target_speed = scene
-            .target_speed
-            .max(s.recent_target_speed * (-scene.dt / SEEN_SPEED_MEMORY).exp());
-        let v = if self.params.seen_speed_factor > 0.0 && s.visible && current.vis == 0.0 {
-            let allowed = s
-                .recent_target_speed
-                .max(f64::from(self.params.seen_speed_floor));
-            v.min(f64::from(self.params.seen_speed_factor) * allowed)
-        } else {
-            v
-        };
+        // Seen at the last update, and now where the camera stands and where
+        // the target is heading.
+        let seeing = s.visible && current.vis == 0.0;
+        let v = self.speed(scene, &s, f64::from(current.total), dist_goal, seeing);
         let dir = if dist_goal > 1e-9 {
             to_goal * (1.0 / dist_goal)
         } else {
@@ -176,11 +163,12 @@ impl Camera {
     }
 
     /// The step rule (thesis 5.3): the speed follows the command with
-    /// `frac = 1 − e^(−Δt/τ)`, capped at the top speed and, with
-    /// `max_decel`, at the speed from which the camera can stop at the
-    /// point it heads for, `dist_goal` away. `f_cur` is f_total where the
-    /// camera is.
-    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_goal: f64) -> f64 {
+    /// `frac = 1 − e^(−Δt/τ)`, capped at the top speed, with `max_decel` at
+    /// the speed from which the camera can stop at the point it heads for,
+    /// `dist_goal` away, and while it is `seeing` the target at
+    /// `seen_speed_factor` times his recent top speed. `f_cur` is f_total
+    /// where the camera is.
+    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_goal: f64, seeing: bool) -> f64 {
         let frac = lag_fraction(scene.dt, self.params.speed_tau);
         // The thesis' command (1 + V)·√f_total has the fixed point
         // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
@@ -193,8 +181,16 @@ impl Camera {
         // moves that point on). Without it the command winds up to top speed
         // (f_clear grows with the speed it rates) and a camera behind a
         // player standing still hunted back and forth across the ideal.
-        if self.params.max_decel > 0.0 {
+        let v = if self.params.max_decel > 0.0 {
             v.min((2.0 * f64::from(self.params.max_decel) * dist_goal).sqrt() + scene.brake_speed)
+        } else {
+            v
+        };
+        if seeing && self.params.seen_speed_factor > 0.0 {
+            let allowed = scene
+                .recent_target_speed
+                .max(f64::from(self.params.seen_speed_floor));
+            v.min(f64::from(self.params.seen_speed_factor) * allowed)
         } else {
             v
         }
@@ -614,6 +610,7 @@ fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
     s.heading = heading;
     s.d_mu = scene.d_mu;
     s.brake_speed = scene.brake_speed;
+    s.recent_target_speed = scene.recent_target_speed;
     if scene.searched {
         s.outside_search = Some(scene.t);
     } else if scene.inside {

@@ -13,6 +13,20 @@ use crate::read::Vdg;
 /// one-face visibility shortcut (the line-of-sight certificate's margin).
 pub(super) const INSIDE: f64 = 1e-4;
 
+/// How long (s) the camera remembers the target's top speed for
+/// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor): the time constant with
+/// which it is forgotten.
+const SEEN_SPEED_MEMORY: f64 = 1.0;
+
+/// This frame's [`Scene::recent_target_speed`]: the target's speed, or the
+/// last update's (`last`) forgotten over `dt` with [`SEEN_SPEED_MEMORY`]
+/// when that is higher.
+fn recent_target_speed_after(target_speed: f64, last: Option<f64>, dt: f64) -> f64 {
+    last.map_or(target_speed, |last| {
+        target_speed.max(last * (-dt.max(0.0) / SEEN_SPEED_MEMORY).exp())
+    })
+}
+
 impl Camera {
     /// The target's heading as a unit vector, with the pitch weighted by
     /// [`CameraParams::heading_pitch_weight`](super::CameraParams::heading_pitch_weight); a zero heading keeps the
@@ -99,6 +113,11 @@ impl Camera {
             inside,
             target_speed,
             brake_speed: self.brake_speed_after(target_speed, state.map(|s| s.brake_speed), dt),
+            recent_target_speed: recent_target_speed_after(
+                target_speed,
+                state.map(|s| s.recent_target_speed),
+                dt,
+            ),
             a_n,
             dt,
             c_t,

@@ -221,9 +221,7 @@ pub(super) struct State {
     /// The point the camera headed for in the last update (see
     /// [`CameraParams::goal_tau`](super::CameraParams::goal_tau)).
     pub(super) goal: V3,
-    /// The fastest the target moved lately (units/s), forgotten with
-    /// [`SEEN_SPEED_MEMORY`](super::motion::SEEN_SPEED_MEMORY) (see
-    /// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor)).
+    /// [`Scene::recent_target_speed`] of the last update.
     pub(super) recent_target_speed: f64,
 }
 
@@ -246,6 +244,11 @@ pub(super) struct Scene {
     /// speed in one frame; braking for that at once threw the camera's
     /// velocity command down by as much, the largest jerk on a playtest.
     pub(super) brake_speed: f64,
+    /// The fastest the target moved lately (units/s): this update's speed,
+    /// or the last update's recent top speed forgotten with a time constant
+    /// of one second when that is higher (see
+    /// [`CameraParams::seen_speed_factor`](super::CameraParams::seen_speed_factor)).
+    pub(super) recent_target_speed: f64,
     /// The ideal direction from the target to the camera (unit).
     pub(super) a_n: V3,
     pub(super) dt: f64,

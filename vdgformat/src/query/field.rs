@@ -203,6 +203,15 @@ impl DistanceField {
         self.stamp[v as usize] >> 1 == self.epoch
     }
 
+    /// Whether `v` is left out for want of clearance (see
+    /// [`Self::set_min_clearance`]) and was not entered as a corner of the
+    /// source's face: proving it unreachable would settle its whole
+    /// component, so its distance is `INFINITY` at once.
+    #[inline]
+    fn never_entered(&self, g: &Vdg<'_>, v: u32) -> bool {
+        !self.seen(v) && g.vertices[v as usize].clearance < self.min_clearance
+    }
+
     #[inline]
     fn is_settled(&self, v: u32) -> bool {
         self.stamp[v as usize] == (self.epoch << 1 | 1)
@@ -274,8 +283,7 @@ impl DistanceField {
     /// was never reset.
     pub fn vertex_distance(&mut self, g: &Vdg<'_>, v: u32) -> f32 {
         assert!(self.active, "DistanceField::vertex_distance before reset");
-        if !self.seen(v) && g.vertices[v as usize].clearance < self.min_clearance {
-            // Never entered: proving it would settle the whole component.
+        if self.never_entered(g, v) {
             return f32::INFINITY;
         }
         self.grow_until(g, v);
@@ -315,6 +323,7 @@ impl DistanceField {
         if face == self.source_face {
             return (q - self.source).norm() as f32;
         }
+        assert!(self.active, "DistanceField::vdistance before reset");
         let corners = g.faces.get(face);
         let legs = corners.map(|v| (g.pos(v) - q).norm() as f32);
         let mut order = [0usize, 1, 2];
@@ -341,7 +350,7 @@ impl DistanceField {
         if self.is_settled(v) {
             return self.dist[v as usize];
         }
-        if !self.seen(v) && g.vertices[v as usize].clearance < self.min_clearance {
+        if self.never_entered(g, v) {
             return f32::INFINITY;
         }
         let p = g.pos(v);
