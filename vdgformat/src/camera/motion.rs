@@ -239,7 +239,8 @@ impl Camera {
         };
         let accel_lag = self.params.accel_tau > 0.0;
         let vel = self.brake_at_walls(g, s, vel, here_clear, margin);
-        let vel = self.brake_before_the_wall_ahead(g, s.pos, s.face, vel, scene.dt, margin);
+        let room = (here_clear - f64::from(margin)).max(0.0);
+        let vel = self.brake_before_the_wall_ahead(g, s.pos, s.face, vel, scene.dt, margin, room);
         let vel = self.brake_before_the_target(scene, s, vel);
         let mut step = vel * scene.dt;
         let len = step.norm();
@@ -527,7 +528,12 @@ impl Camera {
     /// three frames (four times `max_decel`, the largest jerk of a spawn
     /// route at 1/30 s).
     ///
-    /// The camera stands at `pos` in face `face`; `dt` is the frame time.
+    /// The camera stands at `pos` in face `face` with `room` to the margin
+    /// in every direction (its clearance less the margin); `dt` is the
+    /// frame time. Where the way to look along fits in that room the wall
+    /// ahead cannot be nearer, and no move is traced (most updates, away
+    /// from walls).
+    #[allow(clippy::too_many_arguments)]
     fn brake_before_the_wall_ahead(
         &self,
         g: &Vdg<'_>,
@@ -536,6 +542,7 @@ impl Camera {
         vel: V3,
         dt: f64,
         margin: f32,
+        room: f64,
     ) -> V3 {
         let a = f64::from(self.params.max_decel);
         let speed = vel.norm();
@@ -543,6 +550,9 @@ impl Camera {
             return vel;
         }
         let look = speed * speed / (2.0 * a) + speed * dt;
+        if look <= room {
+            return vel;
+        }
         let ahead = pos + vel * (look / speed);
         let moved = g.advance_tol(
             face,
@@ -734,8 +744,15 @@ mod tests {
         for x in [100.0f32, 300.0, 350.0, 380.0] {
             let p = [x, 20.0, 0.0];
             let face = g.nearest_face(p).unwrap().face;
-            let braked =
-                cam.brake_before_the_wall_ahead(&g, V3::from_f32(p), face, vel, 1.0 / 30.0, margin);
+            let braked = cam.brake_before_the_wall_ahead(
+                &g,
+                V3::from_f32(p),
+                face,
+                vel,
+                1.0 / 30.0,
+                margin,
+                0.0,
+            );
             // The way left: to the end of the volume (the hull of the last
             // two vertices' balls, 30 units beyond x = 400) less the margin.
             let way = 430.0 - f64::from(margin) - f64::from(x);
