@@ -23,6 +23,18 @@ const FIELD_RADIUS: f32 = 48.0;
 pub(super) const CLAMP_TOL: f64 = 0.125;
 
 impl Camera {
+    /// How long the camera takes to answer a new speed limit: the lag of its
+    /// velocity (`direction_tau`) and of its acceleration (`accel_tau`). The
+    /// limits that bring it to its goal and to the distance it keeps from
+    /// the target allow for it (see [`stopping_speed`]): with the bare
+    /// `√(2 · max_decel · way)` the camera ran at its goal at speed, its
+    /// velocity reached the limit a reaction time late, and it braked at up
+    /// to three times `max_decel` in the last frames (a playtest's and the
+    /// spawn routes' largest jerk at 1/30 s).
+    fn reaction_time(&self) -> f64 {
+        f64::from(self.params.direction_tau) + f64::from(self.params.accel_tau)
+    }
+
     /// The margin the camera keeps from the volume's boundary at `pos`:
     /// the near-plane margin, or a little less than the current clearance
     /// when the camera is already closer (so it can still move out).
@@ -85,7 +97,8 @@ impl Camera {
         // Seen at the last update, and now where the camera stands and where
         // the target is heading.
         let seeing = s.visible && current.vis == 0.0;
-        let v = self.speed(scene, &s, f64::from(current.total), dist_goal, seeing);
+        let top = self.top_speed(scene, seeing);
+        let v = self.speed(scene, &s, f64::from(current.total), dist_goal, top);
         let dir = if dist_goal > 1e-9 {
             to_goal * (1.0 / dist_goal)
         } else {
@@ -100,7 +113,7 @@ impl Camera {
             s.vel = dir * v;
             (p, f)
         } else {
-            self.move_smoothly(g, scene, &mut s, dir, dist_goal, v, margin, here_clear)
+            self.move_smoothly(g, scene, &mut s, dir, dist_goal, v, top, margin, here_clear)
         };
         let moved = (new_pos - s.pos).norm();
         s.speed = v;
@@ -163,12 +176,11 @@ impl Camera {
     }
 
     /// The step rule (thesis 5.3): the speed follows the command with
-    /// `frac = 1 − e^(−Δt/τ)`, capped at the top speed, with `max_decel` at
-    /// the speed from which the camera can stop at the point it heads for,
-    /// `dist_goal` away, and while it is `seeing` the target at
-    /// `seen_speed_factor` times his recent top speed. `f_cur` is f_total
-    /// where the camera is.
-    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_goal: f64, seeing: bool) -> f64 {
+    /// `frac = 1 − e^(−Δt/τ)`, with `max_decel` at the speed from which the
+    /// camera can stop at the point it heads for, `dist_goal` away, and
+    /// capped at `top` (see [`Self::top_speed`]). `f_cur` is f_total where
+    /// the camera is.
+    fn speed(&self, scene: &Scene, s: &State, f_cur: f64, dist_goal: f64, top: f64) -> f64 {
         let frac = lag_fraction(scene.dt, self.params.speed_tau);
         // The thesis' command (1 + V)·√f_total has the fixed point
         // √f/(1 − √f) below f = 1: a resting camera hardly moves until the
@@ -182,17 +194,31 @@ impl Camera {
         // (f_clear grows with the speed it rates) and a camera behind a
         // player standing still hunted back and forth across the ideal.
         let v = if self.params.max_decel > 0.0 {
-            v.min((2.0 * f64::from(self.params.max_decel) * dist_goal).sqrt() + scene.brake_speed)
+            let a = f64::from(self.params.max_decel);
+            v.min(stopping_speed(a, dist_goal, self.reaction_time()) + scene.brake_speed)
         } else {
             v
         };
+        v.min(top)
+    }
+
+    /// The fastest the camera may move in this update: `max_speed`, and
+    /// while it is `seeing` the target `seen_speed_factor` times his recent
+    /// top speed (at least `seen_speed_floor`). Both the step rule's speed
+    /// and the velocity the acceleration's lag lets through keep to it: the
+    /// lag overshoots a step in its command a little, and a camera held to
+    /// twice a crouching player's 96 units/s moved at 192.2.
+    fn top_speed(&self, scene: &Scene, seeing: bool) -> f64 {
+        let top = f64::from(self.params.max_speed);
         if seeing && self.params.seen_speed_factor > 0.0 {
             let allowed = scene
                 .recent_target_speed
                 .max(f64::from(self.params.seen_speed_floor));
-            v.min(f64::from(self.params.seen_speed_factor) * allowed)
+            top.min(
+                f64::from(self.params.seen_speed_factor) * allowed * (1.0 - SEEN_SPEED_ROUNDING),
+            )
         } else {
-            v
+            top
         }
     }
 
@@ -226,6 +252,7 @@ impl Camera {
         dir: V3,
         dist_goal: f64,
         v: f64,
+        top: f64,
         margin: f32,
         here_clear: f64,
     ) -> (V3, u32) {
@@ -263,7 +290,7 @@ impl Camera {
             // pass the best candidate a little more).
             let commanded = step * (1.0 / scene.dt);
             let vel = if accel_lag {
-                self.lag_acceleration(scene, s, commanded)
+                self.lag_acceleration(scene, s, commanded, top)
             } else {
                 self.limit_jerk(scene, s, commanded)
             };
@@ -429,6 +456,11 @@ impl Camera {
 /// gives up (the clearance's slope along it is about one).
 const KEEP_ROOM_TRIES: usize = 3;
 
+/// The share of the seen-speed cap ([`Camera::top_speed`]) kept back for
+/// rounding: positions are f32, and a step of exactly the cap measured
+/// between two rounded eye positions came out up to 0.01 units/s faster.
+const SEEN_SPEED_ROUNDING: f64 = 1e-3;
+
 /// How much more room than needed (units) a pushed-back end point aims for,
 /// so that rounding to f32 does not leave it a hair short.
 const KEEP_ROOM_EXTRA: f64 = 1e-3;
@@ -437,14 +469,14 @@ impl Camera {
     /// With `accel_tau`, the velocity `vel` the step wants, reached through
     /// the acceleration that would reach it in this update, followed with
     /// the lag `accel_tau` (kept in the state for the next update): the
-    /// acceleration is continuous. Never faster than the top speed (a
-    /// lagged acceleration carries on a little after its command stopped).
-    fn lag_acceleration(&self, scene: &Scene, s: &mut State, vel: V3) -> V3 {
+    /// acceleration is continuous. Never faster than `top`, the update's
+    /// top speed (a lagged acceleration carries on a little after its
+    /// command stopped).
+    fn lag_acceleration(&self, scene: &Scene, s: &mut State, vel: V3, top: f64) -> V3 {
         let k = lag_fraction(scene.dt, self.params.accel_tau);
         let wanted = (vel - s.vel) * (1.0 / scene.dt);
         s.acc = s.acc + (wanted - s.acc) * k;
         let vel = s.vel + s.acc * scene.dt;
-        let top = f64::from(self.params.max_speed);
         let speed = vel.norm();
         if speed > top {
             vel * (top / speed)
@@ -602,7 +634,8 @@ impl Camera {
         let u = to_t * (1.0 / r);
         let closing = vel.dot(u);
         let near = scene.d_mu;
-        let limit = (2.0 * a * (r - near).max(0.0)).sqrt() + scene.brake_speed;
+        let limit =
+            stopping_speed(a, (r - near).max(0.0), self.reaction_time()) + scene.brake_speed;
         if closing > limit {
             vel - u * (closing - limit)
         } else {
@@ -626,6 +659,20 @@ fn remember_target(s: &mut State, scene: &Scene, heading: V3) {
     } else if scene.inside {
         s.outside_search = None;
     }
+}
+
+/// The highest speed from which braking at `a` (units/s²), begun `lag`
+/// seconds late, stops within `way` units: `a·(√(lag² + 2·way/a) − lag)`,
+/// the familiar `√(2·a·way)` when `lag` is 0. Near the end of the way it
+/// falls in proportion to the way left (`way/lag`), so whatever follows
+/// this bound settles with the time constant `lag` and its deceleration
+/// fades to zero, where the bare square root asks for the full rate up to
+/// the last unit and drops it there.
+pub(super) fn stopping_speed(a: f64, way: f64, lag: f64) -> f64 {
+    if lag <= 0.0 {
+        return (2.0 * a * way).sqrt();
+    }
+    a * ((lag * lag + 2.0 * way / a).sqrt() - lag)
 }
 
 /// How far a quantity smoothed with time constant `tau` (s) moves towards
@@ -727,6 +774,63 @@ mod tests {
             b.add_face([low[i + 1], high[i + 1], high[i]]);
         }
         crate::VdgFile::from_bytes(&b.to_bytes().unwrap()).unwrap()
+    }
+
+    #[test]
+    fn the_stopping_speed_stops_within_the_way_after_the_reaction_time() {
+        let a = 1000.0;
+        for way in [0.0, 0.5, 10.0, 80.0, 1000.0] {
+            // No lag: the familiar square root.
+            assert_eq!(super::stopping_speed(a, way, 0.0), (2.0 * a * way).sqrt());
+            for lag in [0.05, 0.18, 0.5] {
+                let v = super::stopping_speed(a, way, lag);
+                // Coasting `lag` seconds, then braking at `a`, covers the way.
+                let covered = v * lag + v * v / (2.0 * a);
+                assert!(
+                    (covered - way).abs() <= 1e-9 * way.max(1.0),
+                    "{way} {lag}: {covered}"
+                );
+                assert!(v <= (2.0 * a * way).sqrt());
+                // Near the end, the speed falls in proportion to the way left.
+                if way <= 0.5 {
+                    assert!((v - way / lag).abs() <= 0.2 * way / lag, "{way} {lag}: {v}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_acceleration_lag_never_lets_the_camera_pass_its_top_speed() {
+        let file = corridor();
+        let g = file.graph();
+        let mut cam = Camera::new(CameraParams::default()).unwrap();
+        cam.reset(
+            &g,
+            &Target::new([20.0, 20.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
+        );
+        let mut s = cam.state.unwrap();
+        let scene = cam.scene(
+            &g,
+            V3(20.0, 20.0, 0.0),
+            V3(1.0, 0.0, 0.0),
+            0,
+            Some(&s),
+            1.0 / 60.0,
+        );
+        // Already at 190 units/s and accelerating hard, commanded 192: the
+        // lag alone would carry it past.
+        s.vel = V3(190.0, 0.0, 0.0);
+        s.acc = V3(2000.0, 0.0, 0.0);
+        let vel = cam.lag_acceleration(&scene, &mut s, V3(192.0, 0.0, 0.0), 192.0);
+        assert!(vel.norm() <= 192.0, "{vel:?}");
+        let mut s2 = cam.state.unwrap();
+        s2.vel = V3(190.0, 0.0, 0.0);
+        s2.acc = V3(2000.0, 0.0, 0.0);
+        let free = cam.lag_acceleration(&scene, &mut s2, V3(192.0, 0.0, 0.0), 500.0);
+        assert!(
+            free.norm() > 192.0,
+            "the lag does not overshoot here: {free:?}"
+        );
     }
 
     #[test]

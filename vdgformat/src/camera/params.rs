@@ -178,8 +178,12 @@ pub struct CameraParams {
     /// It now brakes at this rate and may pass the point a little (the
     /// move is still clamped into the volume). The same rate bounds its
     /// speed towards the nearest wall and towards the wall straight ahead,
-    /// so that it can always stop before either. 0 = stop dead, and no
-    /// braking before walls (the thesis).
+    /// so that it can always stop before either. Its speed towards the
+    /// point it heads for, and towards d_μ from the target, is one it can
+    /// stop from with this rate after its reaction time (`direction_tau` +
+    /// `accel_tau`), so it settles onto them instead of braking hard at the
+    /// last moment. 0 = stop dead, and no braking before walls (the
+    /// thesis).
     pub max_decel: f32,
     /// The most the camera's acceleration changes per second (units/s³,
     /// 0 = no bound, the thesis). The velocity follows its command through
