@@ -615,8 +615,9 @@ impl Camera {
 
 impl Camera {
     /// With `max_decel`, the camera closes in on the target no faster than
-    /// it can brake from before it comes within d_μ of it, plus the
-    /// target's own speed: nearer than d_μ f_dist wants it back, never on.
+    /// it can brake from, after its reaction time, before it comes within
+    /// d_μ of him (see [`stopping_speed`]), plus his own speed: nearer than
+    /// d_μ f_dist wants it back, never on.
     /// A camera catching up at speed when the player stopped ran on up to
     /// him (or past him) and, at rest there, stayed too close: f_inertia
     /// rates every start from rest alike, so a distance error under 2 d_σ
