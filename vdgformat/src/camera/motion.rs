@@ -809,25 +809,26 @@ mod tests {
             &g,
             &Target::new([20.0, 20.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
         );
-        let mut s = cam.state.unwrap();
+        let start = cam.state.unwrap();
         let scene = cam.scene(
             &g,
             V3(20.0, 20.0, 0.0),
             V3(1.0, 0.0, 0.0),
             0,
-            Some(&s),
+            Some(&start),
             1.0 / 60.0,
         );
         // Already at 190 units/s and accelerating hard, commanded 192: the
-        // lag alone would carry it past.
-        s.vel = V3(190.0, 0.0, 0.0);
-        s.acc = V3(2000.0, 0.0, 0.0);
-        let vel = cam.lag_acceleration(&scene, &mut s, V3(192.0, 0.0, 0.0), 192.0);
+        // lag alone would carry it past a top speed of 192, not of 500.
+        let lagged = |top: f64| {
+            let mut s = start;
+            s.vel = V3(190.0, 0.0, 0.0);
+            s.acc = V3(2000.0, 0.0, 0.0);
+            cam.lag_acceleration(&scene, &mut s, V3(192.0, 0.0, 0.0), top)
+        };
+        let vel = lagged(192.0);
         assert!(vel.norm() <= 192.0, "{vel:?}");
-        let mut s2 = cam.state.unwrap();
-        s2.vel = V3(190.0, 0.0, 0.0);
-        s2.acc = V3(2000.0, 0.0, 0.0);
-        let free = cam.lag_acceleration(&scene, &mut s2, V3(192.0, 0.0, 0.0), 500.0);
+        let free = lagged(500.0);
         assert!(
             free.norm() > 192.0,
             "the lag does not overshoot here: {free:?}"
