@@ -78,6 +78,60 @@ fn spawn_routes_stay_on_the_floor_and_free_for_the_player_hull() {
     }
 }
 
+/// A spawn route ends as a player arriving does: letting go of the keys in time to
+/// slide to rest at the path's end under the game's friction, then standing there for
+/// half a second. The walker used to run into the end at full speed and stop dead in
+/// one step (250 units/s lost in 1/120 s, which no GoldSrc player can do), the largest
+/// jerk of every route for any camera that follows the player.
+#[test]
+fn a_spawn_route_slides_to_rest_at_its_end() {
+    let step = 1.0 / 120.0;
+    for world in mapgen::worlds::worlds() {
+        if world.spawn_points().len() < 2 {
+            continue;
+        }
+        let bsp = Bsp::open(map(&world.name)).unwrap();
+        let oracle = Oracle::new(&bsp, &OracleOptions::default());
+        let (routes, stats, _) = spawns::routes(&bsp, &oracle, 1, 2);
+        for (r, s) in routes.iter().zip(&stats) {
+            if s.cut_short || s.climb_steps > 0 {
+                continue;
+            }
+            let speed = |t: &TargetState| f64::from(t.velocity[0]).hypot(f64::from(t.velocity[1]));
+            // The last 0.6 s before coming to rest: a stop from a run takes about
+            // half a second under friction.
+            let end = r.states.last().unwrap();
+            let moving = r.states.len()
+                - r.states
+                    .iter()
+                    .rev()
+                    .take_while(|t| speed(t) < 1.0 && t.origin == end.origin)
+                    .count();
+            let rest = r.states.len() - moving;
+            let from = moving.saturating_sub((0.6 / step) as usize);
+            for w in r.states[from..=moving.min(r.states.len() - 1)].windows(2) {
+                let (v0, v1) = (speed(&w[0]), speed(&w[1]));
+                // Friction: 4 × max(v, 100) units/s², and a little for the corners the
+                // settled feet cut.
+                let most = 4.0 * v0.max(100.0) * step + 2.0;
+                assert!(
+                    v0 - v1 <= most,
+                    "{} {}: {v0:.1} → {v1:.1} units/s at t={:.3}",
+                    world.name,
+                    r.name,
+                    w[1].t
+                );
+            }
+            assert!(
+                rest as f64 * step >= 0.45,
+                "{} {}: at rest for {rest} steps at the end",
+                world.name,
+                r.name
+            );
+        }
+    }
+}
+
 /// A standing waypoint of a path at `(x, y)` on the floor at height `floor`.
 fn standing(x: f64, y: f64, floor: f64) -> Waypoint {
     Waypoint {

@@ -32,6 +32,9 @@ const CLIMB_SPEED: f64 = 200.0;
 /// The longest move between two frames a route may make after a stretch without a
 /// floor: more would be a jump no player makes; the route ends before it instead.
 const LONGEST_CATCH_UP: f64 = 16.0;
+/// How long the player stands at the end of the path after stopping there (seconds),
+/// so the cameras are also judged on how they settle.
+const STAND_AT_END: f64 = 0.5;
 
 /// A point of a path on the floor (`floor` is the height of the ground under it).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,9 +62,21 @@ impl Waypoint {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Act {
     Run,
-    Stop { until: f64 },
-    Back { until: f64 },
-    Crouch { until: f64 },
+    Stop {
+        until: f64,
+    },
+    Back {
+        until: f64,
+    },
+    Crouch {
+        until: f64,
+    },
+    /// Letting go of the keys to come to rest at the end of the path, as a player
+    /// does: friction brings the run to a stop there (GoldSrc has no instant stop).
+    /// A player who was crouching stays down.
+    Arrive {
+        crouch: bool,
+    },
 }
 
 /// Shortens a grid path to straight runs: from each point, the farthest later point
@@ -274,6 +289,8 @@ fn walk_part(
     // Where the walk goes on after a stretch it could not follow (see `walk_parts`).
     let mut rest = None;
     let crouching = crouches(oracle);
+    // When the player came to rest at the end of the path.
+    let mut arrived: Option<f64> = None;
     for _ in 0..limit as usize {
         let (_, _, floor, must_crouch, dir) = line.at(s);
         // What the player wants now.
@@ -313,9 +330,21 @@ fn walk_part(
             }
             _ => {}
         }
-        let crouch = must_crouch || matches!(act, Act::Crouch { .. });
+        // Let go in time to slide to rest at the end (a step of slack: the step
+        // after letting go still moves). A stop or a run back carries on: it ends
+        // more than 200 units before the end, where the run resumes first.
+        if matches!(act, Act::Run | Act::Crouch { .. })
+            && v > 0.0
+            && line.length() - s <= stopping_way(v) + v * STEP
+        {
+            act = Act::Arrive {
+                crouch: matches!(act, Act::Crouch { .. }),
+            };
+        }
+        let crouch =
+            must_crouch || matches!(act, Act::Crouch { .. } | Act::Arrive { crouch: true });
         let wish = match act {
-            Act::Stop { .. } => 0.0,
+            Act::Stop { .. } | Act::Arrive { .. } => 0.0,
             Act::Back { .. } => -run_speed,
             _ if crouch => CROUCH_SPEED,
             _ => run_speed,
@@ -403,11 +432,18 @@ fn walk_part(
             game: oracle.game(),
         });
         t += STEP;
-        if s >= line.length() {
-            if v.abs() < 1.0 {
-                break;
+        if s >= line.length() && v.abs() >= 1.0 {
+            // Reached at speed all the same (a path shorter than the way to stop):
+            // the end holds the player, who slows down standing there.
+            if !matches!(act, Act::Arrive { .. }) {
+                act = Act::Arrive { crouch };
             }
-            act = Act::Stop { until: f64::MAX };
+        }
+        if matches!(act, Act::Arrive { .. }) && v.abs() < 1.0 {
+            arrived.get_or_insert(t);
+        }
+        if arrived.is_some_and(|at| t >= at + STAND_AT_END) {
+            break;
         }
     }
     if let Some(first) = states.first_mut() {
@@ -489,6 +525,17 @@ fn climb(
         stats.climb_steps += 1;
         (up, last.1)
     })
+}
+
+/// How far a player running at `v` (≥ 0) along the path slides after letting go of
+/// the keys, under the walker's friction at its step ([`approach_speed`] with no wish).
+fn stopping_way(v: f64) -> f64 {
+    let (mut v, mut way) = (v, 0.0);
+    while v > 0.0 {
+        v = approach_speed(v, 0.0, STEP);
+        way += v * STEP;
+    }
+    way
 }
 
 /// Quake-like speed change over `dt`: accelerate towards the wished speed, friction
