@@ -485,12 +485,6 @@ impl FaceEval {
         fe
     }
 
-    /// The three vertex balls (for tests that build points on the face).
-    #[cfg(test)]
-    pub(crate) fn balls_for_tests(&self) -> [Ball; 3] {
-        self.balls
-    }
-
     #[inline]
     fn edge(&self, i: usize) -> EdgeEval {
         EdgeEval::new(self.balls[i], self.balls[(i + 1) % 3])

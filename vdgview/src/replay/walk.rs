@@ -333,9 +333,13 @@ fn walk_part(
         // Let go in time to slide to rest at the end (a step of slack: the step
         // after letting go still moves). A stop or a run back carries on: it ends
         // more than 200 units before the end, where the run resumes first.
+        // Friction is at least 400 units/s², so the slide is at most v²/800
+        // long: the exact way is only worked out near the end.
+        let left = line.length() - s;
         if matches!(act, Act::Run | Act::Crouch { .. })
             && v > 0.0
-            && line.length() - s <= stopping_way(v) + v * STEP
+            && left <= v * v / 800.0 + v * STEP
+            && left <= stopping_way(v) + v * STEP
         {
             act = Act::Arrive {
                 crouch: matches!(act, Act::Crouch { .. }),
@@ -432,12 +436,10 @@ fn walk_part(
             game: oracle.game(),
         });
         t += STEP;
-        if s >= line.length() && v.abs() >= 1.0 {
+        if s >= line.length() && v.abs() >= 1.0 && !matches!(act, Act::Arrive { .. }) {
             // Reached at speed all the same (a path shorter than the way to stop):
             // the end holds the player, who slows down standing there.
-            if !matches!(act, Act::Arrive { .. }) {
-                act = Act::Arrive { crouch };
-            }
+            act = Act::Arrive { crouch };
         }
         if matches!(act, Act::Arrive { .. }) && v.abs() < 1.0 {
             arrived.get_or_insert(t);
