@@ -195,7 +195,8 @@ impl Camera {
         // player standing still hunted back and forth across the ideal.
         let v = if self.params.max_decel > 0.0 {
             let a = f64::from(self.params.max_decel);
-            v.min(stopping_speed(a, dist_goal, self.reaction_time()) + scene.brake_speed)
+            let arrive = stopping_speed(a, dist_goal, self.reaction_time()) + scene.brake_speed;
+            v.min(arrive.max(no_harder_than(a, s.speed, scene.dt)))
         } else {
             v
         };
@@ -622,6 +623,14 @@ impl Camera {
     /// him (or past him) and, at rest there, stayed too close: f_inertia
     /// rates every start from rest alike, so a distance error under 2 d_σ
     /// never made it back off.
+    ///
+    /// The limit falls by no more than `max_decel` per second (see
+    /// [`no_harder_than`]) as long as the camera can still stop, after its
+    /// reaction time, before it comes within `distance_min` of him (or d_μ
+    /// where that is less): a player who stops with the game's friction
+    /// stops about as hard as the camera may, and the camera, a reaction
+    /// time behind, braked at up to 1.7 times `max_decel` to keep d_μ.
+    /// It now uses part of the room inside d_μ to brake at its own rate.
     fn brake_before_the_target(&self, scene: &Scene, s: &State, vel: V3) -> V3 {
         let a = f64::from(self.params.max_decel);
         if a <= 0.0 {
@@ -634,9 +643,12 @@ impl Camera {
         }
         let u = to_t * (1.0 / r);
         let closing = vel.dot(u);
+        let lag = self.reaction_time();
+        let limit_at = |near: f64| stopping_speed(a, (r - near).max(0.0), lag) + scene.brake_speed;
         let near = scene.d_mu;
-        let limit =
-            stopping_speed(a, (r - near).max(0.0), self.reaction_time()) + scene.brake_speed;
+        let hard = near.min(f64::from(self.params.distance_min));
+        let gentle = no_harder_than(a, s.vel.dot(u), scene.dt).min(limit_at(hard));
+        let limit = limit_at(near).max(gentle);
         if closing > limit {
             vel - u * (closing - limit)
         } else {
@@ -674,6 +686,16 @@ pub(super) fn stopping_speed(a: f64, way: f64, lag: f64) -> f64 {
         return (2.0 * a * way).sqrt();
     }
     a * ((lag * lag + 2.0 * way / a).sqrt() - lag)
+}
+
+/// The least a speed of `v` (units/s) may fall to in an update of `dt`
+/// seconds braking at `a` (units/s²): the floor under the camera's arrival
+/// and closing limits, so that a limit that drops faster (the target
+/// stopping short, the point it heads for jumping close) brakes the camera
+/// at `max_decel`, its stated rate, rather than at whatever the limit's
+/// drop asks for.
+pub(super) fn no_harder_than(a: f64, v: f64, dt: f64) -> f64 {
+    v - a * dt
 }
 
 /// How far a quantity smoothed with time constant `tau` (s) moves towards
@@ -833,6 +855,90 @@ mod tests {
             free.norm() > 192.0,
             "the lag does not overshoot here: {free:?}"
         );
+    }
+
+    /// A camera 200 units behind a target standing on the corridor's axis
+    /// (d_μ 80, the hard distance `distance_min` 40),
+    /// moving at him with `closing` units/s: the closing speed the target
+    /// brake lets through, and the stopping speeds (no target speed) before
+    /// d_μ and before the hard distance.
+    fn closing_after_the_target_brake(closing: f64) -> (f64, f64, f64) {
+        let file = corridor();
+        let g = file.graph();
+        // d_μ as set, not brought in by the corridor's narrow room.
+        let params = CameraParams {
+            distance_room_factor: 0.0,
+            ..CameraParams::default()
+        };
+        let mut cam = Camera::new(params.clone()).unwrap();
+        cam.reset(
+            &g,
+            &Target::new([300.0, 20.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
+        );
+        let mut s = cam.state.unwrap();
+        s.pos = V3(100.0, 20.0, 0.0);
+        s.vel = V3(closing, 0.0, 0.0);
+        let dt = 1.0 / 30.0;
+        let scene = cam.scene(&g, V3(300.0, 20.0, 0.0), V3(1.0, 0.0, 0.0), 0, Some(&s), dt);
+        assert_eq!(scene.brake_speed, 0.0, "the target stands still");
+        let braked = cam.brake_before_the_target(&scene, &s, s.vel);
+        let (a, lag) = (f64::from(params.max_decel), cam.reaction_time());
+        let law = |near: f64| super::stopping_speed(a, 200.0 - near, lag);
+        let hard = scene.d_mu.min(f64::from(params.distance_min));
+        (braked.0, law(scene.d_mu), law(hard))
+    }
+
+    #[test]
+    fn the_target_brake_slows_the_camera_at_max_decel_until_the_hard_distance() {
+        let a = f64::from(CameraParams::default().max_decel);
+        let dt = 1.0 / 30.0;
+        // The target stands; the camera closes in, 200 units off. Slower
+        // than it can stop from before d_μ: not braked.
+        let (_, law_mu, law_hard) = closing_after_the_target_brake(0.0);
+        assert!(law_mu + a * dt < law_hard, "{law_mu} {law_hard}");
+        let (braked, ..) = closing_after_the_target_brake(law_mu - 1.0);
+        assert_eq!(braked, law_mu - 1.0);
+        // Faster: it loses one frame of max_decel, not all it would take to
+        // stop before d_μ, as long as it can stop before the hard distance.
+        let fast = law_mu + 10.0;
+        let (braked, ..) = closing_after_the_target_brake(fast);
+        assert!(
+            (braked - (fast - a * dt).max(law_mu)).abs() < 1e-9,
+            "{braked}"
+        );
+        let faster = law_mu + 0.5 * (law_hard - law_mu) + a * dt;
+        let (braked, ..) = closing_after_the_target_brake(faster);
+        assert!((braked - (faster - a * dt)).abs() < 1e-9, "{braked}");
+        assert!(braked > law_mu, "braked to d_μ's limit at once: {braked}");
+        // Too fast to stop before the hard distance at that rate: the hard
+        // distance's limit.
+        let (braked, ..) = closing_after_the_target_brake(law_hard + a * dt + 20.0);
+        assert!((braked - law_hard).abs() < 1e-9, "{braked} {law_hard}");
+    }
+
+    #[test]
+    fn the_arrival_slows_the_step_rule_by_at_most_max_decel() {
+        let file = corridor();
+        let g = file.graph();
+        let params = CameraParams::default();
+        let a = f64::from(params.max_decel);
+        let mut cam = Camera::new(params).unwrap();
+        cam.reset(
+            &g,
+            &Target::new([300.0, 20.0, 0.0], [1.0, 0.0, 0.0], [0.0; 3]),
+        );
+        let mut s = cam.state.unwrap();
+        s.speed = 300.0;
+        let dt = 1.0 / 30.0;
+        let scene = cam.scene(&g, V3(300.0, 20.0, 0.0), V3(1.0, 0.0, 0.0), 0, Some(&s), dt);
+        assert_eq!(scene.brake_speed, 0.0, "the target stands still");
+        // The point it heads for is suddenly at hand (another candidate
+        // won): the camera brakes at max_decel instead of stopping dead.
+        let v = cam.speed(&scene, &s, 1.0, 0.0, 500.0);
+        assert!((v - (300.0 - a * dt)).abs() < 1e-9, "{v}");
+        // Far from it, the arrival does not bind.
+        let far = cam.speed(&scene, &s, 1.0, 1000.0, 500.0);
+        assert!(far > 300.0 - a * dt + 1.0, "{far}");
     }
 
     #[test]

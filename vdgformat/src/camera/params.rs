@@ -182,8 +182,10 @@ pub struct CameraParams {
     /// point it heads for, and towards d_μ from the target, is one it can
     /// stop from with this rate after its reaction time (`direction_tau` +
     /// `accel_tau`), so it settles onto them instead of braking hard at the
-    /// last moment. 0 = stop dead, and no braking before walls (the
-    /// thesis).
+    /// last moment. Where those limits drop faster (the player stops short,
+    /// the point jumps close), the camera still slows at this rate, and
+    /// may come inside d_μ, as long as it can stop before `distance_min`.
+    /// 0 = stop dead, and no braking before walls (the thesis).
     pub max_decel: f32,
     /// The most the camera's acceleration changes per second (units/s³,
     /// 0 = no bound, the thesis). The velocity follows its command through
