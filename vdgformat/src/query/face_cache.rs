@@ -16,7 +16,7 @@
 //! it. Face indices follow the vertices' spatial order, so neighbouring
 //! faces fall into different slots.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use crate::geom::{FaceEval, V3};
 use crate::read::Vdg;
@@ -35,7 +35,10 @@ pub(crate) struct FaceCache {
     /// Per face, a ball holding its volume, `[x, y, z, radius]` (see
     /// [`FaceCache::reach_below`]).
     spheres: Vec<[f32; 4]>,
-    evals: Vec<Cell<Option<(u32, FaceEval)>>>,
+    /// Slots of recently set-up faces, lent out by reference
+    /// ([`FaceCache::with_face`]): copying a face's 232 bytes out of a
+    /// `Cell` on every use cost more than the borrow flag.
+    evals: RefCell<Vec<Option<(u32, FaceEval)>>>,
     /// Per vertex, the number of the last vertex set that took it (see
     /// [`FaceCache::new_vertex_set`]): a set without a sort to dedupe it.
     taken: Vec<Cell<u32>>,
@@ -66,8 +69,9 @@ impl FaceCache {
     /// Fills the boxes for graph `g`, reusing the memory of earlier ones.
     pub(crate) fn rebuild(&mut self, g: &Vdg<'_>) {
         // The memo names faces of the old graph.
-        self.evals.clear();
-        self.evals.resize(EVAL_SLOTS, Cell::new(None));
+        let evals = self.evals.get_mut();
+        evals.clear();
+        evals.resize(EVAL_SLOTS, None);
         self.taken.clear();
         self.taken.resize(g.vertex_count(), Cell::new(0));
         self.set.set(0);
@@ -111,19 +115,29 @@ impl FaceCache {
         d.norm2() > room * room
     }
 
-    /// Face `f`'s clearance function, from the memo when it holds it.
+    /// Runs `use_face` on face `f`'s clearance function, set up from the
+    /// memo when it holds it (and put there otherwise). A nested call, made
+    /// from inside `use_face`, finds the memo lent out and sets its face up
+    /// afresh: the same function, only slower.
     #[inline]
-    pub(crate) fn face_eval(&self, g: &Vdg<'_>, f: u32) -> FaceEval {
-        let Some(slot) = self.evals.get(f as usize & (EVAL_SLOTS - 1)) else {
-            return g.face_eval(f);
+    pub(crate) fn with_face<R>(
+        &self,
+        g: &Vdg<'_>,
+        f: u32,
+        use_face: impl FnOnce(&FaceEval) -> R,
+    ) -> R {
+        let Ok(mut evals) = self.evals.try_borrow_mut() else {
+            return use_face(&g.face_eval(f));
         };
-        match slot.get() {
-            Some((h, fe)) if h == f => fe,
-            _ => {
-                let fe = g.face_eval(f);
-                slot.set(Some((f, fe)));
-                fe
-            }
+        let Some(slot) = evals.get_mut(f as usize & (EVAL_SLOTS - 1)) else {
+            return use_face(&g.face_eval(f));
+        };
+        if !matches!(slot, Some((h, _)) if *h == f) {
+            *slot = Some((f, g.face_eval(f)));
+        }
+        match slot {
+            Some((_, fe)) => use_face(fe),
+            None => use_face(&g.face_eval(f)),
         }
     }
 
@@ -152,7 +166,7 @@ impl FaceCache {
     /// face set up from the memo when it holds it.
     #[inline]
     pub(crate) fn fc(&self, g: &Vdg<'_>, f: u32, p: V3) -> f64 {
-        self.face_eval(g, f).eval(p)
+        self.with_face(g, f, |fe| fe.eval(p))
     }
 
     /// Minus the distance of `p` to face `f`'s stored box when `p` lies
@@ -420,6 +434,24 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn a_use_of_the_memo_inside_another_gets_the_same_values() {
+        let bytes = two_sheets(8);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
+        let p = V3(40.0, 50.0, 4.0);
+        for f in 0..g.face_count() as u32 {
+            let h = (f + 1) % g.face_count() as u32;
+            // The memo is lent out to the outer use: the inner one sets its
+            // face up afresh.
+            let (outer, inner) = cache.with_face(&g, f, |fe| (fe.eval(p), cache.fc(&g, h, p)));
+            assert_eq!(outer.to_bits(), g.fc(f, p).to_bits(), "face {f}");
+            assert_eq!(inner.to_bits(), g.fc(h, p).to_bits(), "face {h}");
+        }
+    }
+
+    #[test]
     fn the_memo_gives_each_face_its_own_clearance_function() {
         // 2 · 2 · 15² = 900 faces: more than the memo's slots, so faces
         // share slots and must not get each other's functions.
@@ -434,7 +466,7 @@ pub(crate) mod tests {
         for round in 0..2 {
             for k in 0..g.face_count() as u32 {
                 let f = (k * 7 + round) % g.face_count() as u32;
-                let cached = cache.face_eval(&g, f).eval(p);
+                let cached = cache.fc(&g, f, p);
                 assert_eq!(
                     cached.to_bits(),
                     g.face_eval(f).eval(p).to_bits(),

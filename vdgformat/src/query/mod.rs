@@ -593,7 +593,7 @@ impl<'a> Vdg<'a> {
         q: V3,
         rounds: usize,
     ) -> (u32, f64) {
-        let mut cur = (hint, cache.face_eval(self, hint).eval(q));
+        let mut cur = (hint, cache.fc(self, hint, q));
         for _ in 0..rounds {
             let mut best = cur;
             self.for_face_and_neighbours_once(cur.0, |f| {
@@ -602,7 +602,7 @@ impl<'a> Vdg<'a> {
                 {
                     return;
                 }
-                let c = cache.face_eval(self, f).eval(q);
+                let c = cache.fc(self, f, q);
                 if c > best.1 {
                     best = (f, c);
                 }

@@ -360,31 +360,33 @@ impl<'a> Vdg<'a> {
         step_evals: u32,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
-        // The face once, from the memo when there is one.
-        let fe = match cache {
-            Some(c) => c.face_eval(self, face),
-            None => self.face_eval(face),
-        };
-        let g_start = fe.eval(seg.s);
-        if g_start <= INSIDE_EPS {
+        // The face once, from the memo when there is one; `None` when the
+        // start is not inside it.
+        let exit = self.with_face(cache, face, |fe| {
+            let g_start = fe.eval(seg.s);
+            if g_start <= INSIDE_EPS {
+                return None;
+            }
+            // `exit_param` from 0, whose point is the start (to the bit, but
+            // for the sign of a zero).
+            let at0 = seg.at(0.0);
+            let same = [(at0.0, seg.s.0), (at0.1, seg.s.1), (at0.2, seg.s.2)]
+                .iter()
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            let g0 = if same { g_start } else { fe.eval(at0) };
+            Some(exit_with(
+                fe,
+                &seg,
+                0.0,
+                g0 - INSIDE_EPS,
+                self.reach_bound(face, &seg),
+                INSIDE_EPS,
+                BISECT_TOL,
+            ))
+        });
+        let Some(t) = exit else {
             return false;
-        }
-        // `exit_param` from 0, whose point is the start (to the bit, but
-        // for the sign of a zero).
-        let at0 = seg.at(0.0);
-        let same = [(at0.0, seg.s.0), (at0.1, seg.s.1), (at0.2, seg.s.2)]
-            .iter()
-            .all(|(a, b)| a.to_bits() == b.to_bits());
-        let g0 = if same { g_start } else { fe.eval(at0) };
-        let t = exit_with(
-            &fe,
-            &seg,
-            0.0,
-            g0 - INSIDE_EPS,
-            self.reach_bound(face, &seg),
-            INSIDE_EPS,
-            BISECT_TOL,
-        );
+        };
         if t >= 1.0 {
             if let Some(h) = hint {
                 h.restart(face);
@@ -394,6 +396,21 @@ impl<'a> Vdg<'a> {
         self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, cache, step_evals)
             .1
             >= 1.0
+    }
+
+    /// Runs `use_face` on face `f`'s clearance function, from `cache`'s
+    /// memo when there is one.
+    #[inline]
+    fn with_face<R>(
+        &self,
+        cache: Option<&FaceCache>,
+        f: u32,
+        use_face: impl FnOnce(&FaceEval) -> R,
+    ) -> R {
+        match cache {
+            Some(c) => c.with_face(self, f, use_face),
+            None => use_face(&self.face_eval(f)),
+        }
     }
 
     /// Among `candidates` whose volume contains `at(t)`, the one reaching
@@ -529,16 +546,16 @@ impl<'a> Vdg<'a> {
         // The clearance at `reach`: the face must hold both that point and
         // `here` to extend the cover.
         let at_reach = seg.at(reach);
-        let fe = match cache {
-            Some(c) => c.face_eval(self, f),
-            None => self.face_eval(f),
-        };
-        let g_reach = fe.eval_above(at_reach, eps) - eps;
-        if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
-            return;
-        }
-        let exit = exit_with(&fe, seg, reach, g_reach, ub, eps, COVER_TOL);
-        if best.is_none_or(|b| exit > b.1) {
+        let exit = self.with_face(cache, f, |fe| {
+            let g_reach = fe.eval_above(at_reach, eps) - eps;
+            if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
+                return None;
+            }
+            Some(exit_with(fe, seg, reach, g_reach, ub, eps, COVER_TOL))
+        });
+        if let Some(exit) = exit
+            && best.is_none_or(|b| exit > b.1)
+        {
             *best = Some((f, exit));
         }
     }
@@ -693,17 +710,21 @@ impl<'a> Vdg<'a> {
         eps: f64,
         cache: Option<&FaceCache>,
     ) -> Option<(u32, f64)> {
-        let fe = match cache {
-            Some(c) if c.holds(f, &BoxProbe::at(here)) => c.face_eval(self, f),
-            None if self.box_holds(f, here) => self.face_eval(f),
-            _ => return None,
+        let in_box = match cache {
+            Some(c) => c.holds(f, &BoxProbe::at(here)),
+            None => self.box_holds(f, here),
         };
-        let at = fe.eval_above(here, eps);
-        if at <= eps {
+        if !in_box {
             return None;
         }
-        let ub = self.reach_bound(f, seg);
-        Some((f, exit_with(&fe, seg, t, at - eps, ub, eps, COVER_TOL)))
+        self.with_face(cache, f, |fe| {
+            let at = fe.eval_above(here, eps);
+            if at <= eps {
+                return None;
+            }
+            let ub = self.reach_bound(f, seg);
+            Some((f, exit_with(fe, seg, t, at - eps, ub, eps, COVER_TOL)))
+        })
     }
 
     /// The face and every face sharing a vertex with it (thesis:
@@ -963,8 +984,8 @@ impl<'a> Vdg<'a> {
         cache.new_vertex_set();
         out.extend(self.faces.get(face).into_iter().filter(|&v| cache.take(v)));
         self.for_face_and_neighbours_once(face, |g| {
-            let holds = cache.box_bound(g, start).is_none()
-                && cache.face_eval(self, g).eval(start) > INSIDE_EPS;
+            let holds =
+                cache.box_bound(g, start).is_none() && cache.fc(self, g, start) > INSIDE_EPS;
             if holds {
                 out.extend(self.faces.get(g).into_iter().filter(|&v| cache.take(v)));
             }
