@@ -30,6 +30,11 @@ const BISECT_MAX: usize = 60;
 /// How many candidate faces of a cover step are ordered by their reach
 /// bound (a face's neighbourhood rarely has more).
 const SORTED_CANDIDATES: usize = 128;
+/// How many faces of a tree leaf that pass a leaf search's box test are
+/// gathered in one plain loop before the search (see
+/// [`Vdg::leaf_cover_step`]); more than the sorted candidates, so the search
+/// rarely reaches the lazily filtered rest.
+const LEAF_HELD: usize = 256;
 
 /// A cover step's bracket may stay this long (world units): far below a
 /// face's extent, so hops stay few, and it costs about half the evaluations.
@@ -657,24 +662,9 @@ impl<'a> Vdg<'a> {
             }
             if step.is_none() && budget.leaf_searches > 0 && dead_end.is_none() {
                 budget.leaf_searches -= 1;
-                let leaf = self.leaf_faces_at(here);
-                // The neighbourhood step just searched every face sharing a
-                // vertex with `cur` from this very point and none went far
-                // enough, so only the others can; of those, only faces whose
-                // box holds `here`.
-                // The box test first: it rules out most of a leaf.
-                let corners = self.faces.get(cur);
-                let probe = BoxProbe::at(here);
-                let holding = leaf.iter().filter(|&f| {
-                    let in_box = match cache {
-                        Some(c) => c.holds(f, &probe),
-                        None => self.box_holds(f, here),
-                    };
-                    in_box && !self.faces.get(f).iter().any(|v| corners.contains(v))
-                });
                 let mut evals = Evals::at_most(step_evals);
                 step = self
-                    .best_cover_step(holding, Some(cur), seg, t, eps, cache, &mut evals)
+                    .leaf_cover_step(cur, seg, t, here, eps, cache, &mut evals)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -697,6 +687,53 @@ impl<'a> Vdg<'a> {
             }
         }
         (cur, t)
+    }
+
+    /// [`Self::best_cover_step`] over the faces of the tree leaf at `here`
+    /// (= `at(t)`) whose box holds it and that share no vertex with `cur`:
+    /// the neighbourhood step just searched every face sharing a vertex
+    /// with `cur` from this very point and none went far enough, so only
+    /// the others can. The box test comes first: it rules out most of a
+    /// leaf, which may hold hundreds of faces; the faces that pass it are
+    /// gathered first in a plain loop, where the test is inlined, rather
+    /// than filtered lazily, where it was a call per face (the same faces
+    /// in the same order: the test has no side effects).
+    #[allow(clippy::too_many_arguments)]
+    fn leaf_cover_step(
+        &self,
+        cur: u32,
+        seg: &Seg,
+        t: f64,
+        here: V3,
+        eps: f64,
+        cache: Option<&FaceCache>,
+        evals: &mut Evals,
+    ) -> Option<(u32, f64)> {
+        let corners = self.faces.get(cur);
+        let apart = |f: u32| !self.faces.get(f).iter().any(|v| corners.contains(v));
+        let probe = BoxProbe::at(here);
+        let holds = |f: u32| match cache {
+            Some(c) => c.holds(f, &probe),
+            None => self.box_holds(f, here),
+        };
+        let mut held = [0u32; LEAF_HELD];
+        let mut n = 0;
+        let mut leaf = self.leaf_faces_at(here).iter();
+        for f in leaf.by_ref() {
+            if holds(f) && apart(f) {
+                held[n] = f;
+                n += 1;
+                if n == LEAF_HELD {
+                    break;
+                }
+            }
+        }
+        // The rest of a leaf holding more (none seen yet) lazily, after.
+        let holding = held[..n]
+            .iter()
+            .copied()
+            .chain(leaf.filter(|&f| holds(f) && apart(f)));
+        self.best_cover_step(holding, Some(cur), seg, t, eps, cache, evals)
     }
 
     /// The reach of face `f` along the segment from `at(t)` (= `here`), if
