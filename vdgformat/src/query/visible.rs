@@ -193,24 +193,19 @@ impl CoverHint {
 }
 
 impl<'a> Vdg<'a> {
-    /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for `f` above
-    /// `eps`, given that `at(lo)` is above it.
+    /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for face `f`
+    /// (set up as `fe`) above `eps`, given that `at(lo)` is above it.
     ///
     /// The exit comes in closed form and the point returned is certified
     /// by an evaluation ([`exit_with`]), so the answer is right however
-    /// rounding treats the closed form.
-    fn exit_param(&self, f: u32, seg: &Seg, lo: f64, eps: f64) -> f64 {
-        self.exit_param_tol(f, seg, lo, eps, BISECT_TOL)
-    }
-
-    /// [`Self::exit_param`] with the bracket's stopping length `tol` (world
-    /// units): a cover step only needs to know roughly where a face ends
-    /// (the next face takes over from a certified point either way), so it
-    /// stops early; points handed back to callers use the fine tolerance.
-    fn exit_param_tol(&self, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
-        let fe = self.face_eval(f);
+    /// rounding treats the closed form. `tol` is the bracket's stopping
+    /// length (world units) when rounding spoils the closed form: a cover
+    /// step only needs to know roughly where a face ends (the next face
+    /// takes over from a certified point either way), so it stops early;
+    /// points handed back to callers use the fine tolerance.
+    fn exit_param(&self, fe: &FaceEval, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
         let g_lo = fe.eval(seg.at(lo)) - eps;
-        exit_with(&fe, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
+        exit_with(fe, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
     }
 
     /// An upper bound on the parameter of any point of the segment inside
@@ -256,10 +251,12 @@ impl<'a> Vdg<'a> {
     /// ```
     pub fn trace(&self, face: u32, s: [f32; 3], e: [f32; 3]) -> [f32; 3] {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
-        if self.fc(face, seg.s) <= TRACE_MARGIN {
+        // The face set up once for all its evaluations.
+        let fe = self.face_eval(face);
+        if fe.eval(seg.s) <= TRACE_MARGIN {
             return s;
         }
-        let mut t = self.exit_param(face, &seg, 0.0, TRACE_MARGIN);
+        let mut t = self.exit_param(&fe, face, &seg, 0.0, TRACE_MARGIN, BISECT_TOL);
         if t >= 1.0 {
             return e;
         }
@@ -267,7 +264,7 @@ impl<'a> Vdg<'a> {
         // the rounded point is certified inside.
         loop {
             let p = seg.at(t).to_f32();
-            if t == 0.0 || self.fc(face, V3::from_f32(p)) > 0.0 {
+            if t == 0.0 || fe.eval(V3::from_f32(p)) > 0.0 {
                 return if t == 0.0 { s } else { p };
             }
             t *= 0.5;
@@ -854,13 +851,20 @@ impl<'a> Vdg<'a> {
             reached: from == to,
             moved: false,
         };
-        let here = self.fc(face, seg.s);
-        if here.is_nan() || here <= eps || !seg.len.is_finite() {
+        // The start face set up once (from the memo when there is one) for
+        // its clearance at the start and its exit.
+        let exit = self.with_face(cache, face, |fe| {
+            let here = fe.eval(seg.s);
+            if here.is_nan() || here <= eps || !seg.len.is_finite() {
+                return None;
+            }
+            Some(self.exit_param(fe, face, &seg, 0.0, eps, tol))
+        });
+        let Some(mut t) = exit else {
             return stay;
-        }
+        };
         let mut t0 = 0.0;
         let mut cur = face;
-        let mut t = self.exit_param_tol(face, &seg, 0.0, eps, tol);
         if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
@@ -883,7 +887,8 @@ impl<'a> Vdg<'a> {
         // point is certified (the interval is inside `cur`, which is convex).
         for _ in 0..64 {
             let p = seg.at(t).to_f32();
-            if self.fc(cur, V3::from_f32(p)) > f64::from(margin).max(0.0) {
+            let clear = self.with_face(cache, cur, |fe| fe.eval(V3::from_f32(p)));
+            if clear > f64::from(margin).max(0.0) {
                 return Advance {
                     point: p,
                     face: cur,
@@ -1090,7 +1095,7 @@ fn f32_from_order_bits(b: u32) -> f32 {
     })
 }
 
-/// The exit search of [`Vdg::exit_param_tol`] for the face of `fe`, with
+/// The exit search of [`Vdg::exit_param`] for the face of `fe`, with
 /// the value at `lo` (`g_lo`, minus `eps`) already known and the bracket's
 /// far end at the reach bound `ub` instead of the segment's end when that is
 /// closer.
