@@ -39,10 +39,49 @@ pub(crate) struct FaceCache {
     /// ([`FaceCache::with_face`]): copying a face's 232 bytes out of a
     /// `Cell` on every use cost more than the borrow flag.
     evals: RefCell<Vec<Option<(u32, FaceEval)>>>,
-    /// Per vertex, the number of the last vertex set that took it (see
-    /// [`FaceCache::new_vertex_set`]): a set without a sort to dedupe it.
-    taken: Vec<Cell<u32>>,
+    /// A set of vertices (see [`FaceCache::new_vertex_set`]).
+    taken: StampSet,
+    /// A set of faces (see [`FaceCache::new_face_set`]).
+    met: StampSet,
+}
+
+/// A set of indices below a fixed bound, emptied in constant time: each
+/// member carries the number of the set that took it, and a new set is a
+/// new number. No sort to dedupe, no clearing of a list.
+#[derive(Clone, Debug, Default)]
+struct StampSet {
+    stamps: Vec<Cell<u32>>,
     set: Cell<u32>,
+}
+
+impl StampSet {
+    /// An empty set of indices below `n`, reusing the memory.
+    fn reset(&mut self, n: usize) {
+        self.stamps.clear();
+        self.stamps.resize(n, Cell::new(0));
+        self.set.set(0);
+    }
+
+    /// Empties the set.
+    #[inline]
+    fn clear(&self) {
+        let next = self.set.get().wrapping_add(1);
+        if next == 0 {
+            // After 2³² sets the numbers come round: forget them all.
+            self.stamps.iter().for_each(|t| t.set(0));
+            self.set.set(1);
+        } else {
+            self.set.set(next);
+        }
+    }
+
+    /// Puts `i` into the set: `true` if it was not in it.
+    #[inline]
+    fn insert(&self, i: u32) -> bool {
+        let t = &self.stamps[i as usize];
+        let set = self.set.get();
+        t.replace(set) != set
+    }
 }
 
 /// A point as the box test sees it: widened by the same relative slack as
@@ -72,9 +111,8 @@ impl FaceCache {
         let evals = self.evals.get_mut();
         evals.clear();
         evals.resize(EVAL_SLOTS, None);
-        self.taken.clear();
-        self.taken.resize(g.vertex_count(), Cell::new(0));
-        self.set.set(0);
+        self.taken.reset(g.vertex_count());
+        self.met.reset(g.faces.len());
         self.boxes.clear();
         self.boxes.reserve(g.faces.len());
         for (fi, f) in g.faces.iter().enumerate() {
@@ -144,22 +182,25 @@ impl FaceCache {
     /// Starts a new set of vertices for [`FaceCache::take`] (an empty one).
     #[inline]
     pub(crate) fn new_vertex_set(&self) {
-        let next = self.set.get().wrapping_add(1);
-        if next == 0 {
-            // After 2³² sets the numbers come round: forget them all.
-            self.taken.iter().for_each(|t| t.set(0));
-            self.set.set(1);
-        } else {
-            self.set.set(next);
-        }
+        self.taken.clear();
     }
 
     /// Puts vertex `v` into the current set: `true` if it was not in it.
     #[inline]
     pub(crate) fn take(&self, v: u32) -> bool {
-        let t = &self.taken[v as usize];
-        let set = self.set.get();
-        t.replace(set) != set
+        self.taken.insert(v)
+    }
+
+    /// Starts a new set of faces for [`FaceCache::meet`] (an empty one).
+    #[inline]
+    pub(crate) fn new_face_set(&self) {
+        self.met.clear();
+    }
+
+    /// Puts face `f` into the current set: `true` if it was not in it.
+    #[inline]
+    pub(crate) fn meet(&self, f: u32) -> bool {
+        self.met.insert(f)
     }
 
     /// Clearance of `p` for face `f` ([`Vdg::fc`], the same value), the
