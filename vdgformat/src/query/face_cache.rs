@@ -23,6 +23,8 @@ use crate::read::Vdg;
 
 /// Slots of the memo of face clearance functions (a power of two).
 const EVAL_SLOTS: usize = 512;
+/// Slots of the memo of clearance values (a power of two).
+const VALUE_SLOTS: usize = 256;
 
 /// Per face, the box of its three vertex balls rounded outwards to f32
 /// (`[lo_x, lo_y, lo_z, hi_x, hi_y, hi_z]`), and a memo of recently set-up
@@ -39,6 +41,11 @@ pub(crate) struct FaceCache {
     /// ([`FaceCache::with_face`]): copying a face's 232 bytes out of a
     /// `Cell` on every use cost more than the borrow flag.
     evals: RefCell<Vec<Option<(u32, FaceEval)>>>,
+    /// Recent clearances asked of [`FaceCache::fc`]: face, the point's
+    /// bits, value. The camera asks the same face at the same point more
+    /// than once (a climb at the end of a step, the local vertices at the
+    /// start of the next update from the same point and face).
+    values: Vec<Cell<(u32, [u64; 3], f64)>>,
     /// A set of vertices (see [`FaceCache::new_vertex_set`]).
     taken: StampSet,
     /// A set of faces (see [`FaceCache::new_face_set`]).
@@ -111,6 +118,9 @@ impl FaceCache {
         let evals = self.evals.get_mut();
         evals.clear();
         evals.resize(EVAL_SLOTS, None);
+        self.values.clear();
+        self.values
+            .resize(VALUE_SLOTS, Cell::new((u32::MAX, [0; 3], f64::NAN)));
         self.taken.reset(g.vertex_count());
         self.met.reset(g.faces.len());
         self.boxes.clear();
@@ -207,7 +217,18 @@ impl FaceCache {
     /// face set up from the memo when it holds it.
     #[inline]
     pub(crate) fn fc(&self, g: &Vdg<'_>, f: u32, p: V3) -> f64 {
-        self.with_face(g, f, |fe| fe.eval(p))
+        let bits = [p.0.to_bits(), p.1.to_bits(), p.2.to_bits()];
+        let mix = bits.iter().fold(u64::from(f), |h, &b| {
+            (h ^ b).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        });
+        let slot = &self.values[(mix >> 56) as usize & (VALUE_SLOTS - 1)];
+        let (face, at, value) = slot.get();
+        if face == f && at == bits {
+            return value;
+        }
+        let value = self.with_face(g, f, |fe| fe.eval(p));
+        slot.set((f, bits, value));
+        value
     }
 
     /// Minus the distance of `p` to face `f`'s stored box when `p` lies
@@ -493,26 +514,35 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn the_memo_gives_each_face_its_own_clearance_function() {
-        // 2 · 2 · 15² = 900 faces: more than the memo's slots, so faces
-        // share slots and must not get each other's functions.
+    fn the_memos_give_each_face_and_point_their_own_clearance() {
+        // 2 · 2 · 15² = 900 faces: more than the memos' slots, so faces
+        // share slots and must not get each other's functions or values;
+        // nor may two points (one a signed zero away from the other) share
+        // values.
         let bytes = two_sheets(16);
         let file = crate::VdgFile::from_bytes(&bytes).unwrap();
         let g = file.graph();
-        assert!(g.face_count() > EVAL_SLOTS);
+        assert!(g.face_count() > EVAL_SLOTS.max(VALUE_SLOTS));
         let mut cache = FaceCache::default();
         cache.rebuild(&g);
-        let p = V3(100.0, 90.0, 3.0);
+        let points = [
+            V3(100.0, 90.0, 3.0),
+            V3(100.0, 90.0, 3.5),
+            V3(0.0, 12.0, 1.0),
+            V3(-0.0, 12.0, 1.0),
+        ];
         // Twice over, in an order that makes faces evict one another.
         for round in 0..2 {
             for k in 0..g.face_count() as u32 {
                 let f = (k * 7 + round) % g.face_count() as u32;
-                let cached = cache.fc(&g, f, p);
-                assert_eq!(
-                    cached.to_bits(),
-                    g.face_eval(f).eval(p).to_bits(),
-                    "face {f}"
-                );
+                for p in points {
+                    let cached = cache.fc(&g, f, p);
+                    assert_eq!(
+                        cached.to_bits(),
+                        g.face_eval(f).eval(p).to_bits(),
+                        "face {f} at {p:?}"
+                    );
+                }
             }
         }
     }
