@@ -16,13 +16,15 @@
 //! it. Face indices follow the vertices' spatial order, so neighbouring
 //! faces fall into different slots.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use crate::geom::{FaceEval, V3};
 use crate::read::Vdg;
 
 /// Slots of the memo of face clearance functions (a power of two).
 const EVAL_SLOTS: usize = 512;
+/// Slots of the memo of clearance values (a power of two).
+const VALUE_SLOTS: usize = 256;
 
 /// Per face, the box of its three vertex balls rounded outwards to f32
 /// (`[lo_x, lo_y, lo_z, hi_x, hi_y, hi_z]`), and a memo of recently set-up
@@ -35,11 +37,58 @@ pub(crate) struct FaceCache {
     /// Per face, a ball holding its volume, `[x, y, z, radius]` (see
     /// [`FaceCache::reach_below`]).
     spheres: Vec<[f32; 4]>,
-    evals: Vec<Cell<Option<(u32, FaceEval)>>>,
-    /// Per vertex, the number of the last vertex set that took it (see
-    /// [`FaceCache::new_vertex_set`]): a set without a sort to dedupe it.
-    taken: Vec<Cell<u32>>,
+    /// Slots of recently set-up faces, lent out by reference
+    /// ([`FaceCache::with_face`]): copying a face's 232 bytes out of a
+    /// `Cell` on every use cost more than the borrow flag.
+    evals: RefCell<Vec<Option<(u32, FaceEval)>>>,
+    /// Recent clearances asked of [`FaceCache::fc`]: face, the point's
+    /// bits, value. The camera asks the same face at the same point more
+    /// than once (a climb at the end of a step, the local vertices at the
+    /// start of the next update from the same point and face).
+    values: Vec<Cell<(u32, [u64; 3], f64)>>,
+    /// A set of vertices (see [`FaceCache::new_vertex_set`]).
+    taken: StampSet,
+    /// A set of faces (see [`FaceCache::new_face_set`]).
+    met: StampSet,
+}
+
+/// A set of indices below a fixed bound, emptied in constant time: each
+/// member carries the number of the set that took it, and a new set is a
+/// new number. No sort to dedupe, no clearing of a list.
+#[derive(Clone, Debug, Default)]
+struct StampSet {
+    stamps: Vec<Cell<u32>>,
     set: Cell<u32>,
+}
+
+impl StampSet {
+    /// An empty set of indices below `n`, reusing the memory.
+    fn reset(&mut self, n: usize) {
+        self.stamps.clear();
+        self.stamps.resize(n, Cell::new(0));
+        self.set.set(0);
+    }
+
+    /// Empties the set.
+    #[inline]
+    fn clear(&self) {
+        let next = self.set.get().wrapping_add(1);
+        if next == 0 {
+            // After 2³² sets the numbers come round: forget them all.
+            self.stamps.iter().for_each(|t| t.set(0));
+            self.set.set(1);
+        } else {
+            self.set.set(next);
+        }
+    }
+
+    /// Puts `i` into the set: `true` if it was not in it.
+    #[inline]
+    fn insert(&self, i: u32) -> bool {
+        let t = &self.stamps[i as usize];
+        let set = self.set.get();
+        t.replace(set) != set
+    }
 }
 
 /// A point as the box test sees it: widened by the same relative slack as
@@ -66,11 +115,14 @@ impl FaceCache {
     /// Fills the boxes for graph `g`, reusing the memory of earlier ones.
     pub(crate) fn rebuild(&mut self, g: &Vdg<'_>) {
         // The memo names faces of the old graph.
-        self.evals.clear();
-        self.evals.resize(EVAL_SLOTS, Cell::new(None));
-        self.taken.clear();
-        self.taken.resize(g.vertex_count(), Cell::new(0));
-        self.set.set(0);
+        let evals = self.evals.get_mut();
+        evals.clear();
+        evals.resize(EVAL_SLOTS, None);
+        self.values.clear();
+        self.values
+            .resize(VALUE_SLOTS, Cell::new((u32::MAX, [0; 3], f64::NAN)));
+        self.taken.reset(g.vertex_count());
+        self.met.reset(g.faces.len());
         self.boxes.clear();
         self.boxes.reserve(g.faces.len());
         for (fi, f) in g.faces.iter().enumerate() {
@@ -111,48 +163,72 @@ impl FaceCache {
         d.norm2() > room * room
     }
 
-    /// Face `f`'s clearance function, from the memo when it holds it.
+    /// Runs `use_face` on face `f`'s clearance function, set up from the
+    /// memo when it holds it (and put there otherwise). A nested call, made
+    /// from inside `use_face`, finds the memo lent out and sets its face up
+    /// afresh: the same function, only slower.
     #[inline]
-    pub(crate) fn face_eval(&self, g: &Vdg<'_>, f: u32) -> FaceEval {
-        let Some(slot) = self.evals.get(f as usize & (EVAL_SLOTS - 1)) else {
-            return g.face_eval(f);
+    pub(crate) fn with_face<R>(
+        &self,
+        g: &Vdg<'_>,
+        f: u32,
+        use_face: impl FnOnce(&FaceEval) -> R,
+    ) -> R {
+        let Ok(mut evals) = self.evals.try_borrow_mut() else {
+            return use_face(&g.face_eval(f));
         };
-        match slot.get() {
-            Some((h, fe)) if h == f => fe,
-            _ => {
-                let fe = g.face_eval(f);
-                slot.set(Some((f, fe)));
-                fe
-            }
+        let Some(slot) = evals.get_mut(f as usize & (EVAL_SLOTS - 1)) else {
+            return use_face(&g.face_eval(f));
+        };
+        if !matches!(slot, Some((h, _)) if *h == f) {
+            *slot = Some((f, g.face_eval(f)));
+        }
+        match slot {
+            Some((_, fe)) => use_face(fe),
+            None => use_face(&g.face_eval(f)),
         }
     }
 
     /// Starts a new set of vertices for [`FaceCache::take`] (an empty one).
     #[inline]
     pub(crate) fn new_vertex_set(&self) {
-        let next = self.set.get().wrapping_add(1);
-        if next == 0 {
-            // After 2³² sets the numbers come round: forget them all.
-            self.taken.iter().for_each(|t| t.set(0));
-            self.set.set(1);
-        } else {
-            self.set.set(next);
-        }
+        self.taken.clear();
     }
 
     /// Puts vertex `v` into the current set: `true` if it was not in it.
     #[inline]
     pub(crate) fn take(&self, v: u32) -> bool {
-        let t = &self.taken[v as usize];
-        let set = self.set.get();
-        t.replace(set) != set
+        self.taken.insert(v)
+    }
+
+    /// Starts a new set of faces for [`FaceCache::meet`] (an empty one).
+    #[inline]
+    pub(crate) fn new_face_set(&self) {
+        self.met.clear();
+    }
+
+    /// Puts face `f` into the current set: `true` if it was not in it.
+    #[inline]
+    pub(crate) fn meet(&self, f: u32) -> bool {
+        self.met.insert(f)
     }
 
     /// Clearance of `p` for face `f` ([`Vdg::fc`], the same value), the
     /// face set up from the memo when it holds it.
     #[inline]
     pub(crate) fn fc(&self, g: &Vdg<'_>, f: u32, p: V3) -> f64 {
-        self.face_eval(g, f).eval(p)
+        let bits = [p.0.to_bits(), p.1.to_bits(), p.2.to_bits()];
+        let mix = bits.iter().fold(u64::from(f), |h, &b| {
+            (h ^ b).wrapping_mul(0x9e37_79b9_7f4a_7c15)
+        });
+        let slot = &self.values[(mix >> 56) as usize & (VALUE_SLOTS - 1)];
+        let (face, at, value) = slot.get();
+        if face == f && at == bits {
+            return value;
+        }
+        let value = self.with_face(g, f, |fe| fe.eval(p));
+        slot.set((f, bits, value));
+        value
     }
 
     /// Minus the distance of `p` to face `f`'s stored box when `p` lies
@@ -420,26 +496,53 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn the_memo_gives_each_face_its_own_clearance_function() {
-        // 2 · 2 · 15² = 900 faces: more than the memo's slots, so faces
-        // share slots and must not get each other's functions.
+    fn a_use_of_the_memo_inside_another_gets_the_same_values() {
+        let bytes = two_sheets(8);
+        let file = crate::VdgFile::from_bytes(&bytes).unwrap();
+        let g = file.graph();
+        let mut cache = FaceCache::default();
+        cache.rebuild(&g);
+        let p = V3(40.0, 50.0, 4.0);
+        for f in 0..g.face_count() as u32 {
+            let h = (f + 1) % g.face_count() as u32;
+            // The memo is lent out to the outer use: the inner one sets its
+            // face up afresh.
+            let (outer, inner) = cache.with_face(&g, f, |fe| (fe.eval(p), cache.fc(&g, h, p)));
+            assert_eq!(outer.to_bits(), g.fc(f, p).to_bits(), "face {f}");
+            assert_eq!(inner.to_bits(), g.fc(h, p).to_bits(), "face {h}");
+        }
+    }
+
+    #[test]
+    fn the_memos_give_each_face_and_point_their_own_clearance() {
+        // 2 · 2 · 15² = 900 faces: more than the memos' slots, so faces
+        // share slots and must not get each other's functions or values;
+        // nor may two points (one a signed zero away from the other) share
+        // values.
         let bytes = two_sheets(16);
         let file = crate::VdgFile::from_bytes(&bytes).unwrap();
         let g = file.graph();
-        assert!(g.face_count() > EVAL_SLOTS);
+        assert!(g.face_count() > EVAL_SLOTS.max(VALUE_SLOTS));
         let mut cache = FaceCache::default();
         cache.rebuild(&g);
-        let p = V3(100.0, 90.0, 3.0);
+        let points = [
+            V3(100.0, 90.0, 3.0),
+            V3(100.0, 90.0, 3.5),
+            V3(0.0, 12.0, 1.0),
+            V3(-0.0, 12.0, 1.0),
+        ];
         // Twice over, in an order that makes faces evict one another.
         for round in 0..2 {
             for k in 0..g.face_count() as u32 {
                 let f = (k * 7 + round) % g.face_count() as u32;
-                let cached = cache.face_eval(&g, f).eval(p);
-                assert_eq!(
-                    cached.to_bits(),
-                    g.face_eval(f).eval(p).to_bits(),
-                    "face {f}"
-                );
+                for p in points {
+                    let cached = cache.fc(&g, f, p);
+                    assert_eq!(
+                        cached.to_bits(),
+                        g.face_eval(f).eval(p).to_bits(),
+                        "face {f} at {p:?}"
+                    );
+                }
             }
         }
     }

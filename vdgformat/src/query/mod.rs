@@ -579,13 +579,15 @@ impl<'a> Vdg<'a> {
     }
 
     /// [`Self::climb`] for a caller with a [`FaceCache`] (a camera): the
-    /// stored boxes and balls cull, the memo sets faces up, and a neighbour met again
-    /// through a second shared vertex is skipped. The same answer as
-    /// `climb`: a culled face's clearance is at most minus its distance to
-    /// the stored box, which holds the exact one, or below the best by the
-    /// stored ball ([`FaceCache::reach_below`]), so it could not beat the
-    /// best; and a face met again cannot beat the best it already lost to
-    /// (or became).
+    /// stored boxes and balls cull, the memo sets faces up, and a face met
+    /// before in this climb (a neighbour met again through a second shared
+    /// vertex, or in an earlier round: the rounds' neighbourhoods overlap)
+    /// is skipped. The same answer as `climb`: a culled face's clearance is
+    /// at most minus its distance to the stored box, which holds the exact
+    /// one, or below the best by the stored ball
+    /// ([`FaceCache::reach_below`]), so it could not beat the best; and a
+    /// face met before cannot beat the best it already lost to (or became),
+    /// or was culled by, for the best only grows and the point stays.
     pub(crate) fn climb_cached(
         &self,
         cache: &FaceCache,
@@ -593,16 +595,19 @@ impl<'a> Vdg<'a> {
         q: V3,
         rounds: usize,
     ) -> (u32, f64) {
-        let mut cur = (hint, cache.face_eval(self, hint).eval(q));
+        let mut cur = (hint, cache.fc(self, hint, q));
+        cache.new_face_set();
+        cache.meet(hint);
         for _ in 0..rounds {
             let mut best = cur;
-            self.for_face_and_neighbours_once(cur.0, |f| {
-                if cache.box_bound(f, q).is_some_and(|b| b <= best.1)
+            self.for_face_and_neighbours(cur.0, |f| {
+                if !cache.meet(f)
+                    || cache.box_bound(f, q).is_some_and(|b| b <= best.1)
                     || cache.reach_below(f, q, best.1)
                 {
                     return;
                 }
-                let c = cache.face_eval(self, f).eval(q);
+                let c = cache.fc(self, f, q);
                 if c > best.1 {
                     best = (f, c);
                 }

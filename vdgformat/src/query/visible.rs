@@ -30,6 +30,11 @@ const BISECT_MAX: usize = 60;
 /// How many candidate faces of a cover step are ordered by their reach
 /// bound (a face's neighbourhood rarely has more).
 const SORTED_CANDIDATES: usize = 128;
+/// How many faces of a tree leaf that pass a leaf search's box test are
+/// gathered in one plain loop before the search (see
+/// [`Vdg::leaf_cover_step`]); more than the sorted candidates, so the search
+/// rarely reaches the lazily filtered rest.
+const LEAF_HELD: usize = 256;
 
 /// A cover step's bracket may stay this long (world units): far below a
 /// face's extent, so hops stay few, and it costs about half the evaluations.
@@ -188,24 +193,19 @@ impl CoverHint {
 }
 
 impl<'a> Vdg<'a> {
-    /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for `f` above
-    /// `eps`, given that `at(lo)` is above it.
+    /// Largest `t ∈ [lo, 1]` found with clearance of `at(t)` for face `f`
+    /// (set up as `fe`) above `eps`, given that `at(lo)` is above it.
     ///
     /// The exit comes in closed form and the point returned is certified
     /// by an evaluation ([`exit_with`]), so the answer is right however
-    /// rounding treats the closed form.
-    fn exit_param(&self, f: u32, seg: &Seg, lo: f64, eps: f64) -> f64 {
-        self.exit_param_tol(f, seg, lo, eps, BISECT_TOL)
-    }
-
-    /// [`Self::exit_param`] with the bracket's stopping length `tol` (world
-    /// units): a cover step only needs to know roughly where a face ends
-    /// (the next face takes over from a certified point either way), so it
-    /// stops early; points handed back to callers use the fine tolerance.
-    fn exit_param_tol(&self, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
-        let fe = self.face_eval(f);
+    /// rounding treats the closed form. `tol` is the bracket's stopping
+    /// length (world units) when rounding spoils the closed form: a cover
+    /// step only needs to know roughly where a face ends (the next face
+    /// takes over from a certified point either way), so it stops early;
+    /// points handed back to callers use the fine tolerance.
+    fn exit_param(&self, fe: &FaceEval, f: u32, seg: &Seg, lo: f64, eps: f64, tol: f64) -> f64 {
         let g_lo = fe.eval(seg.at(lo)) - eps;
-        exit_with(&fe, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
+        exit_with(fe, seg, lo, g_lo, self.reach_bound(f, seg), eps, tol)
     }
 
     /// An upper bound on the parameter of any point of the segment inside
@@ -251,10 +251,12 @@ impl<'a> Vdg<'a> {
     /// ```
     pub fn trace(&self, face: u32, s: [f32; 3], e: [f32; 3]) -> [f32; 3] {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
-        if self.fc(face, seg.s) <= TRACE_MARGIN {
+        // The face set up once for all its evaluations.
+        let fe = self.face_eval(face);
+        if fe.eval(seg.s) <= TRACE_MARGIN {
             return s;
         }
-        let mut t = self.exit_param(face, &seg, 0.0, TRACE_MARGIN);
+        let mut t = self.exit_param(&fe, face, &seg, 0.0, TRACE_MARGIN, BISECT_TOL);
         if t >= 1.0 {
             return e;
         }
@@ -262,7 +264,7 @@ impl<'a> Vdg<'a> {
         // the rounded point is certified inside.
         loop {
             let p = seg.at(t).to_f32();
-            if t == 0.0 || self.fc(face, V3::from_f32(p)) > 0.0 {
+            if t == 0.0 || fe.eval(V3::from_f32(p)) > 0.0 {
                 return if t == 0.0 { s } else { p };
             }
             t *= 0.5;
@@ -360,31 +362,33 @@ impl<'a> Vdg<'a> {
         step_evals: u32,
     ) -> bool {
         let seg = Seg::new(V3::from_f32(s), V3::from_f32(e));
-        // The face once, from the memo when there is one.
-        let fe = match cache {
-            Some(c) => c.face_eval(self, face),
-            None => self.face_eval(face),
-        };
-        let g_start = fe.eval(seg.s);
-        if g_start <= INSIDE_EPS {
+        // The face once, from the memo when there is one; `None` when the
+        // start is not inside it.
+        let exit = self.with_face(cache, face, |fe| {
+            let g_start = fe.eval(seg.s);
+            if g_start <= INSIDE_EPS {
+                return None;
+            }
+            // `exit_param` from 0, whose point is the start (to the bit, but
+            // for the sign of a zero).
+            let at0 = seg.at(0.0);
+            let same = [(at0.0, seg.s.0), (at0.1, seg.s.1), (at0.2, seg.s.2)]
+                .iter()
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            let g0 = if same { g_start } else { fe.eval(at0) };
+            Some(exit_with(
+                fe,
+                &seg,
+                0.0,
+                g0 - INSIDE_EPS,
+                self.reach_bound(face, &seg),
+                INSIDE_EPS,
+                BISECT_TOL,
+            ))
+        });
+        let Some(t) = exit else {
             return false;
-        }
-        // `exit_param` from 0, whose point is the start (to the bit, but
-        // for the sign of a zero).
-        let at0 = seg.at(0.0);
-        let same = [(at0.0, seg.s.0), (at0.1, seg.s.1), (at0.2, seg.s.2)]
-            .iter()
-            .all(|(a, b)| a.to_bits() == b.to_bits());
-        let g0 = if same { g_start } else { fe.eval(at0) };
-        let t = exit_with(
-            &fe,
-            &seg,
-            0.0,
-            g0 - INSIDE_EPS,
-            self.reach_bound(face, &seg),
-            INSIDE_EPS,
-            BISECT_TOL,
-        );
+        };
         if t >= 1.0 {
             if let Some(h) = hint {
                 h.restart(face);
@@ -394,6 +398,21 @@ impl<'a> Vdg<'a> {
         self.cover_hinted(face, &seg, t, INSIDE_EPS, budget, hint, cache, step_evals)
             .1
             >= 1.0
+    }
+
+    /// Runs `use_face` on face `f`'s clearance function, from `cache`'s
+    /// memo when there is one.
+    #[inline]
+    fn with_face<R>(
+        &self,
+        cache: Option<&FaceCache>,
+        f: u32,
+        use_face: impl FnOnce(&FaceEval) -> R,
+    ) -> R {
+        match cache {
+            Some(c) => c.with_face(self, f, use_face),
+            None => use_face(&self.face_eval(f)),
+        }
     }
 
     /// Among `candidates` whose volume contains `at(t)`, the one reaching
@@ -529,16 +548,16 @@ impl<'a> Vdg<'a> {
         // The clearance at `reach`: the face must hold both that point and
         // `here` to extend the cover.
         let at_reach = seg.at(reach);
-        let fe = match cache {
-            Some(c) => c.face_eval(self, f),
-            None => self.face_eval(f),
-        };
-        let g_reach = fe.eval_above(at_reach, eps) - eps;
-        if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
-            return;
-        }
-        let exit = exit_with(&fe, seg, reach, g_reach, ub, eps, COVER_TOL);
-        if best.is_none_or(|b| exit > b.1) {
+        let exit = self.with_face(cache, f, |fe| {
+            let g_reach = fe.eval_above(at_reach, eps) - eps;
+            if g_reach <= 0.0 || (reach > t && fe.eval_above(here, eps) <= eps) {
+                return None;
+            }
+            Some(exit_with(fe, seg, reach, g_reach, ub, eps, COVER_TOL))
+        });
+        if let Some(exit) = exit
+            && best.is_none_or(|b| exit > b.1)
+        {
             *best = Some((f, exit));
         }
     }
@@ -640,24 +659,9 @@ impl<'a> Vdg<'a> {
             }
             if step.is_none() && budget.leaf_searches > 0 && dead_end.is_none() {
                 budget.leaf_searches -= 1;
-                let leaf = self.leaf_faces_at(here);
-                // The neighbourhood step just searched every face sharing a
-                // vertex with `cur` from this very point and none went far
-                // enough, so only the others can; of those, only faces whose
-                // box holds `here`.
-                // The box test first: it rules out most of a leaf.
-                let corners = self.faces.get(cur);
-                let probe = BoxProbe::at(here);
-                let holding = leaf.iter().filter(|&f| {
-                    let in_box = match cache {
-                        Some(c) => c.holds(f, &probe),
-                        None => self.box_holds(f, here),
-                    };
-                    in_box && !self.faces.get(f).iter().any(|v| corners.contains(v))
-                });
                 let mut evals = Evals::at_most(step_evals);
                 step = self
-                    .best_cover_step(holding, Some(cur), seg, t, eps, cache, &mut evals)
+                    .leaf_cover_step(cur, seg, t, here, eps, cache, &mut evals)
                     .filter(|&(_, r)| r >= 1.0 || r > t + min_gain);
                 if step.is_none()
                     && let Some(h) = hint.as_deref_mut()
@@ -682,6 +686,53 @@ impl<'a> Vdg<'a> {
         (cur, t)
     }
 
+    /// [`Self::best_cover_step`] over the faces of the tree leaf at `here`
+    /// (= `at(t)`) whose box holds it and that share no vertex with `cur`:
+    /// the neighbourhood step just searched every face sharing a vertex
+    /// with `cur` from this very point and none went far enough, so only
+    /// the others can. The box test comes first: it rules out most of a
+    /// leaf, which may hold hundreds of faces; the faces that pass it are
+    /// gathered first in a plain loop, where the test is inlined, rather
+    /// than filtered lazily, where it was a call per face (the same faces
+    /// in the same order: the test has no side effects).
+    #[allow(clippy::too_many_arguments)]
+    fn leaf_cover_step(
+        &self,
+        cur: u32,
+        seg: &Seg,
+        t: f64,
+        here: V3,
+        eps: f64,
+        cache: Option<&FaceCache>,
+        evals: &mut Evals,
+    ) -> Option<(u32, f64)> {
+        let corners = self.faces.get(cur);
+        let apart = |f: u32| !self.faces.get(f).iter().any(|v| corners.contains(v));
+        let probe = BoxProbe::at(here);
+        let holds = |f: u32| match cache {
+            Some(c) => c.holds(f, &probe),
+            None => self.box_holds(f, here),
+        };
+        let mut held = [0u32; LEAF_HELD];
+        let mut n = 0;
+        let mut leaf = self.leaf_faces_at(here).iter();
+        for f in leaf.by_ref() {
+            if holds(f) && apart(f) {
+                held[n] = f;
+                n += 1;
+                if n == LEAF_HELD {
+                    break;
+                }
+            }
+        }
+        // The rest of a leaf holding more (none seen yet) lazily, after.
+        let holding = held[..n]
+            .iter()
+            .copied()
+            .chain(leaf.filter(|&f| holds(f) && apart(f)));
+        self.best_cover_step(holding, Some(cur), seg, t, eps, cache, evals)
+    }
+
     /// The reach of face `f` along the segment from `at(t)` (= `here`), if
     /// its volume holds `here`.
     fn hinted_step(
@@ -693,17 +744,21 @@ impl<'a> Vdg<'a> {
         eps: f64,
         cache: Option<&FaceCache>,
     ) -> Option<(u32, f64)> {
-        let fe = match cache {
-            Some(c) if c.holds(f, &BoxProbe::at(here)) => c.face_eval(self, f),
-            None if self.box_holds(f, here) => self.face_eval(f),
-            _ => return None,
+        let in_box = match cache {
+            Some(c) => c.holds(f, &BoxProbe::at(here)),
+            None => self.box_holds(f, here),
         };
-        let at = fe.eval_above(here, eps);
-        if at <= eps {
+        if !in_box {
             return None;
         }
-        let ub = self.reach_bound(f, seg);
-        Some((f, exit_with(&fe, seg, t, at - eps, ub, eps, COVER_TOL)))
+        self.with_face(cache, f, |fe| {
+            let at = fe.eval_above(here, eps);
+            if at <= eps {
+                return None;
+            }
+            let ub = self.reach_bound(f, seg);
+            Some((f, exit_with(fe, seg, t, at - eps, ub, eps, COVER_TOL)))
+        })
     }
 
     /// The face and every face sharing a vertex with it (thesis:
@@ -796,13 +851,20 @@ impl<'a> Vdg<'a> {
             reached: from == to,
             moved: false,
         };
-        let here = self.fc(face, seg.s);
-        if here.is_nan() || here <= eps || !seg.len.is_finite() {
+        // The start face set up once (from the memo when there is one) for
+        // its clearance at the start and its exit.
+        let exit = self.with_face(cache, face, |fe| {
+            let here = fe.eval(seg.s);
+            if here.is_nan() || here <= eps || !seg.len.is_finite() {
+                return None;
+            }
+            Some(self.exit_param(fe, face, &seg, 0.0, eps, tol))
+        });
+        let Some(mut t) = exit else {
             return stay;
-        }
+        };
         let mut t0 = 0.0;
         let mut cur = face;
-        let mut t = self.exit_param_tol(face, &seg, 0.0, eps, tol);
         if t < 1.0 && budget.hops > 0 {
             // The cover's last hop starts where the previous face ended;
             // remember that start so a rounding back-off stays in `cur`.
@@ -825,7 +887,8 @@ impl<'a> Vdg<'a> {
         // point is certified (the interval is inside `cur`, which is convex).
         for _ in 0..64 {
             let p = seg.at(t).to_f32();
-            if self.fc(cur, V3::from_f32(p)) > f64::from(margin).max(0.0) {
+            let clear = self.with_face(cache, cur, |fe| fe.eval(V3::from_f32(p)));
+            if clear > f64::from(margin).max(0.0) {
                 return Advance {
                     point: p,
                     face: cur,
@@ -963,8 +1026,8 @@ impl<'a> Vdg<'a> {
         cache.new_vertex_set();
         out.extend(self.faces.get(face).into_iter().filter(|&v| cache.take(v)));
         self.for_face_and_neighbours_once(face, |g| {
-            let holds = cache.box_bound(g, start).is_none()
-                && cache.face_eval(self, g).eval(start) > INSIDE_EPS;
+            let holds =
+                cache.box_bound(g, start).is_none() && cache.fc(self, g, start) > INSIDE_EPS;
             if holds {
                 out.extend(self.faces.get(g).into_iter().filter(|&v| cache.take(v)));
             }
@@ -1032,7 +1095,7 @@ fn f32_from_order_bits(b: u32) -> f32 {
     })
 }
 
-/// The exit search of [`Vdg::exit_param_tol`] for the face of `fe`, with
+/// The exit search of [`Vdg::exit_param`] for the face of `fe`, with
 /// the value at `lo` (`g_lo`, minus `eps`) already known and the bracket's
 /// far end at the reach bound `ub` instead of the segment's end when that is
 /// closer.
