@@ -155,28 +155,14 @@ impl Camera {
     }
 
     /// f_clear: the room the camera needs, p_σ seconds at its speed, over
-    /// the room at the position, squared; with [`CameraParams::clearance_within_target_room`](super::CameraParams::clearance_within_target_room)
-    /// the need is at most the room the target itself has, and with
-    /// [`CameraParams::clearance_surplus_free`](super::CameraParams::clearance_surplus_free)
-    /// only the room it lacks counts.
+    /// the room at the position; with [`CameraParams::clearance_within_target_room`](super::CameraParams::clearance_within_target_room)
+    /// the need is at most the room the target itself has.
     pub(super) fn clear_cost(&self, scene: &Scene, s: &State, clearance: f64) -> f64 {
         let mut need = s.clear_speed * f64::from(self.params.clearance_sigma);
         if self.params.clearance_within_target_room {
             need = need.min(scene.target_room);
         }
-        room_cost(need, clearance, self.params.clearance_surplus_free)
-    }
-}
-
-/// f_clear for a `need` of room where there is `room` (units): the thesis'
-/// (need / room)², or with `surplus_free` only the part above 1 (see
-/// [`CameraParams::clearance_surplus_free`](super::CameraParams::clearance_surplus_free)).
-fn room_cost(need: f64, room: f64, surplus_free: bool) -> f64 {
-    let ratio = (need / room.max(1e-3)).powi(2);
-    if surplus_free {
-        (ratio - 1.0).max(0.0)
-    } else {
-        ratio
+        (need / clearance.max(1e-3)).powi(2)
     }
 }
 
@@ -188,30 +174,6 @@ mod tests {
     /// f_total as the candidates compare it: an f32.
     fn total(cam: &Camera, vd: f64, rest: f64) -> f32 {
         ((cam.vis_cost(vd) + rest) / 5.0) as f32
-    }
-
-    #[test]
-    fn room_beyond_the_need_is_worth_nothing_unless_the_thesis_is_asked() {
-        let need = 50.0;
-        for params in [CameraParams::default(), CameraParams::thesis()] {
-            let at = |room: f64| room_cost(need, room, params.clearance_surplus_free);
-            if params.clearance_surplus_free {
-                // Nothing for room to spare: a moving camera in a tall room
-                // has no reason to climb.
-                assert_eq!(at(need), 0.0);
-                assert_eq!(at(2.0 * need), 0.0);
-                assert!((at(0.5 * need) - 3.0).abs() < 1e-12);
-                assert!(at(0.25 * need) > at(0.5 * need));
-            } else {
-                assert!((at(need) - 1.0).abs() < 1e-12);
-                assert!(
-                    at(2.0 * need) < at(need),
-                    "the thesis rewards room to spare"
-                );
-            }
-        }
-        assert!(CameraParams::default().clearance_surplus_free);
-        assert!(!CameraParams::thesis().clearance_surplus_free);
     }
 
     #[test]

@@ -332,16 +332,6 @@ pub struct CameraParams {
     /// has room, the camera still keeps its distance from walls. false =
     /// the thesis' need, whatever the target's room.
     pub clearance_within_target_room: bool,
-    /// f_clear rates only the room the camera lacks: (need / room)² − 1
-    /// where the room is less than the need, 0 where it is more (the two
-    /// meet at the need). The thesis' (need / room)² goes on falling beyond
-    /// the need, so a moving camera kept climbing towards the middle of
-    /// tall rooms, where there is more room the higher it goes, and came
-    /// down again when the player stopped: 40 units up and down behind a
-    /// player running on a flat floor, and a quarter to nearly half of the
-    /// camera's squared jerk vertical on the walker's routes, where the
-    /// chase cam's is 0–10 %. false = the thesis' ratio.
-    pub clearance_surplus_free: bool,
     /// Seconds ahead the candidates must see the target: a candidate that
     /// sees where the target is but not where its motion takes it within
     /// this time (its velocity over the last update, stopped at the
@@ -406,7 +396,6 @@ impl Default for CameraParams {
             distance_min: 40.0,
             distance_room_tau: 0.5,
             clearance_within_target_room: true,
-            clearance_surplus_free: true,
             sight_lead: 0.25,
         }
     }
@@ -446,7 +435,6 @@ impl CameraParams {
             seen_speed_floor: 0.0,
             distance_room_factor: 0.0,
             clearance_within_target_room: false,
-            clearance_surplus_free: false,
             sight_lead: 0.0,
             cut_unreachable_after: CameraParams::default().cut_after,
             ..CameraParams::default()
