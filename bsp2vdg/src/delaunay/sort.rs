@@ -16,6 +16,8 @@ use rayon::prelude::*;
 use toolbox::SplitMix64;
 /// Bits per axis of the Hilbert key (3 × 21 = 63 bits).
 const HILBERT_BITS: u32 = 21;
+// `hilbert_key` takes the top level alone and the others two at a time.
+const _: () = assert!(HILBERT_BITS % 2 == 1);
 
 /// Rounds smaller than this are merged into the first one.
 const MIN_ROUND: usize = 64;

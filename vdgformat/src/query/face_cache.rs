@@ -180,13 +180,11 @@ impl FaceCache {
         let Some(slot) = evals.get_mut(f as usize & (EVAL_SLOTS - 1)) else {
             return use_face(&g.face_eval(f));
         };
-        if !matches!(slot, Some((h, _)) if *h == f) {
-            *slot = Some((f, g.face_eval(f)));
-        }
-        match slot {
-            Some((_, fe)) => use_face(fe),
-            None => use_face(&g.face_eval(f)),
-        }
+        let (_, fe) = match slot {
+            Some(held) if held.0 == f => held,
+            _ => slot.insert((f, g.face_eval(f))),
+        };
+        use_face(fe)
     }
 
     /// Starts a new set of vertices for [`FaceCache::take`] (an empty one).
